@@ -1,0 +1,35 @@
+//! Errors when building a polyhedron from user data.
+
+use thiserror::Error;
+
+/// Why a convex polyhedron could not be built.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum GeometryError {
+    /// No points were given.
+    #[error("the point set is empty")]
+    Empty,
+    /// A coordinate is NaN or infinite.
+    #[error("point {index} has a non-finite coordinate")]
+    NonFinite {
+        /// Index of the offending point in the input.
+        index: usize,
+    },
+    /// The points do not span a solid: fewer than four non-coplanar points
+    /// remain after nearly duplicate points are merged.
+    #[error("fewer than four non-coplanar points: the hull has no volume")]
+    Degenerate,
+    /// A cuboid half extent is not a finite positive number.
+    #[error("half extent {axis} is {value}: it must be finite and positive")]
+    InvalidHalfExtent {
+        /// Axis index (0 = x, 1 = y, 2 = z).
+        axis: usize,
+        /// The value that was given.
+        value: f64,
+    },
+    /// The face cycles do not describe a closed two-manifold of genus 0.
+    #[error("invalid topology: {0}")]
+    InvalidTopology(String),
+    /// A vertex lies outside a face plane, or a face is not planar.
+    #[error("not convex: {0}")]
+    NotConvex(String),
+}

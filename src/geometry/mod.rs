@@ -1,0 +1,33 @@
+//! Convex polyhedra with the full feature topology that V-Clip needs.
+//!
+//! A [`ConvexPolyhedron`] has vertices, edges and faces (features, see
+//! [`Feature`]). Every edge runs from its `tail` to its `head` and has two
+//! faces: its `left_face` traverses it tail → head in its counter-clockwise
+//! cycle (seen from outside), its `right_face` head → tail. Face planes have
+//! outward unit normals.
+//!
+//! Voronoi planes (Mirtich 1998, section 3), each oriented so that the
+//! region of its *lower-dimensional or named* feature is on the positive side:
+//! - [`ConvexPolyhedron::vertex_edge_plane`]`(e, v)`: through `v`, normal along
+//!   the edge pointing from the edge's interior towards `v`; `VR(v)` is on
+//!   the positive side. As a wall of `VR(e)` it is used negated.
+//! - [`ConvexPolyhedron::face_edge_plane`]`(e, f)`: contains the edge, normal in
+//!   the plane of `f`, perpendicular to the edge, pointing into `f`; `VR(f)`
+//!   is on the positive side. As a wall of `VR(e)` it is used negated.
+//!
+//! All coordinates are in the *body frame*: the origin is the centre of mass
+//! of the solid at uniform density, axes those of the frame in which the
+//! shape was given. [`ConvexPolyhedron::shape_origin_offset`] maps back.
+
+mod error;
+mod features;
+mod mass;
+mod plane;
+mod polyhedron;
+mod topology;
+
+pub use error::GeometryError;
+pub use features::Feature;
+pub use mass::MassProperties;
+pub use plane::Plane;
+pub use polyhedron::{ConvexPolyhedron, Edge, Face};

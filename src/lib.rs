@@ -1,0 +1,23 @@
+//! # constraint-stabilization
+//!
+//! Removes interpenetration between convex polyhedral rigid bodies after a
+//! simulation step, by the smallest mass-weighted correction of their poses.
+//!
+//! The pipeline (see `DESIGN.md` of the project):
+//! 1. [`vclip`] (Mirtich 1998) finds, for each pair of bodies, the closest
+//!    features or a penetration; a deepest-vertex search turns a penetration
+//!    into the deepest vertex–face pair.
+//! 2. Each penetrating or near pair becomes a linearized non-penetration
+//!    constraint `phi + J dq >= target`.
+//! 3. [`solver`] computes the smallest correction in the metric of the mass
+//!    matrix `M`: `min 1/2 dq^T M dq` subject to the constraints, a convex QP
+//!    equivalent to the LCP `A = J M^-1 J^T, b = phi - target`.
+//!
+//! All arithmetic is in `f64`.
+
+pub mod error;
+pub mod geometry;
+pub mod solver;
+pub mod vclip;
+
+pub use error::Error;

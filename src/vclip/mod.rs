@@ -1,0 +1,1 @@
+//! V-Clip (Mirtich 1998) with the deepest-vertex search.
