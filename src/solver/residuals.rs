@@ -12,7 +12,10 @@
 //! so it is unchanged when lengths or masses are rescaled (`a_i lambda_i` and
 //! `w_i` are both lengths):
 //! - natural map: `max_i |min(a_i lambda_i, w_i)| / l`
-//! - complementarity: `max_i a_i lambda_i |w_i| / l^2`
+//! - complementarity: `max_i a_i lambda_i |w_i| / (l f)` with the force
+//!   scale `f = max(l, max_j a_j lambda_j)` (a product normalized by the size
+//!   of both factors, as interior-point codes do: with `l^2` alone, large
+//!   multipliers would amplify rounding in `w`)
 //! - primal infeasibility: `max_i max(0, -w_i) / l`
 //! - stationarity: `||dq - M^-1 J^T lambda||_M / max(||dq||_M, ||M^-1 J^T lambda||_M)`
 //!   (zero by construction for the LCP solvers; measures clarabel's primal
@@ -135,14 +138,16 @@ pub fn projection_residuals(
     let l = length_scale(&b);
     let a = row_diagonal(qp, metric);
     let a_fallback = a.iter().copied().fold(0.0, f64::max);
+    let force: Vec<f64> = (0..w.len())
+        .map(|i| if a[i] > 0.0 { a[i] } else { a_fallback } * lambda[i])
+        .collect();
+    let f = force.iter().fold(l, |m, x| m.max(x.abs()));
     let mut natural_map: f64 = 0.0;
     let mut complementarity: f64 = 0.0;
     let mut primal_infeasibility: f64 = 0.0;
     for i in 0..w.len() {
-        let ai = if a[i] > 0.0 { a[i] } else { a_fallback };
-        let force = ai * lambda[i];
-        natural_map = natural_map.max(force.min(w[i]).abs() / l);
-        complementarity = complementarity.max((force * w[i]).abs() / (l * l));
+        natural_map = natural_map.max(force[i].min(w[i]).abs() / l);
+        complementarity = complementarity.max((force[i] * w[i]).abs() / (l * f));
         primal_infeasibility = primal_infeasibility.max((-w[i]).max(0.0) / l);
     }
     let dq_dual = m_inv(metric, &qp.apply_jt(lambda));

@@ -94,6 +94,9 @@ fn polish_dense(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> Option<
     let w = m * z + q;
     let active: Vec<usize> = (0..z.len()).filter(|&i| z[i] > w[i]).collect();
     let k = active.len();
+    if k == 0 {
+        return Some(DVector::zeros(z.len()));
+    }
     let m_ss = DMatrix::from_fn(k, k, |a, b| m[(active[a], active[b])]);
     let q_s = DVector::from_fn(k, |a, _| q[active[a]]);
     let chol = (&m_ss + DMatrix::identity(k, k) * POLISH_DELTA).cholesky()?;

@@ -116,6 +116,10 @@ pub fn z_from_tableau(tableau: &Tableau) -> DVector<f64> {
 /// problem in the same basis. `None` if `z0` is basic or `B` is singular.
 pub fn z_from_basis(basis: &[usize], m: &DMatrix<f64>, q: &DVector<f64>) -> Option<DVector<f64>> {
     let n = q.len();
+    if n == 0 {
+        // nalgebra's LU solve does not accept an empty system.
+        return Some(DVector::zeros(0));
+    }
     if basis.contains(&(2 * n)) {
         return None;
     }

@@ -101,6 +101,9 @@ impl Tableau {
     /// `false` (tableau unchanged) when `B` is numerically singular.
     pub fn refactor(&mut self, m: &DMatrix<f64>, d: &DVector<f64>, q: &DVector<f64>) -> bool {
         let n = self.n;
+        if n == 0 {
+            return true;
+        }
         let full = original_columns(m, d, q);
         let b = DMatrix::from_fn(n, n, |i, r| full[(i, self.basis[r])]);
         let Some(solved) = b.lu().solve(&full) else {
