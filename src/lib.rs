@@ -17,6 +17,7 @@
 
 pub mod error;
 pub mod geometry;
+pub mod io;
 pub mod solver;
 pub mod vclip;
 

@@ -1,1 +1,44 @@
-//! LCP and QP solvers.
+//! LCP and QP solvers (DESIGN.md sections 3 and 5).
+//!
+//! The problem of one island is the projection QP
+//!
+//! ```text
+//! minimize 1/2 dq^T M dq   subject to   phi + J dq >= target
+//! ```
+//!
+//! ([`ProjectionQp`], `M` block diagonal), whose dual is the LCP
+//! `A = J M^-1 J^T`, `b = phi - target` ([`projection_lcp`]). Solvers:
+//! - [`closed_form`]: one row;
+//! - [`clarabel_qp::primal`]: clarabel on the primal QP (sparse);
+//! - [`clarabel_qp::dual`]: clarabel on the dual QP `min 1/2 z^T A z + b^T z, z >= 0`;
+//! - [`lemke`]: Lemke's complementary pivoting (also general LCPs, [`Lcp`]);
+//! - [`pgs`]: projected Gauss-Seidel, the game-engine baseline.
+//!
+//! [`solve_projection`] validates the problem, picks a solver, falls back
+//! on failure, checks every answer with the metrics of [`residuals`] and
+//! can cross-check two solvers ([`cross_check`]).
+
+pub mod clarabel_qp;
+pub mod closed_form;
+pub mod cross_check;
+pub mod error;
+pub mod lcp;
+pub mod lemke;
+pub mod metric;
+pub mod outcome;
+pub mod pgs;
+pub mod projection;
+pub mod projection_lcp;
+pub mod residuals;
+pub mod scaling;
+pub mod solve;
+
+pub use cross_check::{CrossCheck, CrossCheckOutcome, Differences};
+pub use error::SolverError;
+pub use lcp::Lcp;
+pub use outcome::{FailureReason, Fallback, SolverKind};
+pub use projection::{BodyMetric, JacobianRow, ProjectionQp};
+pub use residuals::ProjectionResiduals;
+pub use solve::{
+    ProjectionSolution, SolverChoice, SolverSettings, cross_check_projection, solve_projection,
+};

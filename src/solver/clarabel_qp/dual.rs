@@ -1,0 +1,116 @@
+//! The LCP as a dual QP for clarabel:
+//!
+//! ```text
+//! minimize 1/2 z^T A z + b^T z   s.t.   z >= 0
+//! ```
+//!
+//! whose KKT conditions are exactly the LCP `z >= 0, w = A z + b >= 0,
+//! z^T w = 0` when `A` is symmetric positive semidefinite (`w` is the
+//! multiplier of `z >= 0`). clarabel form: `P = triu(A~)`, `c = b~`,
+//! `-z~ + s = 0`, `s >= 0`, on the Jacobi-scaled problem of
+//! [`crate::solver::scaling`] (unit diagonal, `||b~||_inf = 1`). `P` is
+//! dense: `n (n + 1) / 2` entries.
+//!
+//! The interior point is polished as in [`super::polish`], densely: with the
+//! active set `S = {i : z~_i > w~_i}`, solve `M~_SS z~_S = -q~_S` by
+//! iterative refinement on `M~_SS + delta I` (a proximal iteration that
+//! stays near the interior point's `z~_S` when `M~_SS` is singular); the
+//! polished point is kept when its natural map is smaller.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::polish::{POLISH_DELTA, POLISH_MAX_REFINE, POLISH_REFINE_TOL};
+use super::{ClarabelPoint, ClarabelSettings, csc_from_triplets, run};
+use crate::solver::lcp::Lcp;
+use crate::solver::outcome::FailureReason;
+use crate::solver::residuals::natural_map_abs;
+use crate::solver::scaling::LcpScaling;
+
+/// A solution of the LCP from clarabel on its dual QP.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DualSolution {
+    /// `z`.
+    pub z: DVector<f64>,
+    /// `w = M z + q`, recomputed from `z` on the original data.
+    pub w: DVector<f64>,
+    /// Interior-point iterations.
+    pub iterations: usize,
+}
+
+/// Solves a symmetric positive semidefinite LCP with clarabel. Fails with
+/// [`FailureReason::NotApplicable`] when `M` is not symmetric PSD.
+pub fn solve_lcp(lcp: &Lcp, settings: &ClarabelSettings) -> Result<DualSolution, FailureReason> {
+    if !lcp.is_symmetric_psd() {
+        return Err(FailureReason::NotApplicable);
+    }
+    solve_lcp_unchecked(lcp, settings)
+}
+
+/// As [`solve_lcp`], for a matrix known to be symmetric PSD by construction
+/// (`J M^-1 J^T`): skips the eigenvalue check.
+pub fn solve_lcp_unchecked(
+    lcp: &Lcp,
+    settings: &ClarabelSettings,
+) -> Result<DualSolution, FailureReason> {
+    let n = lcp.n();
+    if lcp.q().iter().all(|&x| x >= 0.0) {
+        return Ok(DualSolution {
+            z: DVector::zeros(n),
+            w: lcp.q().clone(),
+            iterations: 0,
+        });
+    }
+    let scaling = LcpScaling::jacobi(lcp.m(), lcp.q());
+    let m = scaling.scale_m(lcp.m());
+    let q = scaling.scale_q(lcp.q());
+    let mut p_triplets = Vec::with_capacity(n * (n + 1) / 2);
+    for j in 0..n {
+        for i in 0..=j {
+            // Symmetrize: the average of the two triangles.
+            p_triplets.push((i, j, 0.5 * (m[(i, j)] + m[(j, i)])));
+        }
+    }
+    let p = csc_from_triplets(n, n, p_triplets);
+    let a = csc_from_triplets(n, n, (0..n).map(|i| (i, i, -1.0)).collect());
+    let point: ClarabelPoint =
+        run(&p, q.as_slice(), &a, &vec![0.0; n], settings).map_err(FailureReason::Clarabel)?;
+    let raw = DVector::from_vec(point.x).map(|v| v.max(0.0));
+    let raw_residual = natural_map_abs(&raw, &(&m * &raw + &q));
+    let z_scaled = match polish_dense(&m, &q, &raw) {
+        Some(p) if natural_map_abs(&p, &(&m * &p + &q)) < raw_residual => p,
+        _ => raw,
+    };
+    let z = scaling.unscale_z(&z_scaled);
+    let w = lcp.w(&z);
+    Ok(DualSolution {
+        z,
+        w,
+        iterations: point.iterations,
+    })
+}
+
+/// Dense active-set polish of `z` for the scaled LCP `(m, q)`.
+fn polish_dense(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> Option<DVector<f64>> {
+    let w = m * z + q;
+    let active: Vec<usize> = (0..z.len()).filter(|&i| z[i] > w[i]).collect();
+    let k = active.len();
+    if k == 0 {
+        return Some(DVector::zeros(z.len()));
+    }
+    let m_ss = DMatrix::from_fn(k, k, |a, b| m[(active[a], active[b])]);
+    let q_s = DVector::from_fn(k, |a, _| q[active[a]]);
+    let chol = (&m_ss + DMatrix::identity(k, k) * POLISH_DELTA).cholesky()?;
+    let mut z_s = DVector::from_fn(k, |a, _| z[active[a]]);
+    for _ in 0..POLISH_MAX_REFINE {
+        let r = -&q_s - &m_ss * &z_s;
+        if r.amax() <= POLISH_REFINE_TOL {
+            break;
+        }
+        z_s += chol.solve(&r);
+    }
+    let mut out = DVector::zeros(z.len());
+    for (a, &i) in active.iter().enumerate() {
+        out[i] = z_s[a].max(0.0);
+    }
+    out.iter().all(|v| v.is_finite()).then_some(out)
+}

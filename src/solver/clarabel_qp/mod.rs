@@ -1,0 +1,196 @@
+//! clarabel (Goulart and Chen 2024, an interior-point solver) on the two QP
+//! forms of the projection problem.
+//!
+//! clarabel solves `min 1/2 x^T P x + c^T x  s.t.  A x + s = b, s in K` and
+//! returns the primal `x`, the slack `s` and the dual `z in K*`. Both forms
+//! here use the nonnegative cone `K = R^m_+`:
+//! - [`primal`]: `x` is the (rescaled) correction `dq`, one cone row per
+//!   constraint; `lambda` is read from the dual `z`.
+//! - [`dual`]: `x` is `lambda` of the LCP, `P = A = J M^-1 J^T` dense.
+//!
+//! Every status is mapped: `Solved` and `AlmostSolved` hand their point to
+//! our own residual check (the caller's); every other status is a
+//! [`ClarabelFailure`].
+
+pub mod dual;
+pub mod polish;
+pub mod primal;
+
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
+
+/// Settings passed to clarabel. The problems handed to clarabel are scaled
+/// to unit size first (see [`primal`] and [`dual`]), so these absolute
+/// tolerances act as relative ones on the caller's data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClarabelSettings {
+    /// Interior-point iteration limit (clarabel's default is 200).
+    pub max_iter: u32,
+    /// Wall-clock limit in seconds (infinite by default).
+    pub time_limit: f64,
+    /// Duality-gap tolerance, absolute and relative, on the scaled problem.
+    /// Tighter than clarabel's 1e-8 so that `dq` agrees with Lemke's to
+    /// about 1e-9 relative on degenerate (redundant-contact) problems.
+    pub tol_gap: f64,
+    /// Primal and dual feasibility tolerance on the scaled problem.
+    pub tol_feas: f64,
+}
+
+impl Default for ClarabelSettings {
+    fn default() -> Self {
+        Self {
+            max_iter: 200,
+            time_limit: f64::INFINITY,
+            tol_gap: 1e-11,
+            tol_feas: 1e-11,
+        }
+    }
+}
+
+impl ClarabelSettings {
+    fn to_clarabel(&self) -> DefaultSettings<f64> {
+        DefaultSettings {
+            max_iter: self.max_iter,
+            time_limit: self.time_limit,
+            verbose: false,
+            tol_gap_abs: self.tol_gap,
+            tol_gap_rel: self.tol_gap,
+            tol_feas: self.tol_feas,
+            ..DefaultSettings::default()
+        }
+    }
+}
+
+/// A clarabel outcome other than (almost) solved: one variant per status,
+/// plus a setup failure (clarabel rejected the data).
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum ClarabelFailure {
+    /// clarabel rejected the problem data or settings at setup.
+    Setup(String),
+    /// The solver did not run.
+    Unsolved,
+    /// Certificate that the constraints cannot all hold.
+    PrimalInfeasible,
+    /// Certificate that the objective is unbounded below.
+    DualInfeasible,
+    /// Primal infeasibility at reduced accuracy.
+    AlmostPrimalInfeasible,
+    /// Dual infeasibility at reduced accuracy.
+    AlmostDualInfeasible,
+    /// Iteration limit.
+    MaxIterations,
+    /// Time limit.
+    MaxTime,
+    /// Numerical error (a factorization failed).
+    NumericalError,
+    /// Stalled.
+    InsufficientProgress,
+    /// Stopped by a user callback.
+    CallbackTerminated,
+}
+
+/// Accuracy clarabel claims for a point it returns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ClarabelAccuracy {
+    /// `Solved`: full tolerances met.
+    Solved,
+    /// `AlmostSolved`: reduced tolerances met.
+    AlmostSolved,
+}
+
+/// Maps a clarabel status: a returned point, or the typed failure.
+pub fn map_status(status: SolverStatus) -> Result<ClarabelAccuracy, ClarabelFailure> {
+    match status {
+        SolverStatus::Solved => Ok(ClarabelAccuracy::Solved),
+        SolverStatus::AlmostSolved => Ok(ClarabelAccuracy::AlmostSolved),
+        SolverStatus::Unsolved => Err(ClarabelFailure::Unsolved),
+        SolverStatus::PrimalInfeasible => Err(ClarabelFailure::PrimalInfeasible),
+        SolverStatus::DualInfeasible => Err(ClarabelFailure::DualInfeasible),
+        SolverStatus::AlmostPrimalInfeasible => Err(ClarabelFailure::AlmostPrimalInfeasible),
+        SolverStatus::AlmostDualInfeasible => Err(ClarabelFailure::AlmostDualInfeasible),
+        SolverStatus::MaxIterations => Err(ClarabelFailure::MaxIterations),
+        SolverStatus::MaxTime => Err(ClarabelFailure::MaxTime),
+        SolverStatus::NumericalError => Err(ClarabelFailure::NumericalError),
+        SolverStatus::InsufficientProgress => Err(ClarabelFailure::InsufficientProgress),
+        SolverStatus::CallbackTerminated => Err(ClarabelFailure::CallbackTerminated),
+    }
+}
+
+/// What a clarabel run returns when it reports (almost) solved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClarabelPoint {
+    /// Primal variables.
+    pub x: Vec<f64>,
+    /// Dual variables of the cone rows.
+    pub z: Vec<f64>,
+    /// Slacks `s = b - A x` of the cone rows.
+    pub s: Vec<f64>,
+    /// Interior-point iterations.
+    pub iterations: usize,
+    /// Claimed accuracy.
+    pub accuracy: ClarabelAccuracy,
+}
+
+/// One clarabel solve of `min 1/2 x^T P x + c^T x, A x + s = b, s >= 0`.
+pub(crate) fn run(
+    p: &CscMatrix<f64>,
+    c: &[f64],
+    a: &CscMatrix<f64>,
+    b: &[f64],
+    settings: &ClarabelSettings,
+) -> Result<ClarabelPoint, ClarabelFailure> {
+    let cones = [SupportedConeT::NonnegativeConeT(b.len())];
+    let mut solver = DefaultSolver::new(p, c, a, b, &cones, settings.to_clarabel())
+        .map_err(|e| ClarabelFailure::Setup(e.to_string()))?;
+    solver.solve();
+    let solution = &solver.solution;
+    log::debug!(
+        "clarabel: status {:?} after {} iterations, r_prim {:.2e}, r_dual {:.2e}",
+        solution.status,
+        solution.iterations,
+        solution.r_prim,
+        solution.r_dual
+    );
+    let accuracy = map_status(solution.status)?;
+    Ok(ClarabelPoint {
+        x: solution.x.clone(),
+        z: solution.z.clone(),
+        s: solution.s.clone(),
+        iterations: solution.iterations as usize,
+        accuracy,
+    })
+}
+
+/// Assembles a CSC matrix from `(row, col, value)` triplets; duplicates are
+/// summed, exact zeros dropped.
+pub(crate) fn csc_from_triplets(
+    rows: usize,
+    cols: usize,
+    mut triplets: Vec<(usize, usize, f64)>,
+) -> CscMatrix<f64> {
+    triplets.sort_by_key(|&(r, c, _)| (c, r));
+    let mut colptr = vec![0usize; cols + 1];
+    let mut rowval = Vec::with_capacity(triplets.len());
+    let mut nzval: Vec<f64> = Vec::with_capacity(triplets.len());
+    let mut last: Option<(usize, usize)> = None;
+    for (r, c, v) in triplets {
+        if last == Some((r, c)) {
+            if let Some(tail) = nzval.last_mut() {
+                *tail += v;
+            }
+            continue;
+        }
+        if v == 0.0 {
+            continue;
+        }
+        rowval.push(r);
+        nzval.push(v);
+        colptr[c + 1] += 1;
+        last = Some((r, c));
+    }
+    for c in 0..cols {
+        colptr[c + 1] += colptr[c];
+    }
+    CscMatrix::new(rows, cols, colptr, rowval, nzval)
+}

@@ -1,0 +1,168 @@
+//! The primal projection QP for clarabel, in metric-whitened, unit-scaled
+//! variables.
+//!
+//! With `M_k = L_k L_k^T` per body (see [`crate::solver::metric`]) and
+//! `y = L^T dq`, the objective is `1/2 |y|^2`. Row `i` becomes
+//! `b_i + G_i y >= 0` with `G_ik = L_k^-1 J_ik^T` and `b = phi - target`.
+//! Each row is divided by `g_i = |G_i|` (so `g_i^2 = A_ii`, the LCP
+//! diagonal) and the variables by `s = max_i |b_i| / g_i` (`y = s y^`):
+//!
+//! ```text
+//! minimize 1/2 |y^|^2   s.t.   -G^_i y^ + sigma_i = b_i / (g_i s),  sigma >= 0
+//! ```
+//!
+//! with `G^_i = G_i / g_i`: `P = I`, unit rows, a right-hand side of at most
+//! one in magnitude, whatever the masses and lengths. The KKT condition
+//! `y^ = G^^T z^` maps back to `M dq = J^T lambda` with
+//!
+//! ```text
+//! dq_k = s L_k^-T y^_k,     lambda_i = s z^_i / g_i.
+//! ```
+//!
+//! Rows with `g_i = 0` (no body moves them) are left out, with
+//! `lambda_i = 0`; the caller rejects such a row when it is violated. The
+//! interior point is then polished ([`super::polish`]) and the better of
+//! the two points, by [`ProjectionResiduals::worst`], is returned.
+
+use clarabel::algebra::CscMatrix;
+use nalgebra::{DVector, Vector6};
+
+use super::polish::{WhitenedQp, polish};
+use super::{ClarabelSettings, csc_from_triplets, run};
+use crate::solver::metric::BlockMetric;
+use crate::solver::outcome::{Candidate, FailureReason};
+use crate::solver::projection::ProjectionQp;
+use crate::solver::residuals::{ProjectionResiduals, projection_residuals};
+
+/// The whitened, normalized problem: rows `G^_i` over the variables, the
+/// right-hand sides, and the maps back.
+struct Whitened {
+    /// Indices of the rows kept (`g_i > 0`).
+    active: Vec<usize>,
+    /// Row norms `g_i` of the kept rows.
+    norms: Vec<f64>,
+    /// `G^_i` of the kept rows, as `(variable, value)`.
+    rows: Vec<Vec<(usize, f64)>>,
+    /// `b_i / (g_i s)` of the kept rows.
+    rhs: Vec<f64>,
+    /// Variable scale `s`.
+    s: f64,
+}
+
+fn whiten(qp: &ProjectionQp, metric: &[BlockMetric]) -> Whitened {
+    let b = qp.b();
+    let mut w = Whitened {
+        active: Vec::new(),
+        norms: Vec::new(),
+        rows: Vec::new(),
+        rhs: Vec::new(),
+        s: 0.0,
+    };
+    for (i, row) in qp.rows.iter().enumerate() {
+        let blocks: Vec<(usize, Vector6<f64>)> = row
+            .blocks
+            .iter()
+            .map(|(k, g)| (*k, metric[*k].solve_l(g)))
+            .collect();
+        let g = blocks
+            .iter()
+            .map(|(_, v)| v.norm_squared())
+            .sum::<f64>()
+            .sqrt();
+        if g > 0.0 && g.is_finite() {
+            w.active.push(i);
+            w.norms.push(g);
+            w.rows.push(
+                blocks
+                    .iter()
+                    .flat_map(|(k, v)| v.iter().enumerate().map(move |(e, x)| (6 * k + e, x / g)))
+                    .filter(|(_, x)| *x != 0.0)
+                    .collect(),
+            );
+            w.s = w.s.max(b[i].abs() / g);
+        }
+    }
+    let s = w.s;
+    w.rhs = w
+        .active
+        .iter()
+        .zip(&w.norms)
+        .map(|(&i, g)| b[i] / (g * s))
+        .collect();
+    w
+}
+
+/// Solves the projection QP with clarabel (primal form).
+pub fn solve(
+    qp: &ProjectionQp,
+    metric: &[BlockMetric],
+    settings: &ClarabelSettings,
+) -> Result<Candidate, FailureReason> {
+    let white = whiten(qp, metric);
+    let n = qp.num_dofs();
+    if white.s == 0.0 || !white.s.is_finite() {
+        // b = 0 on every movable row: dq = 0 and lambda = 0 solve it exactly.
+        return Ok(Candidate {
+            dq: DVector::zeros(n),
+            lambda: DVector::zeros(qp.num_rows()),
+            iterations: 0,
+        });
+    }
+    let triplets = white
+        .rows
+        .iter()
+        .enumerate()
+        .flat_map(|(r, row)| row.iter().map(move |&(j, v)| (r, j, -v)))
+        .collect();
+    let a = csc_from_triplets(white.rows.len(), n, triplets);
+    let p = CscMatrix::identity(n);
+    let point =
+        run(&p, &vec![0.0; n], &a, &white.rhs, settings).map_err(FailureReason::Clarabel)?;
+    let raw = unscale(qp, metric, &white, &point.x, &point.z, point.iterations);
+    let whitened = WhitenedQp {
+        n,
+        rows: &white.rows,
+        b: &white.rhs,
+    };
+    let Some((y, z)) = polish(&whitened, &point.x, &point.z, &point.s) else {
+        return Ok(raw);
+    };
+    let polished = unscale(qp, metric, &white, &y, &z, point.iterations);
+    let worst = |c: &Candidate| -> f64 {
+        let r: ProjectionResiduals = projection_residuals(qp, metric, &c.dq, &c.lambda);
+        r.worst()
+    };
+    let (raw_res, polished_res) = (worst(&raw), worst(&polished));
+    log::debug!("clarabel primal: residual {raw_res:.2e}, polished {polished_res:.2e}");
+    Ok(if polished_res < raw_res {
+        polished
+    } else {
+        raw
+    })
+}
+
+/// `dq_k = s L_k^-T y_k`, `lambda_i = s z_i / g_i`.
+fn unscale(
+    qp: &ProjectionQp,
+    metric: &[BlockMetric],
+    white: &Whitened,
+    y: &[f64],
+    z: &[f64],
+    iterations: usize,
+) -> Candidate {
+    let mut dq = DVector::zeros(qp.num_dofs());
+    for (k, body) in metric.iter().enumerate() {
+        let y_k = Vector6::from_iterator(y[6 * k..6 * k + 6].iter().copied());
+        dq.fixed_rows_mut::<6>(6 * k)
+            .copy_from(&(body.solve_lt(&y_k) * white.s));
+    }
+    let mut lambda = DVector::zeros(qp.num_rows());
+    for (r, &i) in white.active.iter().enumerate() {
+        lambda[i] = white.s * z[r] / white.norms[r];
+    }
+    Candidate {
+        dq,
+        lambda,
+        iterations,
+    }
+}

@@ -1,0 +1,264 @@
+//! Lemke's complementary pivoting method for the LCP
+//! `z >= 0, w = M z + q >= 0, z^T w = 0`, with
+//! - the covering vector `d = 1` on the Jacobi-scaled problem of
+//!   [`super::scaling`] (so every tolerance below is relative to `||M||` and
+//!   `||q||` of the caller's data),
+//! - the lexicographic ratio test of [`ratio`] (no cycling on degenerate
+//!   problems),
+//! - `O(n^2)` Gauss-Jordan tableau updates per pivot ([`tableau`]) and a
+//!   final LU re-solve in the final basis (optionally every k pivots),
+//! - a pivot limit, and ray termination as an outcome,
+//! - a regularized retry: when the plain run fails, `M~ + eps I` for each
+//!   `eps` of a growing ladder. Whatever run produced it, a `z` is returned
+//!   only after its natural-map residual on the *original* (scaled,
+//!   unregularized) problem is below the tolerance; the solution records
+//!   the `eps` that produced it.
+//!
+//! When the symmetric part of `M` is positive semidefinite, `M` is
+//! copositive-plus and ray termination of the plain run proves that the LCP
+//! has no solution (Cottle, Pang and Stone 1992, theorem 4.4.13).
+
+pub mod path;
+pub mod ratio;
+pub mod tableau;
+
+use nalgebra::{DMatrix, DVector};
+
+use super::lcp::Lcp;
+use super::residuals::{lcp_natural_map, natural_map_abs};
+use super::scaling::LcpScaling;
+use path::{PathEnd, PathOptions, z_from_basis, z_from_tableau};
+use ratio::RatioTolerances;
+
+/// Settings of Lemke's method. All tolerances apply to the Jacobi-scaled
+/// problem (unit diagonal where `M_ii > 0`, `||q~||_inf = 1`), so they are
+/// relative to the caller's `M` and `q`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LemkeSettings {
+    /// A returned `z` must have `||min(z~, w~)||_inf` below this on the
+    /// scaled, unregularized problem.
+    pub tol_residual: f64,
+    /// Pivot elements must exceed this fraction of the column's largest
+    /// magnitude.
+    pub tol_pivot_rel: f64,
+    /// An entering column whose entries are all below this is zero (ray).
+    pub tol_zero_column: f64,
+    /// Relative width within which two ratios tie.
+    pub tol_tie: f64,
+    /// Pivot limit per run: `max(pivot_limit_min, pivot_limit_per_row * n)`.
+    pub pivot_limit_per_row: usize,
+    /// See `pivot_limit_per_row`.
+    pub pivot_limit_min: usize,
+    /// The regularizations `eps` tried, in order, after the plain run fails
+    /// (relative to the unit diagonal of the scaled problem).
+    pub regularization_ladder: Vec<f64>,
+    /// Refactorize the tableau from the data every this many pivots
+    /// (0 = never; the final basis is always re-solved once).
+    pub refactor_every: usize,
+}
+
+impl Default for LemkeSettings {
+    fn default() -> Self {
+        Self {
+            tol_residual: 1e-9,
+            tol_pivot_rel: 1e-11,
+            tol_zero_column: 1e-13,
+            tol_tie: 1e-11,
+            pivot_limit_per_row: 50,
+            pivot_limit_min: 1000,
+            regularization_ladder: vec![1e-12, 1e-10, 1e-8, 1e-6],
+            refactor_every: 0,
+        }
+    }
+}
+
+/// Why Lemke's method did not return a solution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum LemkeStatus {
+    /// Secondary ray: no solution (proved when `M` is copositive-plus).
+    Ray,
+    /// The pivot limit was reached.
+    PivotLimit,
+    /// A complementary basis was found, but its `z` misses the residual
+    /// tolerance on the original problem.
+    Inaccurate {
+        /// Scaled natural-map residual.
+        residual: f64,
+    },
+}
+
+/// One run (plain or regularized).
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct LemkeAttempt {
+    /// `eps` added to the scaled diagonal (0 for the plain run).
+    pub regularization: f64,
+    /// Pivots of this run.
+    pub pivots: usize,
+    /// `None` if this run produced the accepted solution.
+    pub failure: Option<LemkeStatus>,
+}
+
+/// A checked solution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LemkeSolution {
+    /// `z >= 0`.
+    pub z: DVector<f64>,
+    /// `w = M z + q`, recomputed on the original data.
+    pub w: DVector<f64>,
+    /// Total pivots over all runs.
+    pub pivots: usize,
+    /// `Some(eps)` when the accepted run was regularized.
+    pub regularization: Option<f64>,
+    /// Every run, in order.
+    pub attempts: Vec<LemkeAttempt>,
+    /// Natural map on the scaled problem (what was checked).
+    pub residual_scaled: f64,
+    /// `||min(z, w)||_inf / max(1, ||q||_inf)` on the original data.
+    pub residual: f64,
+}
+
+/// No solution: the status of the plain run and every attempt.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LemkeFailure {
+    /// Why the plain (unregularized) run failed.
+    pub status: LemkeStatus,
+    /// Every run, in order.
+    pub attempts: Vec<LemkeAttempt>,
+    /// Total pivots.
+    pub pivots: usize,
+}
+
+/// The scaled problem shared by every run.
+struct Scaled {
+    scaling: LcpScaling,
+    m: DMatrix<f64>,
+    q: DVector<f64>,
+}
+
+/// Solves the LCP with Lemke's method (see the module docs).
+pub fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution, LemkeFailure> {
+    let scaling = LcpScaling::jacobi(lcp.m(), lcp.q());
+    let scaled = Scaled {
+        m: scaling.scale_m(lcp.m()),
+        q: scaling.scale_q(lcp.q()),
+        scaling,
+    };
+    let mut attempts = Vec::new();
+    let ladder = std::iter::once(0.0).chain(settings.regularization_ladder.iter().copied());
+    for eps in ladder {
+        let (attempt, z_scaled) = attempt(&scaled, eps, settings);
+        attempts.push(attempt);
+        if let Some(z_scaled) = z_scaled {
+            return Ok(finish(lcp, &scaled, z_scaled, attempts));
+        }
+    }
+    let pivots = attempts.iter().map(|a| a.pivots).sum();
+    let status = attempts[0].failure.unwrap_or(LemkeStatus::Ray);
+    log::debug!(
+        "lemke: no solution after {} runs, {pivots} pivots: {status:?}",
+        attempts.len()
+    );
+    Err(LemkeFailure {
+        status,
+        attempts,
+        pivots,
+    })
+}
+
+/// One run with `M~ + eps I`; returns the checked scaled `z` if accepted.
+fn attempt(
+    scaled: &Scaled,
+    eps: f64,
+    settings: &LemkeSettings,
+) -> (LemkeAttempt, Option<DVector<f64>>) {
+    let n = scaled.q.len();
+    let m_run = if eps > 0.0 {
+        &scaled.m + DMatrix::identity(n, n) * eps
+    } else {
+        scaled.m.clone()
+    };
+    let options = PathOptions {
+        max_pivots: settings
+            .pivot_limit_min
+            .max(settings.pivot_limit_per_row * n),
+        refactor_every: settings.refactor_every,
+        ratio: RatioTolerances {
+            pivot_rel: settings.tol_pivot_rel,
+            zero_column: settings.tol_zero_column,
+            tie: settings.tol_tie,
+        },
+    };
+    let path = path::run(&m_run, &DVector::from_element(n, 1.0), &scaled.q, &options);
+    log::debug!(
+        "lemke run eps={eps:e}: {:?} after {} pivots",
+        path.end,
+        path.pivots
+    );
+    let failure = match path.end {
+        PathEnd::Ray => Some(LemkeStatus::Ray),
+        PathEnd::PivotLimit => Some(LemkeStatus::PivotLimit),
+        PathEnd::Complementary => None,
+    };
+    let mut record = LemkeAttempt {
+        regularization: eps,
+        pivots: path.pivots,
+        failure,
+    };
+    if failure.is_some() {
+        return (record, None);
+    }
+    let (z, residual) = best_candidate(scaled, &path);
+    if residual <= settings.tol_residual {
+        (record, Some(z))
+    } else {
+        record.failure = Some(LemkeStatus::Inaccurate { residual });
+        (record, None)
+    }
+}
+
+/// The better of the tableau's `z` and the LU re-solve of the final basis
+/// on the unregularized problem, each clamped to `z >= 0` and measured on
+/// the unregularized scaled problem.
+fn best_candidate(scaled: &Scaled, path: &path::Path) -> (DVector<f64>, f64) {
+    let mut candidates = vec![z_from_tableau(&path.tableau)];
+    candidates.extend(z_from_basis(&path.tableau.basis, &scaled.m, &scaled.q));
+    candidates
+        .into_iter()
+        .map(|z| {
+            let z = z.map(|x| x.max(0.0));
+            let w = &scaled.m * &z + &scaled.q;
+            let r = natural_map_abs(&z, &w);
+            (z, r)
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap_or_else(|| (DVector::zeros(scaled.q.len()), f64::INFINITY))
+}
+
+fn finish(
+    lcp: &Lcp,
+    scaled: &Scaled,
+    z_scaled: DVector<f64>,
+    attempts: Vec<LemkeAttempt>,
+) -> LemkeSolution {
+    let w_scaled = &scaled.m * &z_scaled + &scaled.q;
+    let residual_scaled = natural_map_abs(&z_scaled, &w_scaled);
+    let z = scaled.scaling.unscale_z(&z_scaled);
+    let w = lcp.w(&z);
+    let residual = lcp_natural_map(&z, &w, lcp.q());
+    let pivots = attempts.iter().map(|a| a.pivots).sum();
+    let regularization = attempts
+        .last()
+        .map(|a| a.regularization)
+        .filter(|&e| e > 0.0);
+    LemkeSolution {
+        z,
+        w,
+        pivots,
+        regularization,
+        attempts,
+        residual_scaled,
+        residual,
+    }
+}

@@ -1,0 +1,139 @@
+//! One run of Lemke's complementary pivoting (Lemke 1965; Cottle, Pang and
+//! Stone 1992, section 4.4) on a scaled LCP, and the extraction of `z` from
+//! its final basis.
+//!
+//! Start from the basis `w` with the artificial variable `z0` at the value
+//! that makes `w = q + d z0 >= 0`. Then repeat: the complement of the
+//! variable that just left enters; the lexicographic ratio test picks the
+//! row that leaves. The path ends when `z0` leaves (a solution), when an
+//! entering column has no positive entry (a secondary ray), or at the pivot
+//! limit.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::ratio::{RatioTolerances, leaving_row};
+use super::tableau::{Tableau, original_columns};
+
+/// How a path ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PathEnd {
+    /// `z0` left the basis: the basis is complementary.
+    Complementary,
+    /// Ray termination.
+    Ray,
+    /// Pivot limit.
+    PivotLimit,
+}
+
+/// A finished path.
+pub struct Path {
+    /// How it ended.
+    pub end: PathEnd,
+    /// The final tableau.
+    pub tableau: Tableau,
+    /// Pivots made.
+    pub pivots: usize,
+}
+
+/// Options of one run.
+pub struct PathOptions {
+    /// Pivot limit.
+    pub max_pivots: usize,
+    /// Refactorize the tableau every this many pivots (0 = never).
+    pub refactor_every: usize,
+    /// Ratio-test tolerances.
+    pub ratio: RatioTolerances,
+}
+
+fn complement(variable: usize, n: usize) -> usize {
+    if variable < n {
+        variable + n
+    } else {
+        variable - n
+    }
+}
+
+/// Runs Lemke's method on `(m, q)` with covering vector `d > 0`.
+pub fn run(m: &DMatrix<f64>, d: &DVector<f64>, q: &DVector<f64>, options: &PathOptions) -> Path {
+    let n = q.len();
+    let mut tableau = Tableau::new(m, d, q);
+    if q.iter().all(|&x| x >= 0.0) {
+        return Path {
+            end: PathEnd::Complementary,
+            tableau,
+            pivots: 0,
+        };
+    }
+    let mut entering = tableau.z0();
+    let mut pivots = 0;
+    loop {
+        if pivots >= options.max_pivots {
+            return Path {
+                end: PathEnd::PivotLimit,
+                tableau,
+                pivots,
+            };
+        }
+        let Some(row) = leaving_row(&tableau, entering, pivots == 0, &options.ratio) else {
+            return Path {
+                end: PathEnd::Ray,
+                tableau,
+                pivots,
+            };
+        };
+        let leaving = tableau.pivot(row, entering);
+        pivots += 1;
+        if options.refactor_every > 0 && pivots % options.refactor_every == 0 {
+            tableau.refactor(m, d, q);
+        }
+        log::trace!("lemke pivot {pivots}: {entering} enters in row {row}, {leaving} leaves");
+        if leaving == tableau.z0() {
+            return Path {
+                end: PathEnd::Complementary,
+                tableau,
+                pivots,
+            };
+        }
+        entering = complement(leaving, n);
+    }
+}
+
+/// `z` read from the tableau (zero for nonbasic `z_i`).
+pub fn z_from_tableau(tableau: &Tableau) -> DVector<f64> {
+    let n = tableau.n();
+    let mut z = DVector::zeros(n);
+    for (r, &v) in tableau.basis.iter().enumerate() {
+        if (n..2 * n).contains(&v) {
+            z[v - n] = tableau.rhs(r);
+        }
+    }
+    z
+}
+
+/// `z` from a fresh LU solve `B x = q` with the basis columns of the
+/// original `[I | -M]` (no `z0`): removes the rounding that the pivots
+/// accumulated, and, after a regularized run, re-solves the unregularized
+/// problem in the same basis. `None` if `z0` is basic or `B` is singular.
+pub fn z_from_basis(basis: &[usize], m: &DMatrix<f64>, q: &DVector<f64>) -> Option<DVector<f64>> {
+    let n = q.len();
+    if n == 0 {
+        // nalgebra's LU solve does not accept an empty system.
+        return Some(DVector::zeros(0));
+    }
+    if basis.contains(&(2 * n)) {
+        return None;
+    }
+    let full = original_columns(m, &DVector::zeros(n), q);
+    let b = DMatrix::from_fn(n, n, |i, r| full[(i, basis[r])]);
+    let x = b.lu().solve(q)?;
+    if !x.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let mut z = DVector::zeros(n);
+    for (r, &v) in basis.iter().enumerate() {
+        if (n..2 * n).contains(&v) {
+            z[v - n] = x[r];
+        }
+    }
+    Some(z)
+}

@@ -1,0 +1,95 @@
+//! Outcomes shared by the solvers: which solver ran, what it produced, and
+//! why a solver failed before another one took over.
+
+use std::fmt;
+
+use nalgebra::DVector;
+
+use super::clarabel_qp::ClarabelFailure;
+use super::lemke::LemkeStatus;
+use super::pgs::PgsStatus;
+
+/// A solver of the projection QP / its LCP.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum SolverKind {
+    /// Every constraint already holds: `dq = 0`, `lambda = 0` (only under
+    /// [`super::SolverChoice::Auto`]).
+    Trivial,
+    /// One row: `lambda = max(0, -b/a)`.
+    ClosedForm,
+    /// clarabel on the primal QP (variables `dq`).
+    Clarabel,
+    /// clarabel on the dual QP `min 1/2 z^T A z + b^T z, z >= 0`.
+    ClarabelDual,
+    /// Lemke's complementary pivoting on the LCP.
+    Lemke,
+    /// Projected Gauss-Seidel on the LCP.
+    Pgs,
+}
+
+/// What a solver returns before the common residual check.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    /// The correction `dq` (six entries per body).
+    pub dq: DVector<f64>,
+    /// The multipliers `lambda` (one per row).
+    pub lambda: DVector<f64>,
+    /// Interior-point iterations, pivots or sweeps.
+    pub iterations: usize,
+}
+
+/// Why one solver did not deliver a solution.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum FailureReason {
+    /// The solver does not apply to this problem (the closed form on more
+    /// than one row, PGS on a zero diagonal, a QP form of a non-symmetric
+    /// or indefinite LCP).
+    NotApplicable,
+    /// A violated row with a zero Jacobian: no correction can satisfy it.
+    Infeasible,
+    /// clarabel stopped with a status other than (almost) solved.
+    Clarabel(ClarabelFailure),
+    /// Lemke's method ended without a solution (after the regularized
+    /// retries).
+    Lemke(LemkeStatus),
+    /// PGS did not reach the tolerance.
+    Pgs(PgsStatus),
+    /// The solver returned a solution whose residual, checked by us against
+    /// the original problem, is above the tolerance.
+    ResidualTooLarge {
+        /// The worst relative residual.
+        residual: f64,
+        /// The tolerance it was checked against.
+        tolerance: f64,
+    },
+}
+
+impl fmt::Display for FailureReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NotApplicable => write!(f, "not applicable to this problem"),
+            Self::Infeasible => write!(f, "a violated row has a zero Jacobian"),
+            Self::Clarabel(c) => write!(f, "clarabel: {c:?}"),
+            Self::Lemke(s) => write!(f, "lemke: {s:?}"),
+            Self::Pgs(s) => write!(f, "pgs: {s:?}"),
+            Self::ResidualTooLarge {
+                residual,
+                tolerance,
+            } => {
+                write!(f, "residual {residual:.3e} above tolerance {tolerance:.3e}")
+            }
+        }
+    }
+}
+
+/// A solver that was tried and failed, before the one that succeeded.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Fallback {
+    /// The solver that failed.
+    pub solver: SolverKind,
+    /// Why.
+    pub reason: FailureReason,
+}

@@ -1,0 +1,124 @@
+//! Projected Gauss-Seidel on the LCP: the baseline of game engines
+//! (Catto's sequential impulses are the same iteration on the Jacobian).
+//!
+//! One sweep updates each unknown in turn, with the latest values of the
+//! others:
+//!
+//! ```text
+//! z_i <- max(0, z_i - (q_i + M_i z) / M_ii)
+//! ```
+//!
+//! It converges for symmetric positive definite `M` (Cottle, Pang and
+//! Stone 1992, section 5.2), slowly when `M` is ill-conditioned, and may not
+//! converge otherwise; it needs `M_ii > 0`. The iteration runs on the
+//! Jacobi-scaled problem of [`super::scaling`] (the iterates are the same up
+//! to scaling; the residual is then relative), and stops when the natural
+//! map falls below the tolerance or at the sweep limit, which is a failure:
+//! a non-converged `z` is never returned.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::lcp::Lcp;
+use super::residuals::{lcp_natural_map, natural_map_abs};
+use super::scaling::LcpScaling;
+
+/// Settings of PGS.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PgsSettings {
+    /// Sweep limit.
+    pub max_sweeps: usize,
+    /// Stop when `||min(z~, w~)||_inf` on the scaled problem is below this.
+    pub tol_residual: f64,
+}
+
+impl Default for PgsSettings {
+    fn default() -> Self {
+        Self {
+            max_sweeps: 1000,
+            tol_residual: 1e-9,
+        }
+    }
+}
+
+/// Why PGS did not return a solution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum PgsStatus {
+    /// `M_ii <= 0`: the update divides by it.
+    NonPositiveDiagonal {
+        /// The row.
+        row: usize,
+    },
+    /// The sweep limit was reached first.
+    MaxSweeps {
+        /// Scaled natural-map residual at the end.
+        residual: f64,
+    },
+    /// An iterate stopped being finite.
+    Diverged {
+        /// Sweeps done.
+        sweeps: usize,
+    },
+}
+
+/// A converged PGS solution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PgsSolution {
+    /// `z >= 0`.
+    pub z: DVector<f64>,
+    /// `w = M z + q`, on the original data.
+    pub w: DVector<f64>,
+    /// Sweeps done.
+    pub sweeps: usize,
+    /// Natural map on the scaled problem (what was checked).
+    pub residual_scaled: f64,
+    /// `||min(z, w)||_inf / max(1, ||q||_inf)` on the original data.
+    pub residual: f64,
+}
+
+/// Runs PGS from `z = 0`.
+pub fn solve(lcp: &Lcp, settings: &PgsSettings) -> Result<PgsSolution, PgsStatus> {
+    if let Some(row) = lcp.m().diagonal().iter().position(|&d| d <= 0.0) {
+        return Err(PgsStatus::NonPositiveDiagonal { row });
+    }
+    let scaling = LcpScaling::jacobi(lcp.m(), lcp.q());
+    // Rows of M~ as contiguous columns of its transpose.
+    let m_t = scaling.scale_m(lcp.m()).transpose();
+    let q = scaling.scale_q(lcp.q());
+    let mut z = DVector::zeros(q.len());
+    let mut residual = f64::INFINITY;
+    for sweep in 1..=settings.max_sweeps {
+        gauss_seidel_sweep(&m_t, &q, &mut z);
+        let w = m_t.tr_mul(&z) + &q;
+        residual = natural_map_abs(&z, &w);
+        if !residual.is_finite() {
+            return Err(PgsStatus::Diverged { sweeps: sweep });
+        }
+        if residual <= settings.tol_residual {
+            log::debug!("pgs: converged after {sweep} sweeps, residual {residual:.2e}");
+            let z_orig = scaling.unscale_z(&z);
+            let w_orig = lcp.w(&z_orig);
+            return Ok(PgsSolution {
+                residual: lcp_natural_map(&z_orig, &w_orig, lcp.q()),
+                z: z_orig,
+                w: w_orig,
+                sweeps: sweep,
+                residual_scaled: residual,
+            });
+        }
+    }
+    log::debug!(
+        "pgs: {} sweeps, residual {residual:.2e}",
+        settings.max_sweeps
+    );
+    Err(PgsStatus::MaxSweeps { residual })
+}
+
+/// One in-place sweep; `m_t` is `M~^T`, whose column `i` is row `i` of `M~`.
+fn gauss_seidel_sweep(m_t: &DMatrix<f64>, q: &DVector<f64>, z: &mut DVector<f64>) {
+    for i in 0..q.len() {
+        let row = m_t.column(i);
+        let w_i = row.dot(z) + q[i];
+        z[i] = (z[i] - w_i / row[i]).max(0.0);
+    }
+}

@@ -1,0 +1,60 @@
+//! From the projection QP to its dual LCP, without forming `M^-1` densely.
+//!
+//! ```text
+//! A = J M^-1 J^T,   b = phi - target,   dq = M^-1 J^T lambda
+//! ```
+//!
+//! `M` is block diagonal, so `A_ij = sum_k J_ik M_k^-1 J_jk^T` over the bodies
+//! `k` that rows `i` and `j` share. The sum runs body by body over the rows
+//! incident to that body: `O(sum_k deg_k^2)` 6-vector dot products, where
+//! `deg_k` is the number of rows touching body `k`.
+
+use nalgebra::{DMatrix, DVector, Vector6};
+
+use super::error::SolverError;
+use super::lcp::Lcp;
+use super::metric::BlockMetric;
+use super::projection::ProjectionQp;
+use super::residuals::m_inv;
+
+/// A row touching a body: `(row index, J_ik, M_k^-1 J_ik^T)`.
+type Incidence = (usize, Vector6<f64>, Vector6<f64>);
+
+/// `A = J M^-1 J^T` (dense, symmetric).
+pub fn lcp_matrix(qp: &ProjectionQp, metric: &[BlockMetric]) -> DMatrix<f64> {
+    let n = qp.num_rows();
+    // incident[k] = rows touching body k, with J_ik and M_k^-1 J_ik^T.
+    let mut incident: Vec<Vec<Incidence>> = vec![Vec::new(); metric.len()];
+    for (i, row) in qp.rows.iter().enumerate() {
+        for (k, g) in &row.blocks {
+            incident[*k].push((i, *g, metric[*k].apply_inv(g)));
+        }
+    }
+    let mut a = DMatrix::zeros(n, n);
+    for rows in &incident {
+        for (x, (i, _, u_i)) in rows.iter().enumerate() {
+            for (j, g_j, _) in &rows[x..] {
+                let v = g_j.dot(u_i);
+                a[(*i, *j)] += v;
+                if i != j {
+                    a[(*j, *i)] += v;
+                }
+            }
+        }
+    }
+    a
+}
+
+/// The dual LCP `(A, b)` of a validated projection QP.
+pub fn projection_to_lcp(qp: &ProjectionQp, metric: &[BlockMetric]) -> Result<Lcp, SolverError> {
+    Lcp::new(lcp_matrix(qp, metric), qp.b())
+}
+
+/// `dq = M^-1 J^T lambda`.
+pub fn dq_from_lambda(
+    qp: &ProjectionQp,
+    metric: &[BlockMetric],
+    lambda: &DVector<f64>,
+) -> DVector<f64> {
+    m_inv(metric, &qp.apply_jt(lambda))
+}

@@ -1,0 +1,85 @@
+//! Symmetric diagonal scaling of an LCP, so that tolerances can be absolute
+//! in the scaled problem and relative in the original one.
+//!
+//! With `D = diag(d)`, `d > 0`, and `s > 0`, the LCP `(M, q)` is equivalent to
+//!
+//! ```text
+//! M~ = D M D,   q~ = D q / s,   z = s D z~,   w = s D^-1 w~
+//! ```
+//!
+//! since `w~ = M~ z~ + q~ = D (M z + q) / s`. Signs and complementarity are
+//! unchanged. Jacobi scaling `d_i = 1/sqrt(M_ii)` gives `M~` a unit diagonal
+//! (for a contact LCP `A = J M^-1 J^T` this removes the spread of masses and
+//! lengths); `s = ||D q||_inf` makes `||q~||_inf = 1`.
+
+use nalgebra::{DMatrix, DVector};
+
+/// Diagonal entries below this fraction of `max|M|` are treated as zero for
+/// the Jacobi scale (that row gets `1/sqrt(max|M|)` instead).
+pub const JACOBI_MIN_DIAG_REL: f64 = 1e-14;
+
+/// The scaling `(d, s)` of an LCP.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LcpScaling {
+    /// Diagonal of `D`, all positive.
+    pub d: DVector<f64>,
+    /// Scale `s > 0` of `q`.
+    pub s: f64,
+}
+
+impl LcpScaling {
+    /// Jacobi scaling of `M`, then normalization of `q`.
+    pub fn jacobi(m: &DMatrix<f64>, q: &DVector<f64>) -> Self {
+        let size = m.amax();
+        let fallback = if size > 0.0 { 1.0 / size.sqrt() } else { 1.0 };
+        let d = DVector::from_iterator(
+            q.len(),
+            m.diagonal().iter().map(|&mii| {
+                if mii > JACOBI_MIN_DIAG_REL * size {
+                    1.0 / mii.sqrt()
+                } else {
+                    fallback
+                }
+            }),
+        );
+        let dq_norm = d.component_mul(q).amax();
+        let s = if dq_norm > 0.0 { dq_norm } else { 1.0 };
+        Self { d, s }
+    }
+
+    /// `D M D`.
+    pub fn scale_m(&self, m: &DMatrix<f64>) -> DMatrix<f64> {
+        let mut out = m.clone();
+        for j in 0..m.ncols() {
+            for i in 0..m.nrows() {
+                out[(i, j)] *= self.d[i] * self.d[j];
+            }
+        }
+        out
+    }
+
+    /// `D q / s`.
+    pub fn scale_q(&self, q: &DVector<f64>) -> DVector<f64> {
+        self.d.component_mul(q) / self.s
+    }
+
+    /// `z = s D z~`.
+    pub fn unscale_z(&self, z_scaled: &DVector<f64>) -> DVector<f64> {
+        self.d.component_mul(z_scaled) * self.s
+    }
+
+    /// `w = s D^-1 w~`.
+    pub fn unscale_w(&self, w_scaled: &DVector<f64>) -> DVector<f64> {
+        w_scaled.component_div(&self.d) * self.s
+    }
+
+    /// `z~ = D^-1 z / s`.
+    pub fn scale_z(&self, z: &DVector<f64>) -> DVector<f64> {
+        z.component_div(&self.d) / self.s
+    }
+
+    /// `w~ = D w / s`.
+    pub fn scale_w(&self, w: &DVector<f64>) -> DVector<f64> {
+        self.d.component_mul(w) / self.s
+    }
+}

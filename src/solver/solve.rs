@@ -1,0 +1,297 @@
+//! `solve_projection`: validation, the per-island choice of solver, the
+//! fallback chain, the residual check and the optional cross-check.
+//!
+//! Order of solvers tried: under [`SolverChoice::Auto`], nothing when every
+//! row already holds ([`SolverKind::Trivial`]), the closed form for one
+//! row, Lemke up to [`SolverSettings::auto_lemke_max_rows`] rows and clarabel
+//! (primal) above (the crossover measured by `benchmarks/solvers.rs`). A
+//! named choice runs that solver first. Whatever failed is followed by the
+//! remaining ones of clarabel -> Lemke -> PGS. Every candidate, from any
+//! solver, passes the same residual check ([`ProjectionResiduals::worst`]
+//! below [`SolverSettings::tol_residual`]) before it is returned; each
+//! solver that failed is listed in [`ProjectionSolution::fallbacks`].
+
+use std::cell::OnceCell;
+
+use nalgebra::DVector;
+
+use super::clarabel_qp::{self, ClarabelSettings};
+use super::closed_form::solve_single_row;
+use super::cross_check::{CrossCheck, CrossCheckOutcome, differences};
+use super::error::SolverError;
+use super::lcp::Lcp;
+use super::lemke::{self, LemkeSettings};
+use super::metric::BlockMetric;
+use super::outcome::{Candidate, FailureReason, Fallback, SolverKind};
+use super::pgs::{self, PgsSettings};
+use super::projection::ProjectionQp;
+use super::projection_lcp::{dq_from_lambda, projection_to_lcp};
+use super::residuals::{ProjectionResiduals, projection_residuals};
+
+/// Which solver to use for a projection QP.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SolverChoice {
+    /// Trivial / closed form / Lemke / clarabel by problem size.
+    #[default]
+    Auto,
+    /// clarabel on the primal QP.
+    Clarabel,
+    /// clarabel on the dual QP (the LCP as a QP).
+    ClarabelDual,
+    /// Lemke's method on the LCP.
+    Lemke,
+    /// Projected Gauss-Seidel on the LCP.
+    Pgs,
+}
+
+/// Settings of [`solve_projection`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolverSettings {
+    /// Solver choice.
+    pub choice: SolverChoice,
+    /// Also solve with a second solver (Lemke, or clarabel when Lemke was
+    /// the first) and report the differences.
+    pub cross_check: bool,
+    /// Every returned solution has all relative residuals of
+    /// [`ProjectionResiduals`] (natural map, complementarity, primal
+    /// infeasibility, stationarity) below this.
+    pub tol_residual: f64,
+    /// Under `Auto`, Lemke for up to this many rows, clarabel above.
+    pub auto_lemke_max_rows: usize,
+    /// clarabel settings (both forms).
+    pub clarabel: ClarabelSettings,
+    /// Lemke settings.
+    pub lemke: LemkeSettings,
+    /// PGS settings.
+    pub pgs: PgsSettings,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        Self {
+            choice: SolverChoice::Auto,
+            cross_check: false,
+            tol_residual: 1e-9,
+            auto_lemke_max_rows: 100,
+            clarabel: ClarabelSettings::default(),
+            lemke: LemkeSettings::default(),
+            pgs: PgsSettings::default(),
+        }
+    }
+}
+
+/// A checked solution of a projection QP.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProjectionSolution {
+    /// The correction, six entries per body: `[dx; dtheta]`, world frame.
+    pub dq: DVector<f64>,
+    /// Multipliers, one per row (not unique with redundant rows).
+    pub lambda: DVector<f64>,
+    /// The solver that produced it.
+    pub solver: SolverKind,
+    /// Solvers that failed before it, in order.
+    pub fallbacks: Vec<Fallback>,
+    /// Residuals of `(dq, lambda)`.
+    pub residuals: ProjectionResiduals,
+    /// The cross-check, when asked for.
+    pub cross_check: Option<CrossCheck>,
+    /// Interior-point iterations, pivots or sweeps of the solver that
+    /// succeeded.
+    pub iterations: usize,
+}
+
+/// The fallback order after the first choice.
+const FALLBACK_ORDER: [SolverKind; 3] = [SolverKind::Clarabel, SolverKind::Lemke, SolverKind::Pgs];
+
+/// Solves the projection QP (see the module docs).
+pub fn solve_projection(
+    qp: &ProjectionQp,
+    settings: &SolverSettings,
+) -> Result<ProjectionSolution, SolverError> {
+    let metric = qp.validate()?;
+    check_zero_rows(qp)?;
+    let problem = Problem {
+        qp,
+        metric: &metric,
+        lcp: OnceCell::new(),
+        settings,
+    };
+    let mut fallbacks = Vec::new();
+    for kind in solver_order(qp, settings) {
+        match problem.run_checked(kind) {
+            Ok((candidate, residuals)) => {
+                let cross_check = settings
+                    .cross_check
+                    .then(|| problem.cross_check(kind, &candidate));
+                return Ok(ProjectionSolution {
+                    dq: candidate.dq,
+                    lambda: candidate.lambda,
+                    solver: kind,
+                    fallbacks,
+                    residuals,
+                    cross_check,
+                    iterations: candidate.iterations,
+                });
+            }
+            Err(reason) => {
+                log::debug!("solver {kind:?} failed: {reason}");
+                fallbacks.push(Fallback {
+                    solver: kind,
+                    reason,
+                });
+            }
+        }
+    }
+    Err(SolverError::AllSolversFailed(fallbacks))
+}
+
+/// A violated row with no nonzero Jacobian entry cannot be satisfied.
+fn check_zero_rows(qp: &ProjectionQp) -> Result<(), SolverError> {
+    for (row, j) in qp.rows.iter().enumerate() {
+        let zero = j.blocks.iter().all(|(_, g)| g.iter().all(|&x| x == 0.0));
+        if zero && qp.phi[row] < qp.target[row] {
+            return Err(SolverError::InfeasibleRow { row });
+        }
+    }
+    Ok(())
+}
+
+/// The solvers to try, in order.
+fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind> {
+    let first = match settings.choice {
+        SolverChoice::Auto => auto_choice(qp, settings),
+        SolverChoice::Clarabel => SolverKind::Clarabel,
+        SolverChoice::ClarabelDual => SolverKind::ClarabelDual,
+        SolverChoice::Lemke => SolverKind::Lemke,
+        SolverChoice::Pgs => SolverKind::Pgs,
+    };
+    if first == SolverKind::Trivial {
+        return vec![first];
+    }
+    let mut order = vec![first];
+    order.extend(FALLBACK_ORDER.iter().copied().filter(|&k| k != first));
+    order
+}
+
+fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
+    let n = qp.num_rows();
+    if qp.phi.iter().zip(&qp.target).all(|(p, t)| p >= t) {
+        SolverKind::Trivial
+    } else if n == 1 {
+        SolverKind::ClosedForm
+    } else if n <= settings.auto_lemke_max_rows {
+        SolverKind::Lemke
+    } else {
+        SolverKind::Clarabel
+    }
+}
+
+/// A validated problem with its dual LCP built on first use.
+struct Problem<'a> {
+    qp: &'a ProjectionQp,
+    metric: &'a [BlockMetric],
+    lcp: OnceCell<Option<Lcp>>,
+    settings: &'a SolverSettings,
+}
+
+impl Problem<'_> {
+    fn lcp(&self) -> Result<&Lcp, FailureReason> {
+        self.lcp
+            .get_or_init(|| projection_to_lcp(self.qp, self.metric).ok())
+            .as_ref()
+            // A = J M^-1 J^T overflowed (extreme masses): only the primal
+            // clarabel form applies.
+            .ok_or(FailureReason::NotApplicable)
+    }
+
+    /// Runs one solver and checks its candidate.
+    fn run_checked(
+        &self,
+        kind: SolverKind,
+    ) -> Result<(Candidate, ProjectionResiduals), FailureReason> {
+        let candidate = self.run(kind)?;
+        let residuals =
+            projection_residuals(self.qp, self.metric, &candidate.dq, &candidate.lambda);
+        let tolerance = self.settings.tol_residual;
+        let residual = residuals.worst();
+        // A NaN residual fails too.
+        if residual.is_nan() || residual > tolerance {
+            return Err(FailureReason::ResidualTooLarge {
+                residual,
+                tolerance,
+            });
+        }
+        Ok((candidate, residuals))
+    }
+
+    fn run(&self, kind: SolverKind) -> Result<Candidate, FailureReason> {
+        let s = self.settings;
+        match kind {
+            SolverKind::Trivial => Ok(Candidate {
+                dq: DVector::zeros(self.qp.num_dofs()),
+                lambda: DVector::zeros(self.qp.num_rows()),
+                iterations: 0,
+            }),
+            SolverKind::ClosedForm => solve_single_row(self.qp, self.metric),
+            SolverKind::Clarabel => clarabel_qp::primal::solve(self.qp, self.metric, &s.clarabel),
+            SolverKind::ClarabelDual => {
+                let sol = clarabel_qp::dual::solve_lcp_unchecked(self.lcp()?, &s.clarabel)?;
+                Ok(self.candidate_from_lambda(sol.z, sol.iterations))
+            }
+            SolverKind::Lemke => {
+                let sol = lemke::solve(self.lcp()?, &s.lemke)
+                    .map_err(|f| FailureReason::Lemke(f.status))?;
+                Ok(self.candidate_from_lambda(sol.z, sol.pivots))
+            }
+            SolverKind::Pgs => {
+                let sol = pgs::solve(self.lcp()?, &s.pgs).map_err(FailureReason::Pgs)?;
+                Ok(self.candidate_from_lambda(sol.z, sol.sweeps))
+            }
+        }
+    }
+
+    fn candidate_from_lambda(&self, lambda: DVector<f64>, iterations: usize) -> Candidate {
+        let dq = dq_from_lambda(self.qp, self.metric, &lambda);
+        Candidate {
+            dq,
+            lambda,
+            iterations,
+        }
+    }
+
+    fn cross_check(&self, kind: SolverKind, candidate: &Candidate) -> CrossCheck {
+        let reference = if kind == SolverKind::Lemke {
+            SolverKind::Clarabel
+        } else {
+            SolverKind::Lemke
+        };
+        let outcome = match self.run_checked(reference) {
+            Ok((other, reference_residuals)) => CrossCheckOutcome::Compared {
+                differences: differences(self.qp, self.metric, &candidate.dq, &other.dq),
+                reference_residuals,
+            },
+            Err(reason) => CrossCheckOutcome::ReferenceFailed(reason),
+        };
+        CrossCheck { reference, outcome }
+    }
+}
+
+/// Solves one problem with clarabel (primal) and with Lemke and reports
+/// their differences (the cross-check of DESIGN.md section 5). The first
+/// element is clarabel's solution; `outcome` holds Lemke's.
+pub fn cross_check_projection(
+    qp: &ProjectionQp,
+    settings: &SolverSettings,
+) -> Result<(ProjectionSolution, CrossCheck), SolverError> {
+    let settings = SolverSettings {
+        choice: SolverChoice::Clarabel,
+        cross_check: true,
+        ..settings.clone()
+    };
+    let solution = solve_projection(qp, &settings)?;
+    let check = solution
+        .cross_check
+        .clone()
+        .ok_or(SolverError::AllSolversFailed(Vec::new()))?;
+    Ok((solution, check))
+}

@@ -1,0 +1,184 @@
+//! Lemke's method on small cases and against brute-force enumeration of
+//! complementary bases.
+
+use constraint_stabilization::solver::Lcp;
+use constraint_stabilization::solver::lemke::{self, LemkeSettings, LemkeStatus};
+use nalgebra::{DMatrix, DVector};
+use proptest::prelude::*;
+
+fn lcp(n: usize, m: &[f64], q: &[f64]) -> Lcp {
+    Lcp::new(DMatrix::from_row_slice(n, n, m), DVector::from_row_slice(q)).unwrap()
+}
+
+#[test]
+fn one_by_one() {
+    let sol = lemke::solve(&lcp(1, &[2.0], &[-3.0]), &LemkeSettings::default()).unwrap();
+    assert!((sol.z[0] - 1.5).abs() < 1e-15);
+    // z0 enters (w leaves), then z enters (z0 leaves).
+    assert_eq!(sol.pivots, 2);
+    // M = 0, q < 0: z0 can never leave; no solution.
+    let failure = lemke::solve(&lcp(1, &[0.0], &[-1.0]), &LemkeSettings::default()).unwrap_err();
+    assert_eq!(failure.status, LemkeStatus::Ray);
+}
+
+#[test]
+fn nonnegative_q_is_solved_without_pivots() {
+    let sol = lemke::solve(
+        &lcp(2, &[1.0, -5.0, 3.0, 0.0], &[0.0, 2.0]),
+        &LemkeSettings::default(),
+    )
+    .unwrap();
+    assert_eq!(sol.pivots, 0);
+    assert_eq!(sol.z.as_slice(), &[0.0, 0.0]);
+}
+
+/// `q` with zeros next to negative entries: the first ratio test ties on
+/// the degenerate rows; the lexicographic rule must still terminate with a
+/// solution (z = (0, 1, 0): the zero rows stay at zero).
+#[test]
+fn degenerate_start_with_zero_entries_in_q() {
+    let m = [2.0, 1.0, 0.0, 1.0, 2.0, 1.0, 0.0, 1.0, 2.0];
+    let sol = lemke::solve(&lcp(3, &m, &[0.0, -2.0, 0.0]), &LemkeSettings::default()).unwrap();
+    let w = DMatrix::from_row_slice(3, 3, &m) * &sol.z + DVector::from_row_slice(&[0.0, -2.0, 0.0]);
+    assert!(
+        sol.z
+            .iter()
+            .zip(w.iter())
+            .all(|(z, w)| z.min(*w).abs() < 1e-14),
+        "z {} w {}",
+        sol.z,
+        w
+    );
+    // Several equal negative entries: a tie in the first step.
+    let sol = lemke::solve(&lcp(3, &m, &[-1.0, -1.0, -1.0]), &LemkeSettings::default()).unwrap();
+    assert!(sol.residual < 1e-14);
+}
+
+/// Refactorizing the tableau from the data every pivot follows the same
+/// path (same pivots) and reaches the same solution as the O(n^2) updates.
+#[test]
+fn refactorizing_every_pivot_changes_nothing_on_a_well_posed_problem() {
+    let lcp = lcp(
+        3,
+        &[4.0, 1.0, 0.0, 1.0, 3.0, 1.0, 0.0, 1.0, 2.0],
+        &[-1.0, -2.0, -1.0],
+    );
+    let a = lemke::solve(&lcp, &LemkeSettings::default()).unwrap();
+    let b = lemke::solve(
+        &lcp,
+        &LemkeSettings {
+            refactor_every: 1,
+            ..LemkeSettings::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(a.pivots, b.pivots);
+    assert!((a.z - b.z).amax() < 1e-14);
+}
+
+/// All solutions of a small LCP by enumerating the `2^n` complementary
+/// bases: `z_S = -M_SS^-1 q_S`, `z = 0` elsewhere, kept when `z >= 0` and
+/// `w >= 0` (to a tolerance).
+fn enumerate(m: &DMatrix<f64>, q: &DVector<f64>) -> Vec<DVector<f64>> {
+    let n = q.len();
+    let mut solutions = Vec::new();
+    for mask in 0u32..(1 << n) {
+        let s: Vec<usize> = (0..n).filter(|i| mask & (1 << i) != 0).collect();
+        if s.is_empty() {
+            if q.iter().all(|&x| x >= 0.0) {
+                solutions.push(DVector::zeros(n));
+            }
+            continue;
+        }
+        let m_ss = DMatrix::from_fn(s.len(), s.len(), |a, b| m[(s[a], s[b])]);
+        let q_s = DVector::from_fn(s.len(), |a, _| -q[s[a]]);
+        let Some(z_s) = m_ss.lu().solve(&q_s) else {
+            continue;
+        };
+        let mut z = DVector::zeros(n);
+        for (a, &i) in s.iter().enumerate() {
+            z[i] = z_s[a];
+        }
+        let w = m * &z + q;
+        if z.iter().chain(w.iter()).all(|&x| x >= -1e-9) {
+            solutions.push(z);
+        }
+    }
+    solutions
+}
+
+/// Random positive definite `M = B B^T + K + c I` (`K` skew) has a unique
+/// solution: Lemke's must be it.
+fn pd_lcp() -> impl Strategy<Value = (DMatrix<f64>, DVector<f64>)> {
+    (2usize..=6).prop_flat_map(|n| {
+        (
+            prop::collection::vec(-1.0..1.0f64, n * n),
+            prop::collection::vec(-1.0..1.0f64, n * n),
+            prop::collection::vec(-1.0..1.0f64, n),
+        )
+            .prop_map(move |(b, k, q)| {
+                let b = DMatrix::from_row_slice(n, n, &b);
+                let k = DMatrix::from_row_slice(n, n, &k);
+                let m = &b * b.transpose() + (&k - k.transpose()) + DMatrix::identity(n, n) * 0.1;
+                (m, DVector::from_vec(q))
+            })
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+    #[test]
+    fn lemke_matches_enumeration((m, q) in pd_lcp()) {
+        let solutions = enumerate(&m, &q);
+        prop_assert_eq!(solutions.len(), 1);
+        let lcp = Lcp::new(m, q).unwrap();
+        let sol = lemke::solve(&lcp, &LemkeSettings::default()).unwrap();
+        prop_assert!((&sol.z - &solutions[0]).amax() < 1e-9, "lemke {} enum {}", sol.z, solutions[0]);
+        prop_assert!(sol.residual < 1e-12);
+    }
+}
+
+#[test]
+fn empty_problem() {
+    let lcp = Lcp::new(DMatrix::zeros(0, 0), DVector::zeros(0)).unwrap();
+    let sol = lemke::solve(&lcp, &LemkeSettings::default()).unwrap();
+    assert_eq!(sol.z.len(), 0);
+    assert_eq!(sol.pivots, 0);
+}
+
+/// Symmetric PSD and singular: `M = B B^T` with `B` of rank `r < n`. A
+/// solution exists or not (enumeration decides); when it does, `w` is the
+/// same for every solution (the gradient of a convex QP is constant on its
+/// solution set), so Lemke's `w` must equal the enumerated one.
+fn singular_psd_lcp() -> impl Strategy<Value = (DMatrix<f64>, DVector<f64>)> {
+    (2usize..=6, 1usize..=3).prop_flat_map(|(n, r)| {
+        (
+            prop::collection::vec(-1.0..1.0f64, n * r),
+            prop::collection::vec(-1.0..1.0f64, n),
+        )
+            .prop_map(move |(b, q)| {
+                let b = DMatrix::from_row_slice(n, r, &b);
+                (&b * b.transpose(), DVector::from_vec(q))
+            })
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+    #[test]
+    fn lemke_on_singular_psd_matches_enumeration((m, q) in singular_psd_lcp()) {
+        let solutions = enumerate(&m, &q);
+        let lcp = Lcp::new(m.clone(), q.clone()).unwrap();
+        match lemke::solve(&lcp, &LemkeSettings::default()) {
+            Ok(sol) => {
+                prop_assert!(!solutions.is_empty(), "lemke found {} where enumeration found none", sol.z);
+                let w_enum = &m * &solutions[0] + &q;
+                prop_assert!((&sol.w - &w_enum).amax() < 1e-8, "w {} vs {}", sol.w, w_enum);
+            }
+            Err(f) => {
+                prop_assert!(solutions.is_empty(), "lemke {:?} but enumeration found {}", f.status, solutions[0]);
+                prop_assert_eq!(f.status, LemkeStatus::Ray);
+            }
+        }
+    }
+}
