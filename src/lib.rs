@@ -18,6 +18,7 @@
 pub mod error;
 pub mod geometry;
 pub mod io;
+pub mod projector;
 pub mod solver;
 pub mod vclip;
 

@@ -1,0 +1,110 @@
+//! Backtracking line search on the true constraints.
+//!
+//! Given the correction `dq` of the linearized problem, try
+//! `alpha = 1, beta, beta^2, ...` and accept the first `alpha` with
+//!
+//! ```text
+//! merit(q (+) alpha dq) <= (1 - sigma alpha) merit(q)            (sufficient decrease)
+//! phi_k(q) >= -tol  =>  phi_k(q (+) alpha dq) >= -tol  for all k   (nothing clear starts penetrating)
+//! ```
+//!
+//! where `merit = sum_k min(0, phi_k + tol)^2`. For the linearization,
+//! `phi_k + alpha J_k dq` shrinks every penetration by at least a factor
+//! `(1 - alpha)`, so the linear model predicts `merit(alpha) <= (1 - alpha)^2
+//! merit(0)`; `sigma` asks for a small fraction of that on the true geometry.
+//! Below `alpha_min` nothing is accepted: the configuration stays as it was
+//! and the caller reports the stall. The merit therefore never rises.
+
+use nalgebra::DVector;
+
+use super::configuration::moved_configuration;
+use super::{BodyState, Configuration, ConstraintProvider, Measurement};
+
+/// Settings of the backtracking line search.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LineSearchSettings {
+    /// Factor `beta` by which a rejected step is shrunk. Default 0.5.
+    pub shrink: f64,
+    /// Smallest step `alpha_min` tried. Default 2^-10 (11 trials at most).
+    pub min_step: f64,
+    /// Fraction `sigma` of the linear decrease that must be achieved.
+    /// Default 1e-4 (the customary Armijo constant).
+    pub sufficient_decrease: f64,
+}
+
+impl Default for LineSearchSettings {
+    fn default() -> Self {
+        LineSearchSettings {
+            shrink: 0.5,
+            min_step: 1.0 / 1024.0,
+            sufficient_decrease: 1e-4,
+        }
+    }
+}
+
+/// The result of a line search.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LineSearchOutcome {
+    /// `alpha` was accepted; `configuration` is the moved one.
+    Accepted {
+        /// Accepted step length in (0, 1].
+        alpha: f64,
+        /// Number of trial configurations measured.
+        trials: usize,
+        /// The moved configuration.
+        configuration: Configuration,
+        /// The constraints measured there.
+        measurement: Measurement,
+    },
+    /// No step down to `min_step` was acceptable.
+    Rejected {
+        /// Number of trial configurations measured.
+        trials: usize,
+    },
+}
+
+/// Backtracks along `dq` from `configuration`, whose constraints measured
+/// `before`.
+pub fn line_search<P: ConstraintProvider + ?Sized>(
+    provider: &mut P,
+    configuration: &[BodyState],
+    dq: &DVector<f64>,
+    before: &Measurement,
+    tolerance: f64,
+    settings: &LineSearchSettings,
+) -> LineSearchOutcome {
+    let merit_before = before.merit(tolerance);
+    let mut alpha = 1.0;
+    let mut trials = 0;
+    while alpha >= settings.min_step {
+        let trial = moved_configuration(configuration, dq, alpha);
+        let measurement = provider.measure(&trial);
+        trials += 1;
+        let merit = measurement.merit(tolerance);
+        let decreased = merit <= (1.0 - settings.sufficient_decrease * alpha) * merit_before;
+        if decreased && !starts_penetrating(before, &measurement, tolerance) {
+            log::trace!("line search: alpha {alpha} accepted, merit {merit_before:e} -> {merit:e}");
+            return LineSearchOutcome::Accepted {
+                alpha,
+                trials,
+                configuration: trial,
+                measurement,
+            };
+        }
+        log::trace!("line search: alpha {alpha} rejected, merit {merit_before:e} -> {merit:e}");
+        alpha *= settings.shrink;
+    }
+    LineSearchOutcome::Rejected { trials }
+}
+
+/// Whether a constraint that was clear (within the tolerance) before is
+/// penetrating beyond the tolerance after. Measurements of different lengths
+/// cannot be compared and count as a violation.
+fn starts_penetrating(before: &Measurement, after: &Measurement, tolerance: f64) -> bool {
+    before.values.len() != after.values.len()
+        || before
+            .values
+            .iter()
+            .zip(&after.values)
+            .any(|(&b, &a)| b >= -tolerance && a < -tolerance)
+}

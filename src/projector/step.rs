@@ -1,0 +1,200 @@
+//! One projection step (linearize, solve, line search, apply) and the loop
+//! of steps for a single provider.
+//!
+//! A step at configuration `q`:
+//! 1. measure the true constraints; if the deepest penetration is within
+//!    `tolerance`, stop (nothing is touched);
+//! 2. linearize: rows `phi_k + J_k dq >= target`;
+//! 3. solve the projection QP for `dq` (see [`crate::solver`]);
+//! 4. line search along `dq` ([`super::line_search`]) and apply the accepted
+//!    step, or leave `q` unchanged and report a stall.
+
+use super::line_search::{LineSearchOutcome, LineSearchSettings, line_search};
+use super::{BodyInertia, BodyState, ConstraintProvider, ConstraintRow};
+use crate::solver::{
+    BodyMetric, JacobianRow, ProjectionQp, ProjectionSolution, SolverError, SolverSettings,
+    solve_projection,
+};
+
+/// Settings of a projection. Lengths are absolute (the caller scales them).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProjectionSettings {
+    /// Penetration depth below which a constraint counts as satisfied.
+    pub tolerance: f64,
+    /// Margin `target >= 0` that the linearized constraints aim for, so that
+    /// the second-order error of the linearization does not leave a
+    /// penetration behind.
+    pub target_margin: f64,
+    /// The line search.
+    pub line_search: LineSearchSettings,
+    /// The QP/LCP solvers.
+    pub solver: SolverSettings,
+    /// Largest number of steps of [`project`].
+    pub max_steps: usize,
+}
+
+/// What a step did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepOutcome {
+    /// No penetration beyond the tolerance: nothing was done.
+    AlreadySatisfied,
+    /// A step was accepted and applied.
+    Moved,
+    /// The line search found no acceptable step; nothing was applied.
+    Stalled,
+}
+
+/// The record of one projection step.
+#[derive(Debug, Clone)]
+pub struct StepReport {
+    /// What happened.
+    pub outcome: StepOutcome,
+    /// Number of linearized constraints.
+    pub constraints: usize,
+    /// The solver's result (`None` when nothing was solved).
+    pub solution: Option<ProjectionSolution>,
+    /// Accepted step length (`None` when nothing was applied).
+    pub alpha: Option<f64>,
+    /// Trial configurations measured by the line search.
+    pub line_search_trials: usize,
+    /// Deepest penetration before the step.
+    pub depth_before: f64,
+    /// Deepest penetration after the step (equal to before if not moved).
+    pub depth_after: f64,
+    /// Mass-weighted length of the applied correction, `alpha sqrt(dq^T M dq)`.
+    pub displacement: f64,
+}
+
+/// Final status of [`project`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProjectionStatus {
+    /// No penetration beyond the tolerance remains.
+    Converged,
+    /// `max_steps` steps were taken and a penetration remains.
+    StepLimit,
+    /// A line search found no acceptable step.
+    Stalled,
+}
+
+/// The record of [`project`].
+#[derive(Debug, Clone)]
+pub struct ProjectionSummary {
+    /// How the loop ended.
+    pub status: ProjectionStatus,
+    /// One report per step taken (including the final check).
+    pub steps: Vec<StepReport>,
+}
+
+/// One projection step on `configuration` (moved in place only if a step is
+/// accepted). On a solver error the configuration is unchanged.
+pub fn projection_step<P: ConstraintProvider + ?Sized>(
+    provider: &mut P,
+    configuration: &mut Vec<BodyState>,
+    inertias: &[BodyInertia],
+    settings: &ProjectionSettings,
+) -> Result<StepReport, SolverError> {
+    let before = provider.measure(configuration);
+    let depth_before = before.deepest_penetration();
+    let mut report = StepReport {
+        outcome: StepOutcome::AlreadySatisfied,
+        constraints: 0,
+        solution: None,
+        alpha: None,
+        line_search_trials: 0,
+        depth_before,
+        depth_after: depth_before,
+        displacement: 0.0,
+    };
+    if depth_before <= settings.tolerance {
+        return Ok(report);
+    }
+    let rows = provider.linearize(configuration);
+    report.constraints = rows.len();
+    let qp = projection_qp(configuration, inertias, &rows, settings.target_margin);
+    let solution = solve_projection(&qp, &settings.solver)?;
+    let dq = &solution.dq;
+    let search = line_search(
+        provider,
+        configuration,
+        dq,
+        &before,
+        settings.tolerance,
+        &settings.line_search,
+    );
+    match search {
+        LineSearchOutcome::Accepted {
+            alpha,
+            trials,
+            configuration: moved,
+            measurement,
+        } => {
+            report.outcome = StepOutcome::Moved;
+            report.alpha = Some(alpha);
+            report.line_search_trials = trials;
+            report.depth_after = measurement.deepest_penetration();
+            report.displacement = alpha * solution.residuals.displacement;
+            *configuration = moved;
+        }
+        LineSearchOutcome::Rejected { trials } => {
+            report.outcome = StepOutcome::Stalled;
+            report.line_search_trials = trials;
+        }
+    }
+    report.solution = Some(solution);
+    Ok(report)
+}
+
+/// Projection steps until no penetration beyond the tolerance remains, a
+/// step stalls, or `max_steps` is reached.
+pub fn project<P: ConstraintProvider + ?Sized>(
+    provider: &mut P,
+    configuration: &mut Vec<BodyState>,
+    inertias: &[BodyInertia],
+    settings: &ProjectionSettings,
+) -> Result<ProjectionSummary, SolverError> {
+    let mut steps = Vec::new();
+    for _ in 0..=settings.max_steps {
+        let report = projection_step(provider, configuration, inertias, settings)?;
+        let outcome = report.outcome;
+        steps.push(report);
+        let status = match outcome {
+            StepOutcome::AlreadySatisfied => ProjectionStatus::Converged,
+            StepOutcome::Stalled => ProjectionStatus::Stalled,
+            StepOutcome::Moved if steps.len() > settings.max_steps => ProjectionStatus::StepLimit,
+            StepOutcome::Moved => continue,
+        };
+        return Ok(ProjectionSummary { status, steps });
+    }
+    Ok(ProjectionSummary {
+        status: ProjectionStatus::StepLimit,
+        steps,
+    })
+}
+
+/// The projection QP of `rows` at `configuration`.
+pub(crate) fn projection_qp(
+    configuration: &[BodyState],
+    inertias: &[BodyInertia],
+    rows: &[ConstraintRow],
+    target_margin: f64,
+) -> ProjectionQp {
+    let bodies = configuration
+        .iter()
+        .zip(inertias)
+        .map(|(state, inertia)| BodyMetric {
+            mass: inertia.mass,
+            inertia_world: inertia.inertia_world(&state.rotation),
+        })
+        .collect();
+    ProjectionQp {
+        bodies,
+        rows: rows
+            .iter()
+            .map(|row| JacobianRow {
+                blocks: row.blocks.clone(),
+            })
+            .collect(),
+        phi: rows.iter().map(|row| row.phi).collect(),
+        target: vec![target_margin; rows.len()],
+    }
+}
