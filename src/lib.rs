@@ -15,8 +15,16 @@
 //!
 //! All arithmetic is in `f64`.
 
+pub mod body;
+pub mod broad_phase;
+#[cfg(feature = "demo")]
+pub mod demo;
 pub mod error;
 pub mod geometry;
+mod hull_shim;
+pub mod io;
+pub mod island;
+pub mod scene;
 pub mod solver;
 pub mod vclip;
 

@@ -1,0 +1,4 @@
+//! File formats: scene JSON (feature `serde`).
+
+#[cfg(feature = "serde")]
+pub mod scene_file;
