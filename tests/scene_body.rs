@@ -76,6 +76,8 @@ fn untouched_body_keeps_its_user_pose_bit_for_bit() {
     assert_eq!(body.com_pose(), &com_pose);
 }
 
+// The four-digit value of 1/sqrt(2) is the point of the test.
+#[allow(clippy::approx_constant)]
 #[test]
 fn four_digit_quaternion_is_accepted_and_normalized() {
     let body = Body::new(desc(
