@@ -122,12 +122,16 @@ fn with_second_body(fields: &str) -> String {
     )
 }
 
+/// Fields of the bad body, the field the error must name, and a check of
+/// the problem.
+type ProblemCheck = fn(&FieldProblem) -> bool;
+
 const SHAPE: &str = r#""shape": {"cuboid": [1, 1, 1]}"#;
 const POSE: &str = r#""translation": [0, 1, 0], "rotation": [0, 0, 0, 1]"#;
 
 #[test]
 fn body_field_errors_name_index_name_and_field() {
-    let cases: Vec<(String, &str, fn(&FieldProblem) -> bool)> = vec![
+    let cases: Vec<(String, &str, ProblemCheck)> = vec![
         (
             format!(r#"{SHAPE}, {POSE}, "mass": 1, "colour": "red""#),
             "colour",
