@@ -15,10 +15,16 @@
 //!
 //! All arithmetic is in `f64`.
 
+pub mod body;
+pub mod broad_phase;
+#[cfg(feature = "demo")]
+pub mod demo;
 pub mod error;
 pub mod geometry;
 pub mod io;
+pub mod island;
 pub mod projector;
+pub mod scene;
 pub mod solver;
 pub mod vclip;
 

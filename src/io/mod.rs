@@ -1,6 +1,8 @@
 //! Reading and writing files: LCP problems in the Siconos format
-//! ([`lcp_file`]); scene files (JSON, feature `serde`).
+//! ([`lcp_file`]); scene files (JSON, feature `serde`, [`scene_file`]).
 
 pub mod lcp_file;
+#[cfg(feature = "serde")]
+pub mod scene_file;
 
 pub use lcp_file::{LcpFileError, parse_lcp, read_lcp_file};

@@ -1,0 +1,136 @@
+//! Broad phase: candidate body pairs from enlarged axis-aligned boxes.
+//!
+//! Each body's world AABB (the bounds of its transformed vertices, exact for
+//! a polyhedron) is enlarged by `margin / 2` on every side. Two boxes
+//! overlap (closed intervals on all three axes) exactly when the gap between
+//! the original boxes is at most `margin` on every axis; since the distance
+//! of two bodies is at least their largest per-axis AABB gap, every pair at
+//! distance `<= margin` (touching, near, or penetrating) is a candidate.
+//!
+//! The overlapping leaf pairs come from a self-traversal of parry3d-f64's
+//! bounding volume hierarchy ([`Bvh`], binned SAH build, Wald 2007). The
+//! output is normalized so that it does not depend on the tree's shape:
+//! pairs `(i, j)` with `i < j`, sorted, without duplicates, and without
+//! pairs of two fixed bodies (which never move, so need no constraint).
+
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::math::Vector;
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
+use thiserror::Error;
+
+use crate::scene::Scene;
+
+/// Two bodies, by index, with `body_a < body_b`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct BodyPair {
+    /// The smaller index.
+    pub body_a: usize,
+    /// The larger index.
+    pub body_b: usize,
+}
+
+impl BodyPair {
+    /// The pair of two distinct indices, in increasing order; `None` if equal.
+    pub fn new(i: usize, j: usize) -> Option<Self> {
+        match i.cmp(&j) {
+            std::cmp::Ordering::Less => Some(BodyPair {
+                body_a: i,
+                body_b: j,
+            }),
+            std::cmp::Ordering::Greater => Some(BodyPair {
+                body_a: j,
+                body_b: i,
+            }),
+            std::cmp::Ordering::Equal => None,
+        }
+    }
+}
+
+/// Why the broad phase could not run.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum BroadPhaseError {
+    /// The margin is NaN, infinite or negative.
+    #[error("margin is {0}: it must be finite and non-negative")]
+    InvalidMargin(f64),
+    /// Boxes and fixed flags differ in number.
+    #[error("{aabbs} boxes but {flags} fixed flags")]
+    LengthMismatch {
+        /// Number of boxes.
+        aabbs: usize,
+        /// Number of fixed flags.
+        flags: usize,
+    },
+    /// A box has a non-finite bound or `mins > maxs` on some axis.
+    #[error("box {0} is not finite or has min > max")]
+    InvalidAabb(usize),
+    /// More bodies than the hierarchy can index (`u32`).
+    #[error("{0} bodies: the broad phase handles at most 2^32 - 1")]
+    TooManyBodies(usize),
+}
+
+/// Candidate pairs of a scene: every pair (not both fixed) whose world AABBs
+/// come within `margin` of each other on every axis.
+pub fn candidate_pairs(scene: &Scene, margin: f64) -> Result<Vec<BodyPair>, BroadPhaseError> {
+    let aabbs: Vec<Aabb> = scene
+        .bodies()
+        .iter()
+        .map(|body| {
+            let (min, max) = body.world_aabb();
+            Aabb::new(
+                Vector::new(min.x, min.y, min.z),
+                Vector::new(max.x, max.y, max.z),
+            )
+        })
+        .collect();
+    candidate_pairs_of_aabbs(&aabbs, &scene.fixed_flags(), margin)
+}
+
+/// Candidate pairs among boxes `aabbs` (index = body index), `fixed[i]`
+/// telling whether body `i` is fixed.
+pub fn candidate_pairs_of_aabbs(
+    aabbs: &[Aabb],
+    fixed: &[bool],
+    margin: f64,
+) -> Result<Vec<BodyPair>, BroadPhaseError> {
+    if !(margin.is_finite() && margin >= 0.0) {
+        return Err(BroadPhaseError::InvalidMargin(margin));
+    }
+    if aabbs.len() != fixed.len() {
+        return Err(BroadPhaseError::LengthMismatch {
+            aabbs: aabbs.len(),
+            flags: fixed.len(),
+        });
+    }
+    if let Some(index) = aabbs.iter().position(|a| !is_valid(a)) {
+        return Err(BroadPhaseError::InvalidAabb(index));
+    }
+    if u32::try_from(aabbs.len()).is_err() {
+        return Err(BroadPhaseError::TooManyBodies(aabbs.len()));
+    }
+    let enlarged: Vec<Aabb> = aabbs.iter().map(|a| a.loosened(margin / 2.0)).collect();
+    let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &enlarged);
+    let mut workspace = BvhWorkspace::default();
+    let mut pairs = Vec::new();
+    bvh.traverse_bvtt_single_tree::<false>(&mut workspace, &mut |leaf_1, leaf_2| {
+        let (i, j) = (leaf_1 as usize, leaf_2 as usize);
+        if fixed[i] && fixed[j] {
+            return;
+        }
+        if let Some(pair) = BodyPair::new(i, j) {
+            pairs.push(pair);
+        }
+    });
+    pairs.sort_unstable();
+    pairs.dedup();
+    log::debug!(
+        "broad phase: {} bodies, margin {margin:e}, {} candidate pairs",
+        aabbs.len(),
+        pairs.len()
+    );
+    Ok(pairs)
+}
+
+fn is_valid(aabb: &Aabb) -> bool {
+    let finite = aabb.mins.is_finite() && aabb.maxs.is_finite();
+    finite && aabb.mins.cmple(aabb.maxs).all()
+}

@@ -1,0 +1,548 @@
+//! Scene files (JSON, `DESIGN.md` section 6), feature `serde`.
+//!
+//! ```text
+//! { "bodies": [ { "name": "ground", "shape": { "cuboid": [10.0, 0.5, 10.0] },
+//!                 "translation": [0.0, -0.5, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0],
+//!                 "fixed": true },
+//!               { "name": "rock", "shape": { "convex_hull": [[0,0,0],[1,0,0],[0,1,0],[0,0,1]] },
+//!                 "translation": [0.2, 0.1, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0],
+//!                 "mass": 2.5 } ],
+//!   "settings": { "tolerance": 1e-6 } }
+//! ```
+//!
+//! - A body has `name`, `shape`, `translation`, `rotation` (quaternion
+//!   `[x, y, z, w]`), and either `"fixed": true` or exactly one of `mass` and
+//!   `density` (`"fixed": false` may be given with them; it is not written
+//!   back). `shape` is `{"cuboid": half_extents}` or `{"convex_hull": points}`.
+//! - `settings` is optional, and so is each of its fields: `tolerance`,
+//!   `contact_margin`, `target_margin`, `max_passes`, `solver`
+//!   (`auto|clarabel|lemke|pgs`), `cross_check`.
+//! - An unknown or missing field is an error naming the body (index and
+//!   name) and the field; so is a value of the wrong type, and every
+//!   invalid value that [`crate::body::Body::new`] rejects.
+//!
+//! Numbers round-trip exactly: serde_json is built with `float_roundtrip`
+//! (correctly rounded parsing) and writes the shortest representation that
+//! parses back to the same `f64` (Ryu). A body the stabilizer did not move
+//! keeps the translation and rotation it was read with, bit for bit, so
+//! reading then writing an unchanged scene reproduces every number.
+//!
+//! Output may carry an extra top-level `report` (any JSON value). The reader
+//! accepts and ignores it, so that an output file can be fed back in.
+
+use std::path::Path;
+
+use nalgebra::{Point3, Vector3};
+use serde::Serialize;
+use serde_json::{Map, Value};
+use thiserror::Error;
+
+use crate::body::{Body, BodyDesc, BodyError, MassSpec, Shape};
+use crate::scene::{Scene, SceneSettings, SettingsError, SolverChoice};
+
+const BODY_FIELDS: [&str; 7] = [
+    "name",
+    "shape",
+    "translation",
+    "rotation",
+    "fixed",
+    "mass",
+    "density",
+];
+const TOP_FIELDS: [&str; 3] = ["bodies", "settings", "report"];
+const SETTINGS_FIELDS: [&str; 6] = [
+    "tolerance",
+    "contact_margin",
+    "target_margin",
+    "max_passes",
+    "solver",
+    "cross_check",
+];
+
+/// What is wrong with one field.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum FieldProblem {
+    /// A required field is absent.
+    #[error("missing")]
+    Missing,
+    /// The field is not part of the format.
+    #[error("unknown field")]
+    Unknown,
+    /// The value has the wrong JSON type or length.
+    #[error("expected {0}")]
+    WrongType(&'static str),
+    /// The field contradicts another one, or a choice is missing.
+    #[error("{0}")]
+    Conflict(&'static str),
+    /// The value is of the right type but invalid.
+    #[error("{0}")]
+    InvalidBody(BodyError),
+    /// A settings value is invalid.
+    #[error("{0}")]
+    InvalidSetting(SettingsError),
+}
+
+/// Why a scene file could not be read or written.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SceneFileError {
+    /// The file could not be read.
+    #[error("cannot read {path}: {message}")]
+    Read {
+        /// The path.
+        path: String,
+        /// The system's message.
+        message: String,
+    },
+    /// The file could not be written.
+    #[error("cannot write {path}: {message}")]
+    Write {
+        /// The path.
+        path: String,
+        /// The system's message.
+        message: String,
+    },
+    /// The text is not JSON.
+    #[error("invalid JSON at line {line}, column {column}: {message}")]
+    Json {
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// serde_json's message.
+        message: String,
+    },
+    /// A top-level field (`bodies`, `settings`) is wrong.
+    #[error("field `{field}`: {problem}")]
+    TopLevel {
+        /// The field (`(root)` for the document itself).
+        field: String,
+        /// What is wrong.
+        problem: FieldProblem,
+    },
+    /// A field of a body is wrong.
+    #[error(
+        "body {index} ({}), field `{field}`: {problem}",
+        .name.as_deref().map_or("unnamed".to_string(), |n| format!("{n:?}"))
+    )]
+    Body {
+        /// Position of the body in `bodies`.
+        index: usize,
+        /// The body's name, if it has a string `name`.
+        name: Option<String>,
+        /// The field, e.g. `rotation` or `shape.cuboid`.
+        field: String,
+        /// What is wrong.
+        problem: FieldProblem,
+    },
+    /// A field of `settings` is wrong.
+    #[error("settings, field `{field}`: {problem}")]
+    Settings {
+        /// The field.
+        field: String,
+        /// What is wrong.
+        problem: FieldProblem,
+    },
+}
+
+/// Reads a scene file.
+pub fn read_scene(path: &Path) -> Result<Scene, SceneFileError> {
+    let text = std::fs::read_to_string(path).map_err(|e| SceneFileError::Read {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    parse_scene(&text)
+}
+
+/// Parses a scene from JSON text. A top-level `report` (as written by
+/// [`scene_to_string`]) is accepted and ignored.
+pub fn parse_scene(text: &str) -> Result<Scene, SceneFileError> {
+    let document: Value = serde_json::from_str(text).map_err(|e| SceneFileError::Json {
+        line: e.line(),
+        column: e.column(),
+        message: e.to_string(),
+    })?;
+    let top = document.as_object().ok_or(SceneFileError::TopLevel {
+        field: "(root)".into(),
+        problem: FieldProblem::WrongType("an object"),
+    })?;
+    if let Some(field) = unknown_field(top, &TOP_FIELDS) {
+        return Err(top_level(field, FieldProblem::Unknown));
+    }
+    let settings = match top.get("settings") {
+        Some(value) => parse_settings(value)?,
+        None => SceneSettings::default(),
+    };
+    let bodies = match top.get("bodies") {
+        Some(Value::Array(bodies)) => bodies,
+        Some(_) => return Err(top_level("bodies", FieldProblem::WrongType("an array"))),
+        None => return Err(top_level("bodies", FieldProblem::Missing)),
+    };
+    settings
+        .validate()
+        .map_err(|source| settings_error(source.field(), FieldProblem::InvalidSetting(source)))?;
+    let mut scene = Scene::new();
+    for (index, value) in bodies.iter().enumerate() {
+        let desc = parse_body(index, value)?;
+        let name = Some(desc.name.clone());
+        let body = Body::new(desc).map_err(|source| SceneFileError::Body {
+            index,
+            name,
+            field: source.field().into(),
+            problem: FieldProblem::InvalidBody(source),
+        })?;
+        scene.push_body(body);
+    }
+    // The settings were validated above, so this cannot fail.
+    let _ = scene.set_settings(settings);
+    Ok(scene)
+}
+
+/// Writes a scene file (see [`scene_to_string`]).
+pub fn write_scene(
+    path: &Path,
+    scene: &Scene,
+    report: Option<&Value>,
+) -> Result<(), SceneFileError> {
+    std::fs::write(path, scene_to_string(scene, report)).map_err(|e| SceneFileError::Write {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })
+}
+
+/// The scene as pretty-printed JSON: the bodies in order with their names,
+/// shapes and mass specifications as given and their current user poses,
+/// the settings that are set, and `report` if given.
+pub fn scene_to_string(scene: &Scene, report: Option<&Value>) -> String {
+    let file = SceneOut {
+        bodies: scene.bodies().iter().map(BodyOut::of).collect(),
+        settings: (!scene.settings().is_empty()).then(|| SettingsOut::of(scene.settings())),
+        report,
+    };
+    // Serializing plain structs of f64 (finite by the Body invariant),
+    // strings and a `Value` into a String cannot fail.
+    serde_json::to_string_pretty(&file).unwrap_or_default()
+}
+
+fn top_level(field: &str, problem: FieldProblem) -> SceneFileError {
+    SceneFileError::TopLevel {
+        field: field.into(),
+        problem,
+    }
+}
+
+fn unknown_field<'a>(object: &'a Map<String, Value>, allowed: &[&str]) -> Option<&'a str> {
+    object
+        .keys()
+        .map(String::as_str)
+        .find(|key| !allowed.contains(key))
+}
+
+/// A body's fields, read one by one so that errors name the field.
+struct BodyReader<'a> {
+    index: usize,
+    name: Option<String>,
+    object: &'a Map<String, Value>,
+}
+
+impl BodyReader<'_> {
+    fn error(&self, field: &str, problem: FieldProblem) -> SceneFileError {
+        SceneFileError::Body {
+            index: self.index,
+            name: self.name.clone(),
+            field: field.into(),
+            problem,
+        }
+    }
+
+    fn required(&self, field: &str) -> Result<&Value, SceneFileError> {
+        self.object
+            .get(field)
+            .ok_or_else(|| self.error(field, FieldProblem::Missing))
+    }
+
+    fn number(&self, field: &str) -> Result<Option<f64>, SceneFileError> {
+        match self.object.get(field) {
+            None => Ok(None),
+            Some(value) => value
+                .as_f64()
+                .map(Some)
+                .ok_or_else(|| self.error(field, FieldProblem::WrongType("a number"))),
+        }
+    }
+
+    fn numbers<const N: usize>(
+        &self,
+        field: &str,
+        value: &Value,
+        expected: &'static str,
+    ) -> Result<[f64; N], SceneFileError> {
+        numbers_of::<N>(value).ok_or_else(|| self.error(field, FieldProblem::WrongType(expected)))
+    }
+}
+
+fn numbers_of<const N: usize>(value: &Value) -> Option<[f64; N]> {
+    let array = value.as_array().filter(|a| a.len() == N)?;
+    let mut out = [0.0; N];
+    for (slot, item) in out.iter_mut().zip(array) {
+        *slot = item.as_f64()?;
+    }
+    Some(out)
+}
+
+fn parse_body(index: usize, value: &Value) -> Result<BodyDesc, SceneFileError> {
+    let Some(object) = value.as_object() else {
+        return Err(SceneFileError::Body {
+            index,
+            name: None,
+            field: "(body)".into(),
+            problem: FieldProblem::WrongType("an object"),
+        });
+    };
+    let name = object.get("name").and_then(Value::as_str).map(String::from);
+    let reader = BodyReader {
+        index,
+        name: name.clone(),
+        object,
+    };
+    if let Some(field) = unknown_field(object, &BODY_FIELDS) {
+        return Err(reader.error(field, FieldProblem::Unknown));
+    }
+    let name = match (reader.required("name")?, name) {
+        (_, Some(name)) => name,
+        _ => return Err(reader.error("name", FieldProblem::WrongType("a string"))),
+    };
+    let shape = parse_shape(&reader)?;
+    let translation = reader.numbers::<3>(
+        "translation",
+        reader.required("translation")?,
+        "an array of 3 numbers",
+    )?;
+    let rotation_xyzw = reader.numbers::<4>(
+        "rotation",
+        reader.required("rotation")?,
+        "an array of 4 numbers [x, y, z, w]",
+    )?;
+    let mass = parse_mass_spec(&reader)?;
+    Ok(BodyDesc {
+        name,
+        shape,
+        translation: Vector3::from(translation),
+        rotation_xyzw,
+        mass,
+    })
+}
+
+fn parse_shape(reader: &BodyReader<'_>) -> Result<Shape, SceneFileError> {
+    let Some(object) = reader.required("shape")?.as_object() else {
+        return Err(reader.error(
+            "shape",
+            FieldProblem::WrongType("an object {\"cuboid\": ...} or {\"convex_hull\": ...}"),
+        ));
+    };
+    if let Some(key) = unknown_field(object, &["cuboid", "convex_hull"]) {
+        return Err(reader.error(&format!("shape.{key}"), FieldProblem::Unknown));
+    }
+    match (object.get("cuboid"), object.get("convex_hull")) {
+        (Some(half_extents), None) => {
+            let h =
+                reader.numbers::<3>("shape.cuboid", half_extents, "an array of 3 half extents")?;
+            Ok(Shape::Cuboid {
+                half_extents: Vector3::from(h),
+            })
+        }
+        (None, Some(points)) => {
+            let expected = "an array of points [x, y, z]";
+            let points = points
+                .as_array()
+                .and_then(|a| a.iter().map(numbers_of::<3>).collect::<Option<Vec<_>>>())
+                .ok_or_else(|| {
+                    reader.error("shape.convex_hull", FieldProblem::WrongType(expected))
+                })?;
+            Ok(Shape::ConvexHull {
+                points: points.into_iter().map(Point3::from).collect(),
+            })
+        }
+        _ => Err(reader.error(
+            "shape",
+            FieldProblem::Conflict("give exactly one of `cuboid` and `convex_hull`"),
+        )),
+    }
+}
+
+fn parse_mass_spec(reader: &BodyReader<'_>) -> Result<MassSpec, SceneFileError> {
+    let fixed = match reader.object.get("fixed") {
+        None => false,
+        Some(value) => value
+            .as_bool()
+            .ok_or_else(|| reader.error("fixed", FieldProblem::WrongType("true or false")))?,
+    };
+    let mass = reader.number("mass")?;
+    let density = reader.number("density")?;
+    match (fixed, mass, density) {
+        (true, None, None) => Ok(MassSpec::Fixed),
+        (true, Some(_), _) => Err(reader.error(
+            "mass",
+            FieldProblem::Conflict("a fixed body takes no `mass`"),
+        )),
+        (true, None, Some(_)) => Err(reader.error(
+            "density",
+            FieldProblem::Conflict("a fixed body takes no `density`"),
+        )),
+        (false, Some(m), None) => Ok(MassSpec::Mass(m)),
+        (false, None, Some(rho)) => Ok(MassSpec::Density(rho)),
+        (false, Some(_), Some(_)) => Err(reader.error(
+            "density",
+            FieldProblem::Conflict("give only one of `mass` and `density`"),
+        )),
+        (false, None, None) => Err(reader.error(
+            "mass",
+            FieldProblem::Conflict("missing: give `\"fixed\": true`, `mass` or `density`"),
+        )),
+    }
+}
+
+fn parse_settings(value: &Value) -> Result<SceneSettings, SceneFileError> {
+    let Some(object) = value.as_object() else {
+        return Err(top_level("settings", FieldProblem::WrongType("an object")));
+    };
+    if let Some(field) = unknown_field(object, &SETTINGS_FIELDS) {
+        return Err(settings_error(field, FieldProblem::Unknown));
+    }
+    let number = |field: &str| -> Result<Option<f64>, SceneFileError> {
+        object
+            .get(field)
+            .map(|v| {
+                v.as_f64()
+                    .ok_or_else(|| settings_error(field, FieldProblem::WrongType("a number")))
+            })
+            .transpose()
+    };
+    let max_passes = object
+        .get("max_passes")
+        .map(|v| {
+            v.as_u64()
+                .and_then(|n| u32::try_from(n).ok())
+                .ok_or_else(|| {
+                    settings_error("max_passes", FieldProblem::WrongType("an integer >= 1"))
+                })
+        })
+        .transpose()?;
+    let solver = object
+        .get("solver")
+        .map(|v| {
+            v.as_str().and_then(SolverChoice::from_name).ok_or_else(|| {
+                settings_error(
+                    "solver",
+                    FieldProblem::WrongType("one of \"auto\", \"clarabel\", \"lemke\", \"pgs\""),
+                )
+            })
+        })
+        .transpose()?;
+    let cross_check = object
+        .get("cross_check")
+        .map(|v| {
+            v.as_bool().ok_or_else(|| {
+                settings_error("cross_check", FieldProblem::WrongType("true or false"))
+            })
+        })
+        .transpose()?;
+    Ok(SceneSettings {
+        tolerance: number("tolerance")?,
+        contact_margin: number("contact_margin")?,
+        target_margin: number("target_margin")?,
+        max_passes,
+        solver,
+        cross_check,
+    })
+}
+
+fn settings_error(field: &str, problem: FieldProblem) -> SceneFileError {
+    SceneFileError::Settings {
+        field: field.into(),
+        problem,
+    }
+}
+
+#[derive(Serialize)]
+struct SceneOut<'a> {
+    bodies: Vec<BodyOut<'a>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    settings: Option<SettingsOut>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    report: Option<&'a Value>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "snake_case")]
+enum ShapeOut {
+    Cuboid([f64; 3]),
+    ConvexHull(Vec<[f64; 3]>),
+}
+
+#[derive(Serialize)]
+struct BodyOut<'a> {
+    name: &'a str,
+    shape: ShapeOut,
+    translation: [f64; 3],
+    rotation: [f64; 4],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fixed: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mass: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    density: Option<f64>,
+}
+
+impl<'a> BodyOut<'a> {
+    fn of(body: &'a Body) -> Self {
+        let shape = match body.shape() {
+            Shape::Cuboid { half_extents } => ShapeOut::Cuboid((*half_extents).into()),
+            Shape::ConvexHull { points } => {
+                ShapeOut::ConvexHull(points.iter().map(|p| p.coords.into()).collect())
+            }
+        };
+        let (fixed, mass, density) = match body.mass_spec() {
+            MassSpec::Fixed => (Some(true), None, None),
+            MassSpec::Mass(m) => (None, Some(m), None),
+            MassSpec::Density(rho) => (None, None, Some(rho)),
+        };
+        BodyOut {
+            name: body.name(),
+            shape,
+            translation: (*body.translation_user()).into(),
+            rotation: body.rotation_user_xyzw(),
+            fixed,
+            mass,
+            density,
+        }
+    }
+}
+
+#[derive(Serialize)]
+struct SettingsOut {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    tolerance: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    contact_margin: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    target_margin: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    max_passes: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    solver: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    cross_check: Option<bool>,
+}
+
+impl SettingsOut {
+    fn of(settings: &SceneSettings) -> Self {
+        SettingsOut {
+            tolerance: settings.tolerance,
+            contact_margin: settings.contact_margin,
+            target_margin: settings.target_margin,
+            max_passes: settings.max_passes,
+            solver: settings.solver.map(SolverChoice::name),
+            cross_check: settings.cross_check,
+        }
+    }
+}

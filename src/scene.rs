@@ -1,0 +1,261 @@
+//! The scene: an ordered list of validated bodies and optional settings.
+//!
+//! Body indices are positions in [`Scene::bodies`]; they are stable (bodies
+//! are only appended) and are what broad phase, islands and reports use.
+//! Names are labels only: they need not be unique.
+//!
+//! [`SceneSettings`] holds the settings a scene file may carry, every field
+//! optional; the stabilizer maps them onto its own settings (and its
+//! defaults). Lengths in it are in the scene's length unit.
+
+use thiserror::Error;
+
+use crate::body::{Body, BodyDesc, BodyError};
+
+/// Which solver a scene asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SolverChoice {
+    /// Per island, the cheapest solver that reaches the tolerance.
+    Auto,
+    /// The clarabel interior-point QP solver.
+    Clarabel,
+    /// Lemke's complementary pivoting on the LCP.
+    Lemke,
+    /// Projected Gauss-Seidel on the LCP.
+    Pgs,
+}
+
+impl SolverChoice {
+    /// All choices, with [`SolverChoice::name`] as in scene files.
+    pub const ALL: [SolverChoice; 4] = [
+        SolverChoice::Auto,
+        SolverChoice::Clarabel,
+        SolverChoice::Lemke,
+        SolverChoice::Pgs,
+    ];
+
+    /// The name used in scene files: `auto`, `clarabel`, `lemke`, `pgs`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SolverChoice::Auto => "auto",
+            SolverChoice::Clarabel => "clarabel",
+            SolverChoice::Lemke => "lemke",
+            SolverChoice::Pgs => "pgs",
+        }
+    }
+
+    /// The choice with the given file name, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|c| c.name() == name)
+    }
+}
+
+/// Settings carried by a scene; `None` means "the stabilizer's default".
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SceneSettings {
+    /// Deepest penetration left at the end (length, > 0).
+    pub tolerance: Option<f64>,
+    /// Pairs closer than this enter the problem as near contacts (length, >= 0).
+    pub contact_margin: Option<f64>,
+    /// Separation the correction aims for (length, >= 0).
+    pub target_margin: Option<f64>,
+    /// Limit on projection passes (>= 1).
+    pub max_passes: Option<u32>,
+    /// Solver for every island, or `auto`.
+    pub solver: Option<SolverChoice>,
+    /// Solve every island with two solvers and report the difference.
+    pub cross_check: Option<bool>,
+}
+
+/// Why a [`SceneSettings`] value is invalid.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SettingsError {
+    /// A length is NaN, infinite, or has the wrong sign.
+    #[error("settings field `{field}` is {value}: it must be finite and {requirement}")]
+    InvalidLength {
+        /// The field name, as in scene files.
+        field: &'static str,
+        /// The value given.
+        value: f64,
+        /// `"positive"` or `"non-negative"`.
+        requirement: &'static str,
+    },
+    /// `max_passes` is zero.
+    #[error("settings field `max_passes` is 0: at least one pass is needed")]
+    ZeroPasses,
+}
+
+impl SettingsError {
+    /// The settings field the error is about.
+    pub fn field(&self) -> &'static str {
+        match self {
+            SettingsError::InvalidLength { field, .. } => field,
+            SettingsError::ZeroPasses => "max_passes",
+        }
+    }
+}
+
+impl SceneSettings {
+    /// Checks signs and finiteness of the fields that are present.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        check_length("tolerance", self.tolerance, false)?;
+        check_length("contact_margin", self.contact_margin, true)?;
+        check_length("target_margin", self.target_margin, true)?;
+        if self.max_passes == Some(0) {
+            return Err(SettingsError::ZeroPasses);
+        }
+        Ok(())
+    }
+
+    /// Whether no field is set.
+    pub fn is_empty(&self) -> bool {
+        *self == SceneSettings::default()
+    }
+}
+
+fn check_length(
+    field: &'static str,
+    value: Option<f64>,
+    zero_allowed: bool,
+) -> Result<(), SettingsError> {
+    let Some(value) = value else { return Ok(()) };
+    let ok = value.is_finite() && (value > 0.0 || (zero_allowed && value == 0.0));
+    if ok {
+        return Ok(());
+    }
+    Err(SettingsError::InvalidLength {
+        field,
+        value,
+        requirement: if zero_allowed {
+            "non-negative"
+        } else {
+            "positive"
+        },
+    })
+}
+
+/// Why a scene could not be built.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SceneError {
+    /// A body description is invalid.
+    #[error("body {index} ({name:?}), field `{}`: {source}", source.field())]
+    Body {
+        /// Index the body has (or would have had) in the scene.
+        index: usize,
+        /// The body's name.
+        name: String,
+        /// What is wrong.
+        source: BodyError,
+    },
+    /// A body index is out of range.
+    #[error("no body {index}: the scene has {len} bodies")]
+    NoSuchBody {
+        /// The index asked for.
+        index: usize,
+        /// Number of bodies.
+        len: usize,
+    },
+    /// The settings are invalid.
+    #[error("{0}")]
+    Settings(#[from] SettingsError),
+}
+
+/// Bodies in a fixed order, and the settings given with them.
+#[derive(Debug, Clone, Default)]
+pub struct Scene {
+    bodies: Vec<Body>,
+    settings: SceneSettings,
+}
+
+impl Scene {
+    /// An empty scene with no settings.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Builds a scene from body descriptions; the first invalid one is
+    /// reported with its index and name.
+    pub fn from_descs(
+        descs: impl IntoIterator<Item = BodyDesc>,
+        settings: SceneSettings,
+    ) -> Result<Self, SceneError> {
+        let mut scene = Scene::new();
+        scene.set_settings(settings)?;
+        for desc in descs {
+            scene.add_body(desc)?;
+        }
+        Ok(scene)
+    }
+
+    /// Validates and appends a body; returns its index.
+    pub fn add_body(&mut self, desc: BodyDesc) -> Result<usize, SceneError> {
+        let index = self.bodies.len();
+        let name = desc.name.clone();
+        let body = Body::new(desc).map_err(|source| SceneError::Body {
+            index,
+            name,
+            source,
+        })?;
+        self.bodies.push(body);
+        Ok(index)
+    }
+
+    /// Appends an already validated body; returns its index.
+    pub fn push_body(&mut self, body: Body) -> usize {
+        self.bodies.push(body);
+        self.bodies.len() - 1
+    }
+
+    /// The bodies, in index order.
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// The bodies, mutable (poses can be set; bodies stay valid).
+    pub fn bodies_mut(&mut self) -> &mut [Body] {
+        &mut self.bodies
+    }
+
+    /// Body `index`.
+    pub fn body(&self, index: usize) -> Result<&Body, SceneError> {
+        let len = self.bodies.len();
+        self.bodies
+            .get(index)
+            .ok_or(SceneError::NoSuchBody { index, len })
+    }
+
+    /// Body `index`, mutable.
+    pub fn body_mut(&mut self, index: usize) -> Result<&mut Body, SceneError> {
+        let len = self.bodies.len();
+        self.bodies
+            .get_mut(index)
+            .ok_or(SceneError::NoSuchBody { index, len })
+    }
+
+    /// Number of bodies.
+    pub fn len(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// Whether there are no bodies.
+    pub fn is_empty(&self) -> bool {
+        self.bodies.is_empty()
+    }
+
+    /// `is_fixed()` of every body, in index order.
+    pub fn fixed_flags(&self) -> Vec<bool> {
+        self.bodies.iter().map(Body::is_fixed).collect()
+    }
+
+    /// The settings given with the scene.
+    pub fn settings(&self) -> &SceneSettings {
+        &self.settings
+    }
+
+    /// Validates and replaces the settings.
+    pub fn set_settings(&mut self, settings: SceneSettings) -> Result<(), SceneError> {
+        settings.validate()?;
+        self.settings = settings;
+        Ok(())
+    }
+}
