@@ -163,3 +163,30 @@ pub fn pushed_out(
         BodyRole::B => (*pose_a, shift * pose_b),
     }
 }
+
+/// A random hull of `n` points (4 to 200 in the tests), most near a sphere
+/// of radius `radius` so that the hull keeps many of them, with random
+/// aspect ratios so that flat and thin hulls occur too.
+pub fn random_hull_varied(rng: &mut impl Rng, n: usize, radius: f64) -> ConvexPolyhedron {
+    let stretch = Vector3::new(
+        rng.random_range(0.2..1.0),
+        rng.random_range(0.2..1.0),
+        rng.random_range(0.2..1.0),
+    );
+    loop {
+        let points: Vec<Point3<f64>> = (0..n)
+            .map(|_| {
+                let p = random_in_ball(rng).coords;
+                let p = if p.norm() > 1e-3 && rng.random_bool(0.7) {
+                    p.normalize()
+                } else {
+                    p
+                };
+                Point3::from(p.component_mul(&stretch) * radius)
+            })
+            .collect();
+        if let Some(poly) = hull(&points) {
+            return poly;
+        }
+    }
+}
