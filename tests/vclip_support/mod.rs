@@ -2,57 +2,27 @@
 //! parry3d-f64 oracle (GJK distance, intersection test, EPA contact).
 #![allow(dead_code)]
 
-use constraint_stabilization::geometry::ConvexPolyhedron;
+use constraint_stabilization::geometry::{ConvexPolyhedron, isometry_to_parry};
 use constraint_stabilization::vclip::{BodyRole, DeepestVertex, Outcome, VClipResult};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
-use parry3d_f64::math::{Pose, Rotation, Vector as DVec3};
+use parry3d_f64::math::Pose;
 use parry3d_f64::query;
 use parry3d_f64::shape::ConvexPolyhedron as ParryPolyhedron;
 use rand::Rng;
 
 /// A parry pose equal to `iso`.
 pub fn parry_pose(iso: &Isometry3<f64>) -> Pose {
-    let t = iso.translation.vector;
-    let q = iso.rotation.quaternion();
-    Pose::from_parts(
-        DVec3::new(t.x, t.y, t.z),
-        Rotation::from_xyzw(q.i, q.j, q.k, q.w),
-    )
+    isometry_to_parry(iso)
 }
 
-/// The same solid as a parry shape (hull of its body-frame vertices).
+/// The same solid as a parry shape.
 pub fn parry_shape(poly: &ConvexPolyhedron) -> ParryPolyhedron {
-    let points: Vec<DVec3> = poly
-        .vertices()
-        .iter()
-        .map(|p| DVec3::new(p.x, p.y, p.z))
-        .collect();
-    ParryPolyhedron::from_convex_hull(&points).expect("a valid polyhedron has a hull")
+    poly.to_parry().expect("a valid polyhedron converts")
 }
 
-/// Our polyhedron from parry's hull of `points` (faces as vertex cycles).
+/// Our polyhedron, hull of `points` (the project's `from_points`).
 pub fn hull(points: &[Point3<f64>]) -> Option<ConvexPolyhedron> {
-    let glam: Vec<DVec3> = points.iter().map(|p| DVec3::new(p.x, p.y, p.z)).collect();
-    let parry = ParryPolyhedron::from_convex_hull(&glam)?;
-    let vertices = parry
-        .points()
-        .iter()
-        .map(|p| Point3::new(p.x, p.y, p.z))
-        .collect();
-    let adjacency = parry.vertices_adj_to_face();
-    let faces = parry
-        .faces()
-        .iter()
-        .map(|f| {
-            let first = f.first_vertex_or_edge as usize;
-            let n = f.num_vertices_or_edges as usize;
-            adjacency[first..first + n]
-                .iter()
-                .map(|&v| v as usize)
-                .collect()
-        })
-        .collect();
-    ConvexPolyhedron::from_faces(vertices, faces).ok()
+    ConvexPolyhedron::from_points(points).ok()
 }
 
 /// A random hull of `n` points in a ball of radius `radius` (retries until
