@@ -1,0 +1,98 @@
+//! The deepest-vertex search (DESIGN.md section 4), this project's
+//! extension of V-Clip.
+//!
+//! From a penetration witness with face `F` (plane `P`) of one body:
+//! 1. start at the penetrating vertex: the vertex of a vertex–face witness,
+//!    or the end of the piercing edge of an edge–face witness with the
+//!    smaller `D_P` (it is on or below `P`);
+//! 2. move to the neighbour (other end of an incident edge) with the most
+//!    negative `D_P` while that is below the current value.
+//!
+//! `D_P` is linear and the vertex graph of a convex polyhedron is that of
+//! the simplex method, so a vertex with no better neighbour minimizes `D_P`
+//! over the whole body. `P` is pulled back into the vertex body's frame
+//! once, so the walk costs one dot product per vertex examined.
+
+use nalgebra::Isometry3;
+
+use super::pair::Pair;
+use super::state::Witness;
+use super::types::{BodyRole, DeepestVertex};
+use crate::geometry::{ConvexPolyhedron, Plane};
+
+/// The deepest vertex–face pair from a witness. `poses[i]` is body `i`'s
+/// pose.
+pub(crate) fn deepest_vertex(
+    pair: &Pair,
+    poses: [&Isometry3<f64>; 2],
+    witness: Witness,
+) -> DeepestVertex {
+    let (vertex_body, start, face) = match witness {
+        Witness::VertexFace {
+            vertex_body,
+            vertex,
+            face,
+        } => (vertex_body, vertex, face),
+        Witness::EdgeFace {
+            edge_body,
+            edge,
+            face,
+        } => {
+            let plane = pair.face_plane_in_other(1 - edge_body, face);
+            let e = &pair.polys[edge_body].edges()[edge];
+            let lower = |v: usize| plane.signed_distance(&pair.vertex(edge_body, v));
+            let start = if lower(e.tail) <= lower(e.head) {
+                e.tail
+            } else {
+                e.head
+            };
+            (edge_body, start, face)
+        }
+    };
+    walk_to_deepest(pair, poses, vertex_body, start, face)
+}
+
+/// Walks from `start` (body `vertex_body`) to the vertex deepest below face
+/// `face` of the other body.
+pub(crate) fn walk_to_deepest(
+    pair: &Pair,
+    poses: [&Isometry3<f64>; 2],
+    vertex_body: usize,
+    start: usize,
+    face: usize,
+) -> DeepestVertex {
+    let face_body = 1 - vertex_body;
+    let plane = pair.face_plane_in_other(face_body, face);
+    let (vertex, height) = descend(pair.polys[vertex_body], &plane, start);
+    let normal_body = pair.polys[face_body].faces()[face].plane.normal;
+    DeepestVertex {
+        vertex_body: BodyRole::from_index(vertex_body),
+        vertex,
+        face,
+        depth: (-height).max(0.0),
+        vertex_world: poses[vertex_body] * pair.vertex(vertex_body, vertex),
+        normal_world: poses[face_body].rotation * normal_body,
+    }
+}
+
+/// Steepest descent of `D_plane` over the vertex graph; the final vertex and
+/// its height. Terminates: the height strictly decreases at every move.
+pub(crate) fn descend(poly: &ConvexPolyhedron, plane: &Plane, start: usize) -> (usize, f64) {
+    let mut current = start;
+    let mut height = plane.signed_distance(&poly.vertices()[start]);
+    loop {
+        let mut next = None;
+        for &e in poly.vertex_edges(current) {
+            let w = poly.other_vertex(e, current);
+            let d = plane.signed_distance(&poly.vertices()[w]);
+            if d < height {
+                height = d;
+                next = Some(w);
+            }
+        }
+        match next {
+            Some(w) => current = w,
+            None => return (current, height),
+        }
+    }
+}

@@ -1,0 +1,92 @@
+//! The derivative checks after clipping (Mirtich 1998, section 4.3).
+//!
+//! After an edge `e(l) = t + l u` (`u = h - t`) has been clipped to
+//! `[l_lo, l_hi]` against the region of a feature `X`, the distance
+//! `D(l) = dist(e(l), X)` is convex, so its minimum over the edge lies
+//! before `l_lo` iff `D'(l_lo) > 0` and after `l_hi` iff `D'(l_hi) < 0`; in
+//! either case `X` moves to the neighbour whose plane cut the edge there.
+//! Only signs are needed:
+//! - to a point `v`: `sign D'(l) = sign(u . (e(l) - v))`;
+//! - to a face with plane `P`, unit normal `n`: `sign D'(l) = sign(u . n)`
+//!   if `D_P(e(l)) > 0`, `-sign(u . n)` if `D_P(e(l)) < 0`.
+//!
+//! When `X` is an edge, the distance is measured to the neighbour (vertex or
+//! face) whose plane was crossed: at the crossing point both give the same
+//! closest point. A zero sign (the edge touches the reference, or the
+//! reference is perpendicular) asks for no update: the distance is at a
+//! stationary point, and the walk ends there with distance 0 when touching.
+
+use nalgebra::Point3;
+
+use super::clip::{Clip, lerp};
+use crate::geometry::{Feature, Plane};
+
+/// What the distance is measured to.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Reference {
+    /// A vertex position.
+    Point(Point3<f64>),
+    /// A face plane.
+    Plane(Plane),
+}
+
+/// `D'(l)` up to a positive factor (only its sign is meaningful).
+pub(crate) fn derivative(
+    tail: &Point3<f64>,
+    head: &Point3<f64>,
+    l: f64,
+    reference: &Reference,
+) -> f64 {
+    let u = head - tail;
+    let point = lerp(tail, head, l);
+    match reference {
+        Reference::Point(v) => u.dot(&(point - v)),
+        Reference::Plane(plane) => {
+            let height = plane.signed_distance(&point);
+            if height > 0.0 {
+                u.dot(&plane.normal)
+            } else if height < 0.0 {
+                -u.dot(&plane.normal)
+            } else {
+                0.0
+            }
+        }
+    }
+}
+
+/// The standard check: `Some(N_lo)` if `D'(l_lo) > 0`, else `Some(N_hi)` if
+/// `D'(l_hi) < 0`, else `None`. `reference` gives the reference of a
+/// neighbour.
+pub(crate) fn check(
+    clip: &Clip,
+    tail: &Point3<f64>,
+    head: &Point3<f64>,
+    reference: impl Fn(Feature) -> Reference,
+) -> Option<Feature> {
+    if let Some(n) = clip.n_lo
+        && derivative(tail, head, clip.l_lo, &reference(n)) > 0.0
+    {
+        return Some(n);
+    }
+    if let Some(n) = clip.n_hi
+        && derivative(tail, head, clip.l_hi, &reference(n)) < 0.0
+    {
+        return Some(n);
+    }
+    None
+}
+
+/// The check after a compound exclusion, which must update: in exact
+/// arithmetic one of the two conditions holds; if rounding hides both, the
+/// neighbour at `l_hi` is taken (any neighbour keeps the walk valid, as the
+/// edge lies in none of the region).
+pub(crate) fn check_excluded(
+    clip: &Clip,
+    tail: &Point3<f64>,
+    head: &Point3<f64>,
+    reference: impl Fn(Feature) -> Reference,
+) -> Option<Feature> {
+    check(clip, tail, head, &reference)
+        .or(clip.n_hi)
+        .or(clip.n_lo)
+}

@@ -1,0 +1,77 @@
+//! Settings of a V-Clip query and the errors of bad input.
+//!
+//! The walk needs no tolerance: its only divisions are in edge clipping,
+//! `l = dt / (dt - dh)` with `dt` and `dh` of opposite signs, and it
+//! decides with exact sign tests as Mirtich (1998) does. Termination in
+//! floating point is guarded by an iteration cap proportional to the
+//! feature counts; hitting it triggers the exhaustive fallback.
+
+use thiserror::Error;
+
+use crate::geometry::Feature;
+
+/// Default of [`VClipSettings::iterations_per_feature`].
+///
+/// Mirtich's walk visits each feature pair at most once in exact
+/// arithmetic and in practice only a handful; a cap of a few transitions
+/// per feature (of both bodies together) is never reached by a correct walk
+/// and bounds a rounding cycle to linear cost.
+pub const DEFAULT_ITERATIONS_PER_FEATURE: usize = 4;
+
+/// Default of [`VClipSettings::min_iterations`]: transitions always allowed,
+/// whatever the feature counts (a tetrahedron pair has only 28 features).
+pub const DEFAULT_MIN_ITERATIONS: usize = 64;
+
+/// Settings of a query.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VClipSettings {
+    /// Iteration cap = `min_iterations + iterations_per_feature * (features
+    /// of A + features of B)`.
+    pub iterations_per_feature: usize,
+    /// See [`Self::iterations_per_feature`].
+    pub min_iterations: usize,
+    /// Overrides the cap when `Some` (tests force the fallback with it).
+    pub max_iterations: Option<usize>,
+}
+
+impl Default for VClipSettings {
+    fn default() -> Self {
+        VClipSettings {
+            iterations_per_feature: DEFAULT_ITERATIONS_PER_FEATURE,
+            min_iterations: DEFAULT_MIN_ITERATIONS,
+            max_iterations: None,
+        }
+    }
+}
+
+impl VClipSettings {
+    /// The iteration cap for two bodies with these feature counts.
+    pub fn iteration_cap(&self, features_a: usize, features_b: usize) -> usize {
+        self.max_iterations.unwrap_or_else(|| {
+            self.min_iterations.saturating_add(
+                self.iterations_per_feature
+                    .saturating_mul(features_a + features_b),
+            )
+        })
+    }
+}
+
+/// Bad input to a query.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum VClipError {
+    /// A pose has a NaN or infinite component.
+    #[error("the pose of body {body:?} is not finite")]
+    NonFinitePose {
+        /// The body whose pose is bad.
+        body: super::BodyRole,
+    },
+    /// A warm-start feature index is out of range for its body (a stale
+    /// cache from another shape).
+    #[error("warm-start feature {feature:?} does not exist on body {body:?}")]
+    InvalidWarmStart {
+        /// The body.
+        body: super::BodyRole,
+        /// The feature given.
+        feature: Feature,
+    },
+}
