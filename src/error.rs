@@ -8,7 +8,11 @@ pub use crate::geometry::GeometryError;
 #[cfg(feature = "serde")]
 pub use crate::io::scene_file::SceneFileError;
 pub use crate::island::IslandError;
+pub use crate::body::BodyError;
 pub use crate::scene::SceneError;
+pub use crate::solver::SolverError;
+pub use crate::stabilizer::SettingsError;
+pub use crate::vclip::VClipError;
 
 /// Any error the library returns.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -29,4 +33,16 @@ pub enum Error {
     /// Island input is invalid.
     #[error("islands: {0}")]
     Island(#[from] IslandError),
+    /// A stabilizer setting is invalid.
+    #[error("settings: {0}")]
+    Settings(#[from] SettingsError),
+    /// Every solver failed on an island (the poses are as they were).
+    #[error("solver: {0}")]
+    Solver(#[from] SolverError),
+    /// A V-Clip query was given invalid input.
+    #[error("V-Clip: {0}")]
+    VClip(#[from] VClipError),
+    /// A corrected pose was rejected by its body (the poses are as they were).
+    #[error("body: {0}")]
+    Body(#[from] BodyError),
 }

@@ -17,6 +17,7 @@
 
 pub mod body;
 pub mod broad_phase;
+pub mod contact;
 #[cfg(feature = "demo")]
 pub mod demo;
 pub mod error;
@@ -26,6 +27,8 @@ pub mod island;
 pub mod projector;
 pub mod scene;
 pub mod solver;
+pub mod stabilizer;
 pub mod vclip;
 
 pub use error::Error;
+pub use stabilizer::{Report, Settings, Stabilizer, Status};

@@ -9,6 +9,8 @@
 //! 4. line search along `dq` ([`super::line_search`]) and apply the accepted
 //!    step, or leave `q` unchanged and report a stall.
 
+use std::time::Instant;
+
 use super::line_search::{LineSearchOutcome, LineSearchSettings, line_search};
 use super::{BodyInertia, BodyState, ConstraintProvider, ConstraintRow};
 use crate::solver::{
@@ -63,6 +65,10 @@ pub struct StepReport {
     pub depth_after: f64,
     /// Mass-weighted length of the applied correction, `alpha sqrt(dq^T M dq)`.
     pub displacement: f64,
+    /// Wall time of linearization and solver, seconds.
+    pub solve_seconds: f64,
+    /// Wall time of the line search, seconds.
+    pub line_search_seconds: f64,
 }
 
 /// Final status of [`project`].
@@ -104,15 +110,20 @@ pub fn projection_step<P: ConstraintProvider + ?Sized>(
         depth_before,
         depth_after: depth_before,
         displacement: 0.0,
+        solve_seconds: 0.0,
+        line_search_seconds: 0.0,
     };
     if depth_before <= settings.tolerance {
         return Ok(report);
     }
+    let solve_start = Instant::now();
     let rows = provider.linearize(configuration);
     report.constraints = rows.len();
     let qp = projection_qp(configuration, inertias, &rows, settings.target_margin);
     let solution = solve_projection(&qp, &settings.solver)?;
     let dq = &solution.dq;
+    report.solve_seconds = solve_start.elapsed().as_secs_f64();
+    let line_search_start = Instant::now();
     let search = line_search(
         provider,
         configuration,
@@ -140,6 +151,16 @@ pub fn projection_step<P: ConstraintProvider + ?Sized>(
             report.line_search_trials = trials;
         }
     }
+    report.line_search_seconds = line_search_start.elapsed().as_secs_f64();
+    log::debug!(
+        "projection step: {} rows, {:?}, alpha {:?} after {} trials, depth {:e} -> {:e}",
+        report.constraints,
+        solution.solver,
+        report.alpha,
+        report.line_search_trials,
+        report.depth_before,
+        report.depth_after
+    );
     report.solution = Some(solution);
     Ok(report)
 }

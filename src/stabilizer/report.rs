@@ -1,0 +1,150 @@
+//! What a stabilization call did: status, passes, islands, solvers,
+//! line-search steps, penetration before and after, displacement, times.
+
+use crate::projector::StepOutcome;
+use crate::solver::{CrossCheck, Fallback, SolverKind};
+
+/// How a call ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    /// No penetration deeper than the tolerance was found: no pose was
+    /// touched.
+    NothingToDo,
+    /// Penetrations were removed: none deeper than the tolerance remains.
+    Converged,
+    /// The pass limit was reached with a penetration left.
+    PassLimit,
+    /// Every island solved in the last pass stalled (the line search found
+    /// no acceptable step); the stalled islands are in
+    /// [`Report::stalled_islands`].
+    Stalled,
+}
+
+impl Status {
+    /// Short lowercase name, as in the scene file report.
+    pub fn name(self) -> &'static str {
+        match self {
+            Status::NothingToDo => "nothing_to_do",
+            Status::Converged => "converged",
+            Status::PassLimit => "pass_limit",
+            Status::Stalled => "stalled",
+        }
+    }
+
+    /// Whether no penetration deeper than the tolerance remains.
+    pub fn is_resolved(self) -> bool {
+        matches!(self, Status::NothingToDo | Status::Converged)
+    }
+}
+
+/// One island solved in one pass.
+#[derive(Debug, Clone)]
+pub struct IslandReport {
+    /// Dynamic bodies (scene indices, ascending).
+    pub bodies: Vec<usize>,
+    /// Body pairs of the island (penetrating or within the contact margin).
+    pub pairs: usize,
+    /// Linearized constraint rows.
+    pub constraints: usize,
+    /// The solver that produced the correction (`None` if nothing solved).
+    pub solver: Option<SolverKind>,
+    /// Solvers that failed first, in order.
+    pub fallbacks: Vec<Fallback>,
+    /// The clarabel/Lemke comparison, when the cross-check is on.
+    pub cross_check: Option<CrossCheck>,
+    /// Moved, stalled, or nothing to do.
+    pub outcome: StepOutcome,
+    /// Accepted step length.
+    pub alpha: Option<f64>,
+    /// Trial configurations measured by the line search.
+    pub line_search_trials: usize,
+    /// Deepest penetration of the island before and after the step.
+    pub depth_before: f64,
+    /// See `depth_before`.
+    pub depth_after: f64,
+    /// Mass-weighted length of the applied correction.
+    pub displacement: f64,
+}
+
+/// One pass: detection over the whole scene, then one projection step per
+/// penetrating island.
+#[derive(Debug, Clone, Default)]
+pub struct PassReport {
+    /// Candidate pairs from the broad phase.
+    pub candidate_pairs: usize,
+    /// Pairs penetrating deeper than the tolerance.
+    pub penetrating_pairs: usize,
+    /// Pairs within the contact margin (penetrating or not).
+    pub active_pairs: usize,
+    /// Islands formed from the active pairs.
+    pub islands: usize,
+    /// Deepest penetration found by this pass's detection.
+    pub deepest: f64,
+    /// The islands solved in this pass (those with a penetration deeper than
+    /// the tolerance), in ascending order of their smallest body.
+    pub solved: Vec<IslandReport>,
+}
+
+/// Wall time per stage, seconds, summed over passes (and over islands for
+/// the per-island stages, so with several threads these may exceed `total`).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimes {
+    /// Broad phase (AABB tree).
+    pub broad_phase: f64,
+    /// Narrow phase (V-Clip over candidate pairs).
+    pub narrow_phase: f64,
+    /// Linearization and solvers.
+    pub solve: f64,
+    /// Line searches (V-Clip on trial configurations).
+    pub line_search: f64,
+    /// The whole call.
+    pub total: f64,
+}
+
+/// The report of [`super::Stabilizer::stabilize`].
+#[derive(Debug, Clone)]
+pub struct Report {
+    /// How the call ended.
+    pub status: Status,
+    /// Number of passes that solved at least one island.
+    pub passes: usize,
+    /// One entry per pass (detection and solves), the last being the final
+    /// check when it found nothing to solve.
+    pub pass_reports: Vec<PassReport>,
+    /// The scene's length scale `L` (smallest dynamic body's circumradius).
+    pub scale: f64,
+    /// The absolute penetration tolerance used.
+    pub tolerance: f64,
+    /// Deepest penetration before the call (deepest-vertex depth, an upper
+    /// bound of the penetration depth).
+    pub depth_before: f64,
+    /// Deepest penetration after the call.
+    pub depth_after: f64,
+    /// Mass-weighted displacement of the whole scene, `sqrt(sum_i m_i
+    /// |dx_i|^2 + dtheta_i^T I_i dtheta_i)` between the poses before and
+    /// after (`dtheta_i` the rotation vector of `R_after R_before^T`).
+    pub displacement: f64,
+    /// Number of bodies whose pose changed.
+    pub bodies_moved: usize,
+    /// Islands (dynamic bodies, scene indices) whose line search stalled in
+    /// the last pass that solved anything.
+    pub stalled_islands: Vec<Vec<usize>>,
+    /// Wall time per stage.
+    pub times: StageTimes,
+}
+
+impl Report {
+    /// Total number of islands solved over all passes.
+    pub fn islands_solved(&self) -> usize {
+        self.pass_reports.iter().map(|p| p.solved.len()).sum()
+    }
+
+    /// Total line-search trials over all passes.
+    pub fn line_search_trials(&self) -> usize {
+        self.pass_reports
+            .iter()
+            .flat_map(|p| &p.solved)
+            .map(|island| island.line_search_trials)
+            .sum()
+    }
+}

@@ -1,0 +1,175 @@
+//! Settings of the stabilizer, with documented defaults.
+//!
+//! Lengths are relative to the scene's length scale `L`, the circumradius
+//! (largest distance of a vertex from the centre of mass) of the smallest
+//! dynamic body: scaling a scene by `s` scales `L`, hence every tolerance,
+//! by `s`, so the corrected poses scale by `s` and the number of passes is
+//! unchanged. Each relative length has an absolute override.
+
+use thiserror::Error;
+
+use crate::projector::LineSearchSettings;
+use crate::solver::SolverSettings;
+use crate::vclip::VClipSettings;
+
+/// Settings of [`super::Stabilizer`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    /// Penetration depth accepted as resolved, relative to `L`. Default 1e-6.
+    pub tolerance_relative: f64,
+    /// Absolute tolerance (length); overrides `tolerance_relative`. Default none.
+    pub tolerance_absolute: Option<f64>,
+    /// Separated pairs closer than this (relative to `L`) join islands and
+    /// the constraints, so that a correction cannot push a body into a
+    /// neighbour; the broad phase enlarges AABBs by it. Default 1e-2.
+    pub contact_margin_relative: f64,
+    /// Absolute contact margin; overrides the relative one. Default none.
+    pub contact_margin_absolute: Option<f64>,
+    /// Gap that the linearized constraints aim for, relative to `L`, so that
+    /// the second-order error of the linearization (rotations) rarely leaves
+    /// a penetration above the tolerance. Default 1e-6 (equal to the
+    /// tolerance).
+    pub target_margin_relative: f64,
+    /// Absolute target margin; overrides the relative one. Default none.
+    pub target_margin_absolute: Option<f64>,
+    /// Largest number of passes (detect, solve every penetrating island,
+    /// apply). Default 100.
+    pub max_passes: usize,
+    /// One constraint row per penetrating vertex of a pair's witness body
+    /// below (or within the contact margin of) the witness face plane, rather
+    /// than the deepest vertex alone. Default true (see the README for the
+    /// measurement that chose it).
+    pub contact_manifold: bool,
+    /// Backtracking line search.
+    pub line_search: LineSearchSettings,
+    /// Solver choice, cross-check and solver tolerances.
+    pub solver: SolverSettings,
+    /// V-Clip iteration cap and tie tolerance.
+    pub vclip: VClipSettings,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            tolerance_relative: 1e-6,
+            tolerance_absolute: None,
+            contact_margin_relative: 1e-2,
+            contact_margin_absolute: None,
+            target_margin_relative: 1e-6,
+            target_margin_absolute: None,
+            max_passes: 100,
+            contact_manifold: true,
+            line_search: LineSearchSettings::default(),
+            solver: SolverSettings::default(),
+            vclip: VClipSettings::default(),
+        }
+    }
+}
+
+/// The lengths of one call, resolved against the scene's scale.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ResolvedLengths {
+    /// The scene's length scale `L`.
+    pub scale: f64,
+    /// Penetration tolerance.
+    pub tolerance: f64,
+    /// Contact margin.
+    pub contact_margin: f64,
+    /// Target margin.
+    pub target_margin: f64,
+}
+
+/// An invalid setting.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SettingsError {
+    /// A length is negative, zero where it must be positive, or not finite.
+    #[error("setting `{name}` is {value}: it must be finite and {requirement}")]
+    InvalidLength {
+        /// The setting's name.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What it must be.
+        requirement: &'static str,
+    },
+    /// `max_passes` is zero.
+    #[error("setting `max_passes` is 0: at least one pass is needed")]
+    ZeroPasses,
+    /// A line-search factor is outside its range.
+    #[error("line search: {0}")]
+    LineSearch(&'static str),
+}
+
+impl Settings {
+    /// Checks every field.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        positive("tolerance_relative", self.tolerance_relative)?;
+        non_negative("contact_margin_relative", self.contact_margin_relative)?;
+        non_negative("target_margin_relative", self.target_margin_relative)?;
+        if let Some(value) = self.tolerance_absolute {
+            positive("tolerance_absolute", value)?;
+        }
+        if let Some(value) = self.contact_margin_absolute {
+            non_negative("contact_margin_absolute", value)?;
+        }
+        if let Some(value) = self.target_margin_absolute {
+            non_negative("target_margin_absolute", value)?;
+        }
+        if self.max_passes == 0 {
+            return Err(SettingsError::ZeroPasses);
+        }
+        let search = &self.line_search;
+        if !(search.shrink > 0.0 && search.shrink < 1.0) {
+            return Err(SettingsError::LineSearch("shrink must be in (0, 1)"));
+        }
+        if !(search.min_step > 0.0 && search.min_step <= 1.0) {
+            return Err(SettingsError::LineSearch("min_step must be in (0, 1]"));
+        }
+        if !(search.sufficient_decrease >= 0.0 && search.sufficient_decrease < 1.0) {
+            return Err(SettingsError::LineSearch(
+                "sufficient_decrease must be in [0, 1)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The lengths for a scene of length scale `scale`.
+    pub fn resolve(&self, scale: f64) -> ResolvedLengths {
+        ResolvedLengths {
+            scale,
+            tolerance: self
+                .tolerance_absolute
+                .unwrap_or(self.tolerance_relative * scale),
+            contact_margin: self
+                .contact_margin_absolute
+                .unwrap_or(self.contact_margin_relative * scale),
+            target_margin: self
+                .target_margin_absolute
+                .unwrap_or(self.target_margin_relative * scale),
+        }
+    }
+}
+
+fn positive(name: &'static str, value: f64) -> Result<(), SettingsError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(SettingsError::InvalidLength {
+            name,
+            value,
+            requirement: "positive",
+        })
+    }
+}
+
+fn non_negative(name: &'static str, value: f64) -> Result<(), SettingsError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(SettingsError::InvalidLength {
+            name,
+            value,
+            requirement: "non-negative",
+        })
+    }
+}

@@ -1,0 +1,133 @@
+//! One projection step for one island, computed without touching the
+//! scene; the caller applies the results in island order.
+
+use crate::Error;
+use crate::broad_phase::BodyPair;
+use crate::contact::WarmStartCache;
+use crate::island::Island;
+use crate::projector::{
+    BodyInertia, BodyState, ProjectionSettings, StepOutcome, projection_step,
+};
+use crate::scene::Scene;
+use crate::vclip::VClip;
+
+use super::island_provider::{IslandProvider, SceneGeometry};
+use super::report::IslandReport;
+use super::settings::{ResolvedLengths, Settings};
+
+/// The outcome of one island's step, to apply to the scene.
+pub struct IslandSolution {
+    /// What happened, for the report.
+    pub report: IslandReport,
+    /// New centre-of-mass states of the island's bodies (empty unless moved).
+    pub states: Vec<(usize, BodyState)>,
+    /// V-Clip warm starts of the island's pairs after the step.
+    pub warm_starts: WarmStartCache,
+    /// Linearization and solver time, seconds.
+    pub solve_seconds: f64,
+    /// Line-search time, seconds.
+    pub line_search_seconds: f64,
+}
+
+impl IslandSolution {
+    /// Moves the island's bodies and records the warm starts.
+    pub fn apply(&self, scene: &mut Scene, cache: &mut WarmStartCache) -> Result<(), Error> {
+        for (body, state) in &self.states {
+            scene.body_mut(*body)?.set_com_pose(state.isometry())?;
+        }
+        cache.merge(self.warm_starts.clone());
+        Ok(())
+    }
+}
+
+/// One projection step on `island`, whose pairs index `active_pairs`.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_island(
+    scene: &Scene,
+    geometry: SceneGeometry,
+    island: &Island,
+    active_pairs: &[BodyPair],
+    cache: &WarmStartCache,
+    settings: &Settings,
+    lengths: &ResolvedLengths,
+    projection: &ProjectionSettings,
+) -> Result<IslandSolution, Error> {
+    let pairs: Vec<BodyPair> = island.pairs.iter().map(|&k| active_pairs[k]).collect();
+    let pair_count = pairs.len();
+    let mut provider = IslandProvider::new(
+        geometry,
+        &island.bodies,
+        pairs,
+        cache,
+        VClip::new(settings.vclip),
+        lengths.contact_margin,
+        settings.contact_manifold,
+    );
+    let (mut configuration, inertias) = island_state(scene, &island.bodies)?;
+    let step = projection_step(&mut provider, &mut configuration, &inertias, projection)?;
+    let mut warm_starts = WarmStartCache::default();
+    provider.record_warm_starts(&mut warm_starts);
+    let states = if step.outcome == StepOutcome::Moved {
+        island.bodies.iter().copied().zip(configuration).collect()
+    } else {
+        Vec::new()
+    };
+    let solution = step.solution.as_ref();
+    log::debug!(
+        "island of {} bodies (first {}): {} pairs, {} rows, {:?}, alpha {:?}, depth {:.3e} -> {:.3e}",
+        island.bodies.len(),
+        island.bodies[0],
+        pair_count,
+        step.constraints,
+        solution.map(|s| s.solver),
+        step.alpha,
+        step.depth_before,
+        step.depth_after
+    );
+    Ok(IslandSolution {
+        report: IslandReport {
+            bodies: island.bodies.clone(),
+            pairs: pair_count,
+            constraints: step.constraints,
+            solver: solution.map(|s| s.solver),
+            fallbacks: solution.map(|s| s.fallbacks.clone()).unwrap_or_default(),
+            cross_check: solution.and_then(|s| s.cross_check.clone()),
+            outcome: step.outcome,
+            alpha: step.alpha,
+            line_search_trials: step.line_search_trials,
+            depth_before: step.depth_before,
+            depth_after: step.depth_after,
+            displacement: step.displacement,
+        },
+        states,
+        warm_starts,
+        solve_seconds: step.solve_seconds,
+        line_search_seconds: step.line_search_seconds,
+    })
+}
+
+/// States and inertias of the island's dynamic bodies.
+fn island_state(
+    scene: &Scene,
+    bodies: &[usize],
+) -> Result<(Vec<BodyState>, Vec<BodyInertia>), Error> {
+    let mut states = Vec::with_capacity(bodies.len());
+    let mut inertias = Vec::with_capacity(bodies.len());
+    for &index in bodies {
+        let body = scene.body(index)?;
+        let pose = body.com_pose();
+        states.push(BodyState {
+            position: pose.translation.vector.into(),
+            rotation: pose.rotation,
+        });
+        // Islands hold dynamic bodies only, and dynamic bodies have mass.
+        let Some(mass) = body.mass() else {
+            continue;
+        };
+        inertias.push(BodyInertia {
+            mass: mass.mass,
+            inertia_body: mass.inertia_body,
+        });
+    }
+    Ok((states, inertias))
+}
