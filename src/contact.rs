@@ -27,6 +27,7 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use crate::broad_phase::BodyPair;
 use crate::geometry::{ConvexPolyhedron, Feature};
 use crate::projector::{ConstraintRow, ContactSide, contact_row};
+use crate::shallowest_face::{PairBody, shallowest_face};
 use crate::vclip::{BodyRole, DeepestVertex, FeaturePair, Outcome, VClip, VClipResult};
 
 /// Distance, relative to the pair's scale, below which the witness
@@ -101,14 +102,28 @@ impl WarmStartCache {
     }
 }
 
-/// V-Clip on two bodies, `a` the pair's first body.
+/// V-Clip on two bodies, `a` the pair's first body; a penetration is
+/// refined to the shallowest face found by [`shallowest_face`].
 pub fn query(
     vclip: &VClip,
     a: &BodyGeometry,
     b: &BodyGeometry,
     warm_start: Option<FeaturePair>,
 ) -> Result<VClipResult, crate::vclip::VClipError> {
-    vclip.query(a.shape, &a.pose, b.shape, &b.pose, warm_start)
+    let mut result = vclip.query(a.shape, &a.pose, b.shape, &b.pose, warm_start)?;
+    if let Outcome::Penetrating(witness) = result.outcome {
+        let body_a = PairBody {
+            shape: a.shape,
+            pose: &a.pose,
+        };
+        let body_b = PairBody {
+            shape: b.shape,
+            pose: &b.pose,
+        };
+        let refined = shallowest_face(witness, body_a, body_b);
+        result.outcome = Outcome::Penetrating(refined);
+    }
+    Ok(result)
 }
 
 /// Distance when separated, minus the deepest-vertex depth when penetrating.

@@ -3,12 +3,12 @@
 
 use thiserror::Error;
 
+pub use crate::body::BodyError;
 pub use crate::broad_phase::BroadPhaseError;
 pub use crate::geometry::GeometryError;
 #[cfg(feature = "serde")]
 pub use crate::io::scene_file::SceneFileError;
 pub use crate::island::IslandError;
-pub use crate::body::BodyError;
 pub use crate::scene::SceneError;
 pub use crate::solver::SolverError;
 pub use crate::stabilizer::SettingsError;

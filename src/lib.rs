@@ -26,6 +26,7 @@ pub mod io;
 pub mod island;
 pub mod projector;
 pub mod scene;
+pub mod shallowest_face;
 pub mod solver;
 pub mod stabilizer;
 pub mod vclip;

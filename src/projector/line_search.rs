@@ -5,8 +5,11 @@
 //!
 //! ```text
 //! merit(q (+) alpha dq) <= (1 - sigma alpha) merit(q)            (sufficient decrease)
-//! phi_k(q) >= -tol  =>  phi_k(q (+) alpha dq) >= -tol  for all k   (nothing clear starts penetrating)
+//! phi_k(q) >= -tol  =>  phi_k(q (+) alpha dq) >= -max(tol, rho d)  for all k
 //! ```
+//!
+//! (a clear constraint is not pushed in by more than a fraction `rho` of the
+//! deepest penetration `d` before the step: no overshoot into neighbours)
 //!
 //! where `merit = sum_k min(0, phi_k + tol)^2`. For the linearization,
 //! `phi_k + alpha J_k dq` shrinks every penetration by at least a factor
@@ -30,6 +33,14 @@ pub struct LineSearchSettings {
     /// Fraction `sigma` of the linear decrease that must be achieved.
     /// Default 1e-4 (the customary Armijo constant).
     pub sufficient_decrease: f64,
+    /// A constraint that was clear may end a step penetrating by at most
+    /// `max(tolerance, new_penetration_fraction * d)`, with `d` the deepest
+    /// penetration before the step. The linearization holds a clear contact
+    /// at its place only to first order: a rotation by `theta` moves it by
+    /// about `theta^2 r / 2`, which a strict tolerance would turn into a
+    /// stall. Default 0.1: a neighbour is never pushed in by more than a
+    /// tenth of the depth being removed.
+    pub new_penetration_fraction: f64,
 }
 
 impl Default for LineSearchSettings {
@@ -38,6 +49,7 @@ impl Default for LineSearchSettings {
             shrink: 0.5,
             min_step: 1.0 / 1024.0,
             sufficient_decrease: 1e-4,
+            new_penetration_fraction: 0.1,
         }
     }
 }
@@ -74,6 +86,8 @@ pub fn line_search<P: ConstraintProvider + ?Sized>(
     settings: &LineSearchSettings,
 ) -> LineSearchOutcome {
     let merit_before = before.merit(tolerance);
+    let allowed_new_depth =
+        tolerance.max(settings.new_penetration_fraction * before.deepest_penetration());
     let mut alpha = 1.0;
     let mut trials = 0;
     while alpha >= settings.min_step {
@@ -82,7 +96,7 @@ pub fn line_search<P: ConstraintProvider + ?Sized>(
         trials += 1;
         let merit = measurement.merit(tolerance);
         let decreased = merit <= (1.0 - settings.sufficient_decrease * alpha) * merit_before;
-        if decreased && !starts_penetrating(before, &measurement, tolerance) {
+        if decreased && !starts_penetrating(before, &measurement, tolerance, allowed_new_depth) {
             log::trace!("line search: alpha {alpha} accepted, merit {merit_before:e} -> {merit:e}");
             return LineSearchOutcome::Accepted {
                 alpha,
@@ -98,13 +112,18 @@ pub fn line_search<P: ConstraintProvider + ?Sized>(
 }
 
 /// Whether a constraint that was clear (within the tolerance) before is
-/// penetrating beyond the tolerance after. Measurements of different lengths
-/// cannot be compared and count as a violation.
-fn starts_penetrating(before: &Measurement, after: &Measurement, tolerance: f64) -> bool {
+/// penetrating deeper than `allowed_depth` after. Measurements of different
+/// lengths cannot be compared and count as a violation.
+fn starts_penetrating(
+    before: &Measurement,
+    after: &Measurement,
+    tolerance: f64,
+    allowed_depth: f64,
+) -> bool {
     before.values.len() != after.values.len()
         || before
             .values
             .iter()
             .zip(&after.values)
-            .any(|(&b, &a)| b >= -tolerance && a < -tolerance)
+            .any(|(&b, &a)| b >= -tolerance && a < -allowed_depth)
 }

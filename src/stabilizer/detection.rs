@@ -35,7 +35,10 @@ pub struct Detection {
 impl Detection {
     /// Number of active pairs penetrating deeper than `tolerance`.
     pub fn penetrating(&self, tolerance: f64) -> usize {
-        self.active_values.iter().filter(|&&v| -v > tolerance).count()
+        self.active_values
+            .iter()
+            .filter(|&&v| -v > tolerance)
+            .count()
     }
 }
 

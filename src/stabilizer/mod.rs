@@ -80,7 +80,8 @@ impl Stabilizer {
             .iter()
             .map(|b| ((*b.translation_user()).into(), b.rotation_user_xyzw()))
             .collect();
-        let com_before: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
+        let com_before: Vec<Isometry3<f64>> =
+            scene.bodies().iter().map(|b| *b.com_pose()).collect();
         let result = self.run(scene, start);
         if result.is_err() {
             restore(scene, &before);
@@ -115,7 +116,11 @@ impl Stabilizer {
             solver: self.settings.solver.clone(),
             max_steps: 1,
         };
-        let shapes: Vec<_> = scene.bodies().iter().map(|b| b.polyhedron().clone()).collect();
+        let shapes: Vec<_> = scene
+            .bodies()
+            .iter()
+            .map(|b| b.polyhedron().clone())
+            .collect();
         let mut report = Report {
             status: Status::NothingToDo,
             passes: 0,
@@ -157,7 +162,14 @@ impl Stabilizer {
                 report.status = Status::PassLimit;
                 return Ok(report);
             }
-            let solutions = self.solve_pass(scene, geometry, &detection, &lengths, &projection, &mut pass)?;
+            let solutions = self.solve_pass(
+                scene,
+                geometry,
+                &detection,
+                &lengths,
+                &projection,
+                &mut pass,
+            )?;
             report.passes += 1;
             let stalled: Vec<Vec<usize>> = solutions
                 .iter()

@@ -130,6 +130,11 @@ impl Settings {
                 "sufficient_decrease must be in [0, 1)",
             ));
         }
+        if !(search.new_penetration_fraction >= 0.0 && search.new_penetration_fraction < 1.0) {
+            return Err(SettingsError::LineSearch(
+                "new_penetration_fraction must be in [0, 1)",
+            ));
+        }
         Ok(())
     }
 

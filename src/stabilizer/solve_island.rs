@@ -5,9 +5,7 @@ use crate::Error;
 use crate::broad_phase::BodyPair;
 use crate::contact::WarmStartCache;
 use crate::island::Island;
-use crate::projector::{
-    BodyInertia, BodyState, ProjectionSettings, StepOutcome, projection_step,
-};
+use crate::projector::{BodyInertia, BodyState, ProjectionSettings, StepOutcome, projection_step};
 use crate::scene::Scene;
 use crate::vclip::VClip;
 
