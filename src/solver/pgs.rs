@@ -28,6 +28,9 @@ pub struct PgsSettings {
     /// Sweep limit.
     pub max_sweeps: usize,
     /// Stop when `||min(z~, w~)||_inf` on the scaled problem is below this.
+    /// The default is ten times below the projection check
+    /// ([`super::SolverSettings::tol_residual`], 1e-9), whose per-row
+    /// normalization differs from the Jacobi scaling by factors of order one.
     pub tol_residual: f64,
 }
 
@@ -35,7 +38,7 @@ impl Default for PgsSettings {
     fn default() -> Self {
         Self {
             max_sweeps: 1000,
-            tol_residual: 1e-9,
+            tol_residual: 1e-10,
         }
     }
 }
