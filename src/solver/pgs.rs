@@ -19,7 +19,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::lcp::Lcp;
-use super::residuals::{lcp_natural_map, natural_map_abs};
+use super::residuals::{lcp_natural_map, natural_map_abs, natural_map_certified};
 use super::scaling::LcpScaling;
 
 /// Settings of PGS.
@@ -86,7 +86,8 @@ pub fn solve(lcp: &Lcp, settings: &PgsSettings) -> Result<PgsSolution, PgsStatus
     }
     let scaling = LcpScaling::jacobi(lcp.m(), lcp.q());
     // Rows of M~ as contiguous columns of its transpose.
-    let m_t = scaling.scale_m(lcp.m()).transpose();
+    let m = scaling.scale_m(lcp.m());
+    let m_t = m.transpose();
     let q = scaling.scale_q(lcp.q());
     let mut z = DVector::zeros(q.len());
     let mut residual = f64::INFINITY;
@@ -97,7 +98,11 @@ pub fn solve(lcp: &Lcp, settings: &PgsSettings) -> Result<PgsSolution, PgsStatus
         if !residual.is_finite() {
             return Err(PgsStatus::Diverged { sweeps: sweep });
         }
-        if residual <= settings.tol_residual {
+        // The cheap test first; the certified one (rounding of w included)
+        // only when it passes.
+        if residual <= settings.tol_residual
+            && natural_map_certified(&m, &q, &z) <= settings.tol_residual
+        {
             log::debug!("pgs: converged after {sweep} sweeps, residual {residual:.2e}");
             let z_orig = scaling.unscale_z(&z);
             let w_orig = lcp.w(&z_orig);
