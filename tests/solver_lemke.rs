@@ -78,7 +78,9 @@ fn refactorizing_every_pivot_changes_nothing_on_a_well_posed_problem() {
 
 /// All solutions of a small LCP by enumerating the `2^n` complementary
 /// bases: `z_S = -M_SS^-1 q_S`, `z = 0` elsewhere, kept when `z >= 0` and
-/// `w >= 0` (to a tolerance).
+/// `w >= 0` (to a tolerance). A basis whose system is not solved to the
+/// tolerance, or whose solution is so large that the rounding of `M z`
+/// exceeds it (`M_SS` singular: LU returns garbage of size 1/u), is skipped.
 fn enumerate(m: &DMatrix<f64>, q: &DVector<f64>) -> Vec<DVector<f64>> {
     let n = q.len();
     let mut solutions = Vec::new();
@@ -92,9 +94,15 @@ fn enumerate(m: &DMatrix<f64>, q: &DVector<f64>) -> Vec<DVector<f64>> {
         }
         let m_ss = DMatrix::from_fn(s.len(), s.len(), |a, b| m[(s[a], s[b])]);
         let q_s = DVector::from_fn(s.len(), |a, _| -q[s[a]]);
-        let Some(z_s) = m_ss.lu().solve(&q_s) else {
+        let Some(z_s) = m_ss.clone().lu().solve(&q_s) else {
             continue;
         };
+        // Rounding in M_SS z_S, of size u |M_SS| |z_S|, must stay below the
+        // tolerance too, or a lucky cancellation certifies garbage.
+        let rounding = (m_ss.abs() * z_s.abs()).amax() * f64::EPSILON * n as f64;
+        if (&m_ss * &z_s - &q_s).amax() > 1e-9 || rounding > 1e-9 {
+            continue;
+        }
         let mut z = DVector::zeros(n);
         for (a, &i) in s.iter().enumerate() {
             z[i] = z_s[a];
@@ -181,4 +189,28 @@ proptest! {
             }
         }
     }
+}
+
+/// Regression: `M = b b^T` (rank one), `q = (0, -0.685)` has no solution
+/// (`w_1 = b_1 t >= 0` needs `t = b.z >= 0`, `w_2 = b_2 t + q_2 >= 0` needs
+/// `t <= -0.85`). The plain run ends on a ray; the run on `M + 1e-10 I`
+/// "solves" it with `z ~ 1e15`, whose computed `w` looked complementary in
+/// the scaled problem by cancellation. The check now includes the rounding
+/// of `w`, so every retry is rejected.
+#[test]
+fn regularized_retry_never_returns_a_huge_z() {
+    let m = DMatrix::from_column_slice(
+        2,
+        2,
+        &[
+            0.27013412104566353,
+            -0.4179152553767884,
+            -0.4179152553767884,
+            0.6465423916111764,
+        ],
+    );
+    let q = DVector::from_column_slice(&[0.0, -0.6849893387354267]);
+    let failure = lemke::solve(&Lcp::new(m, q).unwrap(), &LemkeSettings::default()).unwrap_err();
+    assert_eq!(failure.status, LemkeStatus::Ray);
+    assert!(failure.attempts.iter().all(|a| a.failure.is_some()));
 }

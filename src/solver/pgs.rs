@@ -19,7 +19,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::lcp::Lcp;
-use super::residuals::{lcp_natural_map, natural_map_abs};
+use super::residuals::{lcp_natural_map, natural_map_abs, natural_map_certified};
 use super::scaling::LcpScaling;
 
 /// Settings of PGS.
@@ -28,6 +28,9 @@ pub struct PgsSettings {
     /// Sweep limit.
     pub max_sweeps: usize,
     /// Stop when `||min(z~, w~)||_inf` on the scaled problem is below this.
+    /// The default is ten times below the projection check
+    /// ([`super::SolverSettings::tol_residual`], 1e-9), whose per-row
+    /// normalization differs from the Jacobi scaling by factors of order one.
     pub tol_residual: f64,
 }
 
@@ -35,7 +38,7 @@ impl Default for PgsSettings {
     fn default() -> Self {
         Self {
             max_sweeps: 1000,
-            tol_residual: 1e-9,
+            tol_residual: 1e-10,
         }
     }
 }
@@ -83,7 +86,8 @@ pub fn solve(lcp: &Lcp, settings: &PgsSettings) -> Result<PgsSolution, PgsStatus
     }
     let scaling = LcpScaling::jacobi(lcp.m(), lcp.q());
     // Rows of M~ as contiguous columns of its transpose.
-    let m_t = scaling.scale_m(lcp.m()).transpose();
+    let m = scaling.scale_m(lcp.m());
+    let m_t = m.transpose();
     let q = scaling.scale_q(lcp.q());
     let mut z = DVector::zeros(q.len());
     let mut residual = f64::INFINITY;
@@ -94,7 +98,11 @@ pub fn solve(lcp: &Lcp, settings: &PgsSettings) -> Result<PgsSolution, PgsStatus
         if !residual.is_finite() {
             return Err(PgsStatus::Diverged { sweeps: sweep });
         }
-        if residual <= settings.tol_residual {
+        // The cheap test first; the certified one (rounding of w included)
+        // only when it passes.
+        if residual <= settings.tol_residual
+            && natural_map_certified(&m, &q, &z) <= settings.tol_residual
+        {
             log::debug!("pgs: converged after {sweep} sweeps, residual {residual:.2e}");
             let z_orig = scaling.unscale_z(&z);
             let w_orig = lcp.w(&z_orig);

@@ -22,7 +22,7 @@
 //!   and dual agreeing)
 //! - objective `1/2 dq^T M dq` and displacement `sqrt(dq^T M dq)` (absolute).
 
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 
 use super::metric::BlockMetric;
 use super::projection::ProjectionQp;
@@ -38,6 +38,27 @@ pub fn natural_map_abs(z: &DVector<f64>, w: &DVector<f64>) -> f64 {
     z.iter()
         .zip(w.iter())
         .map(|(a, b)| a.min(*b).abs())
+        .fold(0.0, f64::max)
+}
+
+/// `||min(z, w)||_inf` with `w = M z + q` computed here, plus the rounding
+/// uncertainty of each computed `w_i`:
+///
+/// ```text
+/// max_i ( |min(z_i, w_i)| + delta_i ),   delta_i = sqrt(n) u (|M| |z| + |q|)_i
+/// ```
+///
+/// (`u` the unit roundoff; `sqrt(n) u` is the usual statistical estimate of
+/// the error of a dot product of length `n`, Higham 2002, section 3.1).
+/// A `z` so large that its `w` is lost to cancellation cannot pass: a
+/// regularized LCP `M + eps I` with no solution for `eps = 0` has a `z` of
+/// size `1/eps` whose computed `w` can look complementary.
+pub fn natural_map_certified(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> f64 {
+    let w = m * z + q;
+    let abs_w = m.abs() * z.abs() + q.abs();
+    let gamma = (q.len() as f64).sqrt().max(1.0) * f64::EPSILON;
+    (0..z.len())
+        .map(|i| z[i].min(w[i]).abs() + gamma * abs_w[i])
         .fold(0.0, f64::max)
 }
 

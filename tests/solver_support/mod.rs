@@ -13,6 +13,7 @@
 
 use constraint_stabilization::solver::{BodyMetric, JacobianRow, ProjectionQp};
 use nalgebra::{Matrix3, Rotation3, Vector3, Vector6};
+use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -92,12 +93,13 @@ fn gap(rng: &mut ChaCha8Rng, scale: f64, target: f64) -> f64 {
     }
 }
 
-/// A random stack problem with about `spec.rows` rows (at least one).
+/// A random stack problem with exactly `spec.rows` rows (at least one):
+/// generated with a few more, shuffled, then truncated.
 pub fn random_stacks(spec: &StackSpec) -> ProjectionQp {
     let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
     let l = spec.length_scale;
     let target_margin = 1e-3 * l;
-    let boxes_wanted = spec.rows.div_ceil(5).max(1);
+    let boxes_wanted = spec.rows.div_ceil(4).max(1);
     let height = ((boxes_wanted as f64).sqrt().ceil() as usize).clamp(1, 8);
     let stacks = boxes_wanted.div_ceil(height);
     let mut qp = ProjectionQp::default();
@@ -153,5 +155,13 @@ pub fn random_stacks(spec: &StackSpec) -> ProjectionQp {
             }
         }
     }
-    qp
+    let mut order: Vec<usize> = (0..qp.rows.len()).collect();
+    order.shuffle(&mut rng);
+    order.truncate(spec.rows.max(1));
+    ProjectionQp {
+        rows: order.iter().map(|&i| qp.rows[i].clone()).collect(),
+        phi: order.iter().map(|&i| qp.phi[i]).collect(),
+        target: order.iter().map(|&i| qp.target[i]).collect(),
+        bodies: qp.bodies,
+    }
 }

@@ -28,9 +28,12 @@ pub struct ClarabelSettings {
     pub max_iter: u32,
     /// Wall-clock limit in seconds (infinite by default).
     pub time_limit: f64,
-    /// Duality-gap tolerance, absolute and relative, on the scaled problem.
-    /// Tighter than clarabel's 1e-8 so that `dq` agrees with Lemke's to
-    /// about 1e-9 relative on degenerate (redundant-contact) problems.
+    /// Duality-gap tolerance, absolute and relative, on the scaled problem
+    /// (clarabel's default). The interior point only identifies the active
+    /// set; the accuracy comes from the polish ([`polish`]): on 144 random
+    /// stacks (10..600 rows, lengths 1e-6..1e4, masses over four decades)
+    /// 1e-8, 1e-10 and 1e-11 all end at residuals below 4e-14 and agree with
+    /// Lemke on `dq` to 5e-12, and 1e-8 takes 11% fewer iterations.
     pub tol_gap: f64,
     /// Primal and dual feasibility tolerance on the scaled problem.
     pub tol_feas: f64,
@@ -41,8 +44,8 @@ impl Default for ClarabelSettings {
         Self {
             max_iter: 200,
             time_limit: f64::INFINITY,
-            tol_gap: 1e-11,
-            tol_feas: 1e-11,
+            tol_gap: 1e-8,
+            tol_feas: 1e-8,
         }
     }
 }

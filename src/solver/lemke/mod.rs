@@ -25,7 +25,7 @@ pub mod tableau;
 use nalgebra::{DMatrix, DVector};
 
 use super::lcp::Lcp;
-use super::residuals::{lcp_natural_map, natural_map_abs};
+use super::residuals::{lcp_natural_map, natural_map_certified};
 use super::scaling::LcpScaling;
 use path::{PathEnd, PathOptions, z_from_basis, z_from_tableau};
 use ratio::RatioTolerances;
@@ -113,7 +113,8 @@ pub struct LemkeSolution {
     pub regularization: Option<f64>,
     /// Every run, in order.
     pub attempts: Vec<LemkeAttempt>,
-    /// Natural map on the scaled problem (what was checked).
+    /// Natural map on the scaled problem, plus the rounding uncertainty of
+    /// `w` (what was checked, see [`natural_map_certified`]).
     pub residual_scaled: f64,
     /// `||min(z, w)||_inf / max(1, ||q||_inf)` on the original data.
     pub residual: f64,
@@ -220,7 +221,8 @@ fn attempt(
 
 /// The better of the tableau's `z` and the LU re-solve of the final basis
 /// on the unregularized problem, each clamped to `z >= 0` and measured on
-/// the unregularized scaled problem.
+/// the unregularized scaled problem, rounding of `w` included
+/// ([`natural_map_certified`]).
 fn best_candidate(scaled: &Scaled, path: &path::Path) -> (DVector<f64>, f64) {
     let mut candidates = vec![z_from_tableau(&path.tableau)];
     candidates.extend(z_from_basis(&path.tableau.basis, &scaled.m, &scaled.q));
@@ -228,8 +230,7 @@ fn best_candidate(scaled: &Scaled, path: &path::Path) -> (DVector<f64>, f64) {
         .into_iter()
         .map(|z| {
             let z = z.map(|x| x.max(0.0));
-            let w = &scaled.m * &z + &scaled.q;
-            let r = natural_map_abs(&z, &w);
+            let r = natural_map_certified(&scaled.m, &scaled.q, &z);
             (z, r)
         })
         .min_by(|a, b| a.1.total_cmp(&b.1))
@@ -242,8 +243,7 @@ fn finish(
     z_scaled: DVector<f64>,
     attempts: Vec<LemkeAttempt>,
 ) -> LemkeSolution {
-    let w_scaled = &scaled.m * &z_scaled + &scaled.q;
-    let residual_scaled = natural_map_abs(&z_scaled, &w_scaled);
+    let residual_scaled = natural_map_certified(&scaled.m, &scaled.q, &z_scaled);
     let z = scaled.scaling.unscale_z(&z_scaled);
     let w = lcp.w(&z);
     let residual = lcp_natural_map(&z, &w, lcp.q());

@@ -1,49 +1,71 @@
-//! The dense tableau of Lemke's method and its pivot (Gauss-Jordan update).
+//! The condensed tableau of Lemke's method and its pivot.
 //!
 //! The system `I w - M z - d z0 = q` has `2n + 1` variables, numbered
-//! `w_i = i`, `z_i = n + i`, `z0 = 2n`. The tableau stores
-//! `B^-1 [I | -M | -d | q]`, row-major, `n` rows of `2n + 2` entries, where
-//! `B` holds the columns of the basic variables (`basis[r]` is basic in row
-//! `r`, its value `rhs(r)`). Columns `0..n` are therefore `B^-1` itself: the
-//! lexicographic ratio test reads them.
+//! `w_i = i`, `z_i = n + i`, `z0 = 2n`. With `B` the columns of the `n`
+//! basic variables and `N` those of the `n + 1` nonbasic ones, the full
+//! tableau is `B^-1 [I | -M | -d | q]`; its basic columns are unit vectors,
+//! so only `D = B^-1 N` and `rhs = B^-1 q` are stored (Tucker's condensed
+//! form): `n` rows of `n + 2` entries, row-major. [`Tableau::at`] and
+//! [`Tableau::column`] answer for any variable, basic or not; columns
+//! `0..n` of the full tableau are `B^-1`, which the lexicographic ratio
+//! test reads.
 //!
-//! A pivot on `(r, c)` costs `O(n^2)`: divide row `r` by `T[r][c]`, then
-//! eliminate column `c` from the other rows. Refactorizing from scratch
-//! (an LU of `B`, `O(n^3)`) is available as [`Tableau::refactor`] for
-//! comparison and periodic clean-up.
+//! A pivot (variable `e` enters in row `r`, `l = basis[r]` leaves) costs
+//! `n (n + 2)` multiply-adds, half of the full tableau's `n (2n + 2)`:
+//!
+//! ```text
+//! p = D[r][c]                      (c: the column of e)
+//! D'[r][j] = D[r][j] / p,          D'[r][c] = 1 / p
+//! D'[i][j] = D[i][j] - D[i][c] D[r][j] / p,   D'[i][c] = -D[i][c] / p
+//! ```
+//!
+//! and column `c` then belongs to `l`. Refactorizing from scratch (an LU
+//! of `B`, `O(n^3)`) is [`Tableau::refactor`], for comparison and
+//! clean-up; `benchmarks/solvers.rs` measures both.
 
 use nalgebra::{DMatrix, DVector};
 
-/// The tableau and its basis.
+/// The condensed tableau and its basis.
 #[derive(Debug, Clone)]
 pub struct Tableau {
     n: usize,
+    /// `n + 2`: `n + 1` nonbasic columns and `rhs`.
     stride: usize,
     data: Vec<f64>,
     /// `basis[r]` = the variable basic in row `r`.
     pub basis: Vec<usize>,
+    /// `nonbasic[c]` = the variable of column `c`.
+    nonbasic: Vec<usize>,
+    /// Column of each variable, if nonbasic.
+    column_of: Vec<Option<usize>>,
 }
 
 impl Tableau {
-    /// The starting tableau: basis `w`, data `[I | -M | -d | q]`.
+    /// The starting tableau: basis `w`, `D = [-M | -d]`, `rhs = q`.
     pub fn new(m: &DMatrix<f64>, d: &DVector<f64>, q: &DVector<f64>) -> Self {
         let n = q.len();
-        let stride = 2 * n + 2;
+        let stride = n + 2;
         let mut data = vec![0.0; n * stride];
         for r in 0..n {
             let row = &mut data[r * stride..(r + 1) * stride];
-            row[r] = 1.0;
             for j in 0..n {
-                row[n + j] = -m[(r, j)];
+                row[j] = -m[(r, j)];
             }
-            row[2 * n] = -d[r];
-            row[2 * n + 1] = q[r];
+            row[n] = -d[r];
+            row[n + 1] = q[r];
+        }
+        let nonbasic: Vec<usize> = (n..=2 * n).collect();
+        let mut column_of = vec![None; 2 * n + 1];
+        for (c, &v) in nonbasic.iter().enumerate() {
+            column_of[v] = Some(c);
         }
         Self {
             n,
             stride,
             data,
             basis: (0..n).collect(),
+            nonbasic,
+            column_of,
         }
     }
 
@@ -52,35 +74,43 @@ impl Tableau {
         self.n
     }
 
-    /// Column index of `z0`.
+    /// Variable index of `z0`.
     pub fn z0(&self) -> usize {
         2 * self.n
     }
 
-    /// Entry `(r, c)`.
-    pub fn at(&self, r: usize, c: usize) -> f64 {
-        self.data[r * self.stride + c]
+    /// Entry `(r, v)` of the full tableau `B^-1 [I | -M | -d]`.
+    pub fn at(&self, r: usize, v: usize) -> f64 {
+        match self.column_of[v] {
+            Some(c) => self.data[r * self.stride + c],
+            None => f64::from(u8::from(self.basis[r] == v)),
+        }
     }
 
     /// Value of the basic variable of row `r`.
     pub fn rhs(&self, r: usize) -> f64 {
-        self.at(r, self.stride - 1)
+        self.data[r * self.stride + self.stride - 1]
     }
 
-    /// Column `c` (all rows).
-    pub fn column(&self, c: usize) -> Vec<f64> {
-        (0..self.n).map(|r| self.at(r, c)).collect()
+    /// Column of variable `v` of the full tableau (all rows).
+    pub fn column(&self, v: usize) -> Vec<f64> {
+        (0..self.n).map(|r| self.at(r, v)).collect()
     }
 
-    /// Pivots variable `c` into the basis in row `r`; returns the variable
-    /// that left.
-    pub fn pivot(&mut self, r: usize, c: usize) -> usize {
+    /// Pivots nonbasic variable `e` into the basis in row `r`; returns the
+    /// variable that left. `e` must be nonbasic.
+    pub fn pivot(&mut self, r: usize, e: usize) -> usize {
+        let Some(c) = self.column_of[e] else {
+            // The caller only enters complements of leaving variables and
+            // z0, which are nonbasic by construction.
+            return e;
+        };
         let stride = self.stride;
-        let pivot = self.at(r, c);
         let (before, rest) = self.data.split_at_mut(r * stride);
         let (pivot_row, after) = rest.split_at_mut(stride);
-        pivot_row.iter_mut().for_each(|x| *x /= pivot);
-        pivot_row[c] = 1.0;
+        let inv = 1.0 / pivot_row[c];
+        pivot_row.iter_mut().for_each(|x| *x *= inv);
+        pivot_row[c] = inv;
         for row in before
             .chunks_exact_mut(stride)
             .chain(after.chunks_exact_mut(stride))
@@ -90,15 +120,19 @@ impl Tableau {
                 row.iter_mut()
                     .zip(pivot_row.iter())
                     .for_each(|(x, p)| *x -= f * p);
-                row[c] = 0.0;
+                row[c] = -f * inv;
             }
         }
-        std::mem::replace(&mut self.basis[r], c)
+        let leaving = std::mem::replace(&mut self.basis[r], e);
+        self.nonbasic[c] = leaving;
+        self.column_of[leaving] = Some(c);
+        self.column_of[e] = None;
+        leaving
     }
 
-    /// Recomputes the whole tableau as `B^-1 [I | -M | -d | q]` from the
-    /// original data with an LU factorization of the current basis. Returns
-    /// `false` (tableau unchanged) when `B` is numerically singular.
+    /// Recomputes `D = B^-1 N` and `rhs = B^-1 q` from the original data
+    /// with an LU factorization of the current basis. Returns `false`
+    /// (tableau unchanged) when `B` is numerically singular.
     pub fn refactor(&mut self, m: &DMatrix<f64>, d: &DVector<f64>, q: &DVector<f64>) -> bool {
         let n = self.n;
         if n == 0 {
@@ -106,7 +140,14 @@ impl Tableau {
         }
         let full = original_columns(m, d, q);
         let b = DMatrix::from_fn(n, n, |i, r| full[(i, self.basis[r])]);
-        let Some(solved) = b.lu().solve(&full) else {
+        let rhs_cols = DMatrix::from_fn(n, self.stride, |i, c| {
+            if c < n + 1 {
+                full[(i, self.nonbasic[c])]
+            } else {
+                q[i]
+            }
+        });
+        let Some(solved) = b.lu().solve(&rhs_cols) else {
             return false;
         };
         if !solved.iter().all(|x| x.is_finite()) {

@@ -1,0 +1,33 @@
+//! The `stabilize` command-line tool (feature `cli`), DESIGN.md section 8.
+//!
+//! One module per subcommand. Exit codes: 0 success; 1 the problem was
+//! read but not solved; 2 bad input or usage (clap's own usage errors exit
+//! with 2 as well).
+
+mod lcp;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Removes interpenetration between convex rigid bodies; solves LCP files.
+#[derive(Debug, Parser)]
+#[command(name = "stabilize", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Solve an LCP file (Siconos format) and print one JSON object.
+    Lcp(lcp::LcpArgs),
+}
+
+fn main() -> ExitCode {
+    env_logger::init();
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Lcp(args) => lcp::run(&args),
+    }
+}
