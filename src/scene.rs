@@ -12,43 +12,7 @@ use thiserror::Error;
 
 use crate::body::{Body, BodyDesc, BodyError};
 
-/// Which solver a scene asks for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum SolverChoice {
-    /// Per island, the cheapest solver that reaches the tolerance.
-    Auto,
-    /// The clarabel interior-point QP solver.
-    Clarabel,
-    /// Lemke's complementary pivoting on the LCP.
-    Lemke,
-    /// Projected Gauss-Seidel on the LCP.
-    Pgs,
-}
-
-impl SolverChoice {
-    /// All choices, with [`SolverChoice::name`] as in scene files.
-    pub const ALL: [SolverChoice; 4] = [
-        SolverChoice::Auto,
-        SolverChoice::Clarabel,
-        SolverChoice::Lemke,
-        SolverChoice::Pgs,
-    ];
-
-    /// The name used in scene files: `auto`, `clarabel`, `lemke`, `pgs`.
-    pub fn name(self) -> &'static str {
-        match self {
-            SolverChoice::Auto => "auto",
-            SolverChoice::Clarabel => "clarabel",
-            SolverChoice::Lemke => "lemke",
-            SolverChoice::Pgs => "pgs",
-        }
-    }
-
-    /// The choice with the given file name, if any.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|c| c.name() == name)
-    }
-}
+pub use crate::solver::SolverChoice;
 
 /// Settings carried by a scene; `None` means "the stabilizer's default".
 #[derive(Debug, Clone, Default, PartialEq)]

@@ -3,6 +3,8 @@
 
 pub mod lcp_file;
 #[cfg(feature = "serde")]
+pub mod report_json;
+#[cfg(feature = "serde")]
 pub mod scene_file;
 
 pub use lcp_file::{LcpFileError, parse_lcp, read_lcp_file};

@@ -29,7 +29,7 @@ use super::projection_lcp::{dq_from_lambda, projection_to_lcp};
 use super::residuals::{ProjectionResiduals, projection_residuals};
 
 /// Which solver to use for a projection QP.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum SolverChoice {
     /// Trivial / closed form / Lemke / clarabel by problem size.
     #[default]
@@ -42,6 +42,34 @@ pub enum SolverChoice {
     Lemke,
     /// Projected Gauss-Seidel on the LCP.
     Pgs,
+}
+
+impl SolverChoice {
+    /// All choices, with [`SolverChoice::name`] as in scene files and on
+    /// the command line.
+    pub const ALL: [SolverChoice; 5] = [
+        SolverChoice::Auto,
+        SolverChoice::Clarabel,
+        SolverChoice::ClarabelDual,
+        SolverChoice::Lemke,
+        SolverChoice::Pgs,
+    ];
+
+    /// The name in files: `auto`, `clarabel`, `clarabel_dual`, `lemke`, `pgs`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SolverChoice::Auto => "auto",
+            SolverChoice::Clarabel => "clarabel",
+            SolverChoice::ClarabelDual => "clarabel_dual",
+            SolverChoice::Lemke => "lemke",
+            SolverChoice::Pgs => "pgs",
+        }
+    }
+
+    /// The choice with the given name, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|c| c.name() == name)
+    }
 }
 
 /// Settings of [`solve_projection`].

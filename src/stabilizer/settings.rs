@@ -9,6 +9,7 @@
 use thiserror::Error;
 
 use crate::projector::LineSearchSettings;
+use crate::scene::SceneSettings;
 use crate::solver::SolverSettings;
 use crate::vclip::VClipSettings;
 
@@ -136,6 +137,30 @@ impl Settings {
             ));
         }
         Ok(())
+    }
+
+    /// These settings overridden by those a scene file carries: its lengths
+    /// are absolute (in the scene's unit).
+    pub fn with_scene_settings(mut self, scene: &SceneSettings) -> Self {
+        if let Some(tolerance) = scene.tolerance {
+            self.tolerance_absolute = Some(tolerance);
+        }
+        if let Some(margin) = scene.contact_margin {
+            self.contact_margin_absolute = Some(margin);
+        }
+        if let Some(margin) = scene.target_margin {
+            self.target_margin_absolute = Some(margin);
+        }
+        if let Some(passes) = scene.max_passes {
+            self.max_passes = passes as usize;
+        }
+        if let Some(choice) = scene.solver {
+            self.solver.choice = choice;
+        }
+        if let Some(cross_check) = scene.cross_check {
+            self.solver.cross_check = cross_check;
+        }
+        self
     }
 
     /// The lengths for a scene of length scale `scale`.

@@ -1,0 +1,67 @@
+//! The stabilization [`Report`] as JSON (the `report` object of an output
+//! scene file, DESIGN.md section 6). Bodies are named by index and name.
+
+use serde_json::{Value, json};
+
+use crate::scene::Scene;
+use crate::stabilizer::{IslandReport, PassReport, Report};
+
+/// The report as a JSON object.
+pub fn report_to_json(report: &Report, scene: &Scene) -> Value {
+    json!({
+        "status": report.status.name(),
+        "passes": report.passes,
+        "scale": report.scale,
+        "tolerance": report.tolerance,
+        "penetration_before": report.depth_before,
+        "penetration_after": report.depth_after,
+        "displacement": report.displacement,
+        "bodies_moved": report.bodies_moved,
+        "islands_solved": report.islands_solved(),
+        "line_search_trials": report.line_search_trials(),
+        "stalled_islands": report.stalled_islands.iter()
+            .map(|bodies| body_names(bodies, scene)).collect::<Vec<_>>(),
+        "times_s": {
+            "broad_phase": report.times.broad_phase,
+            "narrow_phase": report.times.narrow_phase,
+            "solve": report.times.solve,
+            "line_search": report.times.line_search,
+            "total": report.times.total,
+        },
+        "pass_reports": report.pass_reports.iter().map(pass_to_json).collect::<Vec<_>>(),
+    })
+}
+
+fn pass_to_json(pass: &PassReport) -> Value {
+    json!({
+        "candidate_pairs": pass.candidate_pairs,
+        "active_pairs": pass.active_pairs,
+        "penetrating_pairs": pass.penetrating_pairs,
+        "islands": pass.islands,
+        "deepest": pass.deepest,
+        "solved": pass.solved.iter().map(island_to_json).collect::<Vec<_>>(),
+    })
+}
+
+fn island_to_json(island: &IslandReport) -> Value {
+    json!({
+        "bodies": island.bodies,
+        "constraints": island.constraints,
+        "solver": island.solver.map(|s| format!("{s:?}")),
+        "fallbacks": island.fallbacks.iter().map(|f| format!("{f:?}")).collect::<Vec<_>>(),
+        "cross_check": island.cross_check.as_ref().map(|c| format!("{c:?}")),
+        "outcome": format!("{:?}", island.outcome),
+        "alpha": island.alpha,
+        "line_search_trials": island.line_search_trials,
+        "depth_before": island.depth_before,
+        "depth_after": island.depth_after,
+        "displacement": island.displacement,
+    })
+}
+
+fn body_names(bodies: &[usize], scene: &Scene) -> Vec<Value> {
+    bodies
+        .iter()
+        .map(|&i| json!({"index": i, "name": scene.bodies().get(i).map(|b| b.name())}))
+        .collect()
+}
