@@ -6,7 +6,8 @@
 //!    seeds a face with its own plane `P` (the largest triangle of a face has
 //!    the best conditioned normal). The face grows across edges to adjacent
 //!    unassigned triangles whose three vertices all lie within
-//!    [`COPLANAR_TOLERANCE`]` * L` of `P`.
+//!    [`COPLANAR_TOLERANCE`]` * max(L, M)` of `P` (`M` the largest
+//!    coordinate).
 //! 2. The boundary of a face is the set of its triangles' half-edges whose
 //!    twin belongs to another face. It must be one simple cycle; a face
 //!    whose union is pinched or has a hole (only possible through rounding)
@@ -28,10 +29,12 @@ use super::GeometryError;
 use super::hull::triangle_normal;
 
 /// Adjacent hull triangles are one face when every vertex of one is within
-/// `COPLANAR_TOLERANCE * L` of the plane of the face's largest triangle.
-/// Covers rounding of points generated on a common plane (about `1e-16 L`)
+/// `COPLANAR_TOLERANCE * max(L, M)` of the plane of the face's largest
+/// triangle (`L` extent, `M` largest coordinate of the input). Covers the
+/// rounding of points generated on a common plane (a few `ε max(L, M)`)
 /// with a wide margin, while keeping the Newell normal of a merged face of
-/// size `s` within `COPLANAR_TOLERANCE * L / s` radians of its plane.
+/// width `w` within about `COPLANAR_TOLERANCE * max(L, M) / w` radians of
+/// its plane.
 pub const COPLANAR_TOLERANCE: f64 = 1e-12;
 
 /// Polygonal faces over a subset of the input points.
@@ -45,13 +48,14 @@ pub(crate) struct HullFaces {
 
 /// Merges the counter-clockwise `triangles` (indices into `points`) of a
 /// closed convex hull into polygonal faces; see the module doc.
+/// `tolerance` is absolute (see [`COPLANAR_TOLERANCE`]).
 pub(crate) fn polygon_faces(
     points: &[Point3<f64>],
     triangles: &[[usize; 3]],
-    extent: f64,
+    tolerance: f64,
 ) -> Result<HullFaces, GeometryError> {
     let neighbours = triangle_neighbours(triangles)?;
-    let groups = group_coplanar(points, triangles, &neighbours, COPLANAR_TOLERANCE * extent);
+    let groups = group_coplanar(points, triangles, &neighbours, tolerance);
     let mut cycles = Vec::new();
     for group in &groups {
         match boundary_cycle(triangles, group) {

@@ -18,10 +18,14 @@ pub enum GeometryError {
     /// remain after nearly duplicate points are merged.
     #[error("fewer than four non-coplanar points: the hull has no volume")]
     Degenerate,
-    /// The coordinates are finite but so far apart that their extent
-    /// overflows `f64`.
-    #[error("the extent of the point set overflows f64")]
-    ExtentTooLarge,
+    /// A coordinate is too large for the exact predicates of the hull.
+    #[error("coordinate {largest:e} exceeds the limit {limit:e}")]
+    CoordinatesOutOfRange {
+        /// The largest absolute coordinate given.
+        largest: f64,
+        /// The limit (`geometry::MAX_COORDINATE`).
+        limit: f64,
+    },
     /// The hull algorithm failed numerically (a typed error instead of a
     /// panic or a wrong hull; see `geometry::hull`).
     #[error("convex hull failed: {0}")]

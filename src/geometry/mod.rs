@@ -21,6 +21,7 @@
 
 mod coplanar;
 mod error;
+mod exact_hull;
 mod features;
 mod hull;
 mod mass;
@@ -28,12 +29,16 @@ mod parry_bridge;
 mod plane;
 mod polyhedron;
 mod shapes;
+mod thin_faces;
 mod topology;
 
 pub use coplanar::COPLANAR_TOLERANCE;
 pub use error::GeometryError;
 pub use features::Feature;
-pub use hull::{CONTAINMENT_TOLERANCE, DUPLICATE_TOLERANCE, FLATNESS_TOLERANCE};
+pub use hull::{
+    CONTAINMENT_TOLERANCE, DUPLICATE_TOLERANCE, FLATNESS_TOLERANCE, MAX_COORDINATE,
+    MAX_SIMPLIFICATION_ROUNDS,
+};
 pub use mass::MassProperties;
 pub use parry_bridge::{
     isometry_from_parry, isometry_to_parry, point_from_parry, point_to_parry, vector_from_parry,
@@ -42,3 +47,4 @@ pub use parry_bridge::{
 pub use plane::Plane;
 pub use polyhedron::{ConvexPolyhedron, Edge, Face, PLANARITY_TOLERANCE};
 pub use shapes::MAX_GEODESIC_SUBDIVISIONS;
+pub use thin_faces::THIN_FACE_TOLERANCE;
