@@ -34,6 +34,8 @@
 //! `5 × 5 × 3` lattice (many coplanar points) it returned a non-convex
 //! triangle mesh. Exact predicates cannot produce either.
 
+use std::collections::HashSet;
+
 use nalgebra::{Point3, Vector3};
 
 use super::coplanar::{COPLANAR_TOLERANCE, HullFaces, polygon_faces};
@@ -83,29 +85,27 @@ impl ConvexPolyhedron {
     /// [`GeometryError::InvalidTopology`] or [`GeometryError::NotConvex`].
     pub fn from_points(points: &[Point3<f64>]) -> Result<Self, GeometryError> {
         let (extent, largest) = checked_extent(points)?;
-        let precision_scale = extent.max(largest);
-        let kept = merge_near_duplicates(points, DUPLICATE_TOLERANCE * extent);
+        let tolerances = Tolerances::new(extent, largest);
+        let kept = merge_near_duplicates(points, tolerances.duplicate);
         let kept_points: Vec<Point3<f64>> = kept.iter().map(|&i| points[i]).collect();
-        let mut active: Vec<Point3<f64>> = kept_points.clone();
+        let mut active = kept_points.clone();
         for round in 0..MAX_SIMPLIFICATION_ROUNDS {
-            let simplex = extreme_simplex(&active, FLATNESS_TOLERANCE * extent)?;
-            let triangles = hull_triangles(&active, simplex)?;
-            let hull = polygon_faces(&active, &triangles, COPLANAR_TOLERANCE * precision_scale)?;
-            let thin = thin_face_vertices(&active, &hull, THIN_FACE_TOLERANCE * precision_scale);
+            let hull = polygon_hull(&active, &tolerances)?;
+            let thin = thin_face_vertices(&active, &hull, tolerances.thin_face);
             log::debug!(
-                "hull round {round}: {} points ({} given): {} triangles -> {} vertices, {} faces, {} thin-face vertices dropped",
+                "hull round {round}: {} of {} points -> {} vertices, {} faces; {} thin-face vertices dropped",
                 active.len(),
                 points.len(),
-                triangles.len(),
                 hull.vertices.len(),
                 hull.faces.len(),
                 thin.len()
             );
             if thin.is_empty() {
-                let HullFaces { vertices, faces } = hull;
-                let hull_points = vertices.iter().map(|&i| active[i]).collect();
-                let polyhedron = Self::from_faces(hull_points, faces)?;
-                polyhedron.check_contains(&kept_points, CONTAINMENT_TOLERANCE * precision_scale)?;
+                let hull_points: Vec<Point3<f64>> =
+                    hull.vertices.iter().map(|&i| active[i]).collect();
+                let polyhedron = Self::from_faces(hull_points.clone(), hull.faces)?;
+                let inner = inner_points(&kept_points, &hull_points);
+                polyhedron.check_contains(&inner, tolerances.containment)?;
                 return Ok(polyhedron);
             }
             active = hull
@@ -128,7 +128,7 @@ impl ConvexPolyhedron {
         tolerance: f64,
     ) -> Result<(), GeometryError> {
         let offset = self.shape_origin_offset();
-        for (index, p_shape) in points_shape.iter().enumerate() {
+        for p_shape in points_shape {
             let p_body = p_shape - offset;
             let height = self
                 .faces()
@@ -137,12 +137,57 @@ impl ConvexPolyhedron {
                 .fold(f64::NEG_INFINITY, f64::max);
             if height > tolerance {
                 return Err(GeometryError::HullFailed(format!(
-                    "point {index} is {height:e} outside the hull"
+                    "point {p_shape} is {height:e} outside the hull"
                 )));
             }
         }
         Ok(())
     }
+}
+
+/// The absolute tolerances of one call, from the extent `L` and the largest
+/// coordinate `M` of the input (module doc).
+struct Tolerances {
+    duplicate: f64,
+    flatness: f64,
+    coplanar: f64,
+    thin_face: f64,
+    containment: f64,
+}
+
+impl Tolerances {
+    fn new(extent: f64, largest: f64) -> Self {
+        let precision_scale = extent.max(largest);
+        Tolerances {
+            duplicate: DUPLICATE_TOLERANCE * extent,
+            flatness: FLATNESS_TOLERANCE * extent,
+            coplanar: COPLANAR_TOLERANCE * precision_scale,
+            thin_face: THIN_FACE_TOLERANCE * precision_scale,
+            containment: CONTAINMENT_TOLERANCE * precision_scale,
+        }
+    }
+}
+
+/// Steps 3 to 5 of the module doc on `points`.
+fn polygon_hull(
+    points: &[Point3<f64>],
+    tolerances: &Tolerances,
+) -> Result<HullFaces, GeometryError> {
+    let simplex = extreme_simplex(points, tolerances.flatness)?;
+    let triangles = hull_triangles(points, simplex)?;
+    polygon_faces(points, &triangles, tolerances.coplanar)
+}
+
+/// The points that are not (bitwise) vertices of the hull: vertices are
+/// checked by [`ConvexPolyhedron::from_faces`] already.
+fn inner_points(points: &[Point3<f64>], hull_points: &[Point3<f64>]) -> Vec<Point3<f64>> {
+    let bits = |p: &Point3<f64>| p.coords.map(f64::to_bits);
+    let vertices: HashSet<_> = hull_points.iter().map(bits).collect();
+    points
+        .iter()
+        .filter(|p| !vertices.contains(&bits(p)))
+        .copied()
+        .collect()
 }
 
 /// Validates the coordinates and returns the extent `L` (bounding-box
