@@ -349,6 +349,65 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 4 * cases(), failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// Arbitrary floats (NaN, infinities, subnormals, huge values): a hull
+    /// or a typed error, never a panic.
+    #[test]
+    fn arbitrary_coordinates_never_panic(
+        coordinates in prop::collection::vec(prop::array::uniform3(any::<f64>()), 0..40),
+    ) {
+        let points: Vec<Point3<f64>> = coordinates.into_iter().map(Point3::from).collect();
+        if let Ok(hull) = ConvexPolyhedron::from_points(&points) {
+            check_hull(&points, &hull)?;
+        }
+    }
+
+    /// Points far from the origin relative to their size (|t| / L up to
+    /// 1e8): rounding of order ε|t| in the input, which the tolerances
+    /// follow; a hull or a typed error.
+    #[test]
+    fn far_from_the_origin(points in cube_points(), log_offset in 0.0..8.0f64, direction in prop::array::uniform3(-1.0..1.0f64)) {
+        let offset = Vector3::from(direction) * 10f64.powf(log_offset);
+        let points: Vec<Point3<f64>> = points.into_iter().map(|p| p + offset).collect();
+        match ConvexPolyhedron::from_points(&points) {
+            Ok(hull) => check_hull(&points, &hull)?,
+            Err(GeometryError::Degenerate) => {}
+            Err(other) => prop_assert!(false, "unexpected error {other:?}"),
+        }
+    }
+
+    #[test]
+    fn hull_of_points_near_the_faces_of_a_cube(seed in any::<u64>(), (pose, scale) in pose_strategy()) {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let hull = check_build(&transformed(near_faces(&mut rng), &pose, scale))?;
+        prop_assert!(hull.is_some());
+    }
+}
+
+/// The corners of `[-1, 1]^3` and points on its faces displaced out or in
+/// by `10^e`, `e` in [-15, -3].
+fn near_faces(rng: &mut ChaCha8Rng) -> Vec<Point3<f64>> {
+    let mut points: Vec<Point3<f64>> = (0..8)
+        .map(|i| {
+            Point3::from(Vector3::from_fn(
+                |a, _| if i & (1 << a) != 0 { 1.0 } else { -1.0 },
+            ))
+        })
+        .collect();
+    for _ in 0..rng.random_range(1..100) {
+        let axis = rng.random_range(0..3);
+        let side = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+        let offset = 10f64.powf(rng.random_range(-15.0..-3.0))
+            * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+        let mut p = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0));
+        p[axis] = side * (1.0 + offset);
+        points.push(Point3::from(p));
+    }
+    points
+}
+
 /// Proptest cases per property: 32 unless `GEOMETRY_FUZZ_CASES` is set.
 fn cases() -> u32 {
     std::env::var("GEOMETRY_FUZZ_CASES")

@@ -199,3 +199,49 @@ fn octahedron_with_points_inside_and_on_faces() {
     );
     assert!((hull.volume() - 4.0 / 3.0).abs() < 1e-12);
 }
+
+#[test]
+fn tiny_extent_is_an_error() {
+    let tiny: Vec<_> = tetrahedron().iter().map(|q| q * 1e-60).collect();
+    assert!(matches!(
+        ConvexPolyhedron::from_points(&tiny),
+        Err(GeometryError::CoordinatesOutOfRange { .. })
+    ));
+}
+
+#[test]
+fn extreme_but_supported_scales_build() {
+    for scale in [1e-45, 1e-20, 1e20, 1e45] {
+        let points: Vec<_> = tetrahedron().iter().map(|q| q * scale).collect();
+        let hull = ConvexPolyhedron::from_points(&points).unwrap();
+        let volume = scale.powi(3) / 6.0;
+        assert!(
+            (hull.volume() - volume).abs() <= 1e-12 * volume,
+            "{scale:e}"
+        );
+        let inertia = hull.mass_properties().inertia_unit_density;
+        assert!(inertia.iter().all(|c| c.is_finite()) && inertia[(0, 0)] > 0.0);
+    }
+}
+
+/// A point outside one face of a cube and next to its edge makes a sliver
+/// triangle with that edge, as wide as the point's distance to the edge.
+/// Below the thin-face tolerance the point is dropped (the sliver's plane
+/// would be unreliable); well above it, it is kept as a vertex.
+#[test]
+fn point_just_outside_an_edge_is_dropped_and_far_outside_kept() {
+    let cube = |offset: f64| {
+        let mut points: Vec<_> = (0..8)
+            .map(|i| {
+                let s = |bit: usize| if i & (1 << bit) != 0 { 1.0 } else { -1.0 };
+                p(s(0), s(1), s(2))
+            })
+            .collect();
+        points.push(p(0.3, 1.0 + offset, 1.0 - offset));
+        points
+    };
+    let thin = ConvexPolyhedron::from_points(&cube(1e-9)).unwrap();
+    assert_eq!((thin.vertices().len(), thin.faces().len()), (8, 6));
+    let kept = ConvexPolyhedron::from_points(&cube(1e-3)).unwrap();
+    assert_eq!(kept.vertices().len(), 9);
+}

@@ -18,13 +18,15 @@ pub enum GeometryError {
     /// remain after nearly duplicate points are merged.
     #[error("fewer than four non-coplanar points: the hull has no volume")]
     Degenerate,
-    /// A coordinate is too large for the exact predicates of the hull.
-    #[error("coordinate {largest:e} exceeds the limit {limit:e}")]
+    /// Coordinates beyond `geometry::MAX_COORDINATE`, or distinct points
+    /// spanning less than `geometry::MIN_EXTENT`: mass properties or the
+    /// hull's exact predicates would overflow or underflow.
+    #[error("coordinates up to {largest:e} spanning {extent:e} are out of the supported range")]
     CoordinatesOutOfRange {
         /// The largest absolute coordinate given.
         largest: f64,
-        /// The limit (`geometry::MAX_COORDINATE`).
-        limit: f64,
+        /// The extent (bounding-box diagonal) of the points.
+        extent: f64,
     },
     /// The hull algorithm failed numerically (a typed error instead of a
     /// panic or a wrong hull; see `geometry::hull`).

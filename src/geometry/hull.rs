@@ -4,8 +4,9 @@
 //! bounding box) and `M` its largest absolute coordinate; tolerances that
 //! absorb rounding of the input scale with `max(L, M)`, because a
 //! coordinate carries rounding of order `ε M`.
-//! 1. Reject an empty set, non-finite coordinates (the index is named) and
-//!    coordinates beyond [`MAX_COORDINATE`].
+//! 1. Reject an empty set, non-finite coordinates (the index is named),
+//!    coordinates beyond [`MAX_COORDINATE`] and extents below
+//!    [`MIN_EXTENT`].
 //! 2. Merge points closer than [`DUPLICATE_TOLERANCE`]` * L` to an earlier
 //!    kept point (greedy, in input order), so that near duplicates are never
 //!    handed to the hull algorithm as distinct vertices.
@@ -51,10 +52,15 @@ pub const DUPLICATE_TOLERANCE: f64 = 1e-10;
 /// face normals and is rejected as degenerate.
 pub const FLATNESS_TOLERANCE: f64 = 1e-8;
 
-/// Largest accepted absolute coordinate. The exact orientation predicate
-/// multiplies three coordinate differences; below `1e100` their products
-/// stay far from overflow (`f64::MAX ≈ 1.8e308`).
-pub const MAX_COORDINATE: f64 = 1e100;
+/// Largest accepted absolute coordinate. Inertia scales as `L⁵` and the
+/// exact orientation predicate multiplies three coordinate differences:
+/// below `1e50` neither comes near overflow (`f64::MAX ≈ 1.8e308`).
+pub const MAX_COORDINATE: f64 = 1e50;
+
+/// Smallest accepted extent `L` (a set of distinct points closer together
+/// is rejected): keeps `L⁵` and the predicate's products far from
+/// underflow (`f64::MIN_POSITIVE ≈ 2.2e-308`).
+pub const MIN_EXTENT: f64 = 1e-50;
 
 /// After the hull is built, every (merged) input point must lie at most
 /// `CONTAINMENT_TOLERANCE * max(L, M)` above every face plane: a few rounds
@@ -208,15 +214,12 @@ fn checked_extent(points: &[Point3<f64>]) -> Result<(f64, f64), GeometryError> {
             (lower.inf(&p.coords), upper.sup(&p.coords))
         });
     let largest = lower.abs().sup(&upper.abs()).max();
-    if largest > MAX_COORDINATE {
-        return Err(GeometryError::CoordinatesOutOfRange {
-            largest,
-            limit: MAX_COORDINATE,
-        });
-    }
     let extent = (upper - lower).norm();
     if extent == 0.0 {
         return Err(GeometryError::Degenerate);
+    }
+    if largest > MAX_COORDINATE || extent < MIN_EXTENT {
+        return Err(GeometryError::CoordinatesOutOfRange { largest, extent });
     }
     Ok((extent, largest))
 }

@@ -37,7 +37,7 @@ pub use error::GeometryError;
 pub use features::Feature;
 pub use hull::{
     CONTAINMENT_TOLERANCE, DUPLICATE_TOLERANCE, FLATNESS_TOLERANCE, MAX_COORDINATE,
-    MAX_SIMPLIFICATION_ROUNDS,
+    MAX_SIMPLIFICATION_ROUNDS, MIN_EXTENT,
 };
 pub use mass::MassProperties;
 pub use parry_bridge::{
