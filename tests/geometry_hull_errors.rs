@@ -129,7 +129,7 @@ fn near_duplicate_vertices_are_kept_once() {
     );
     let hull = ConvexPolyhedron::from_points(&points).unwrap();
     assert_eq!((hull.vertices().len(), hull.faces().len()), (4, 4));
-    // The first of each pair (input order) is kept.
+    // Of each pair the one with the smaller x is kept: the original.
     for v in hull.vertices() {
         let q = v + hull.shape_origin_offset();
         assert!(tetrahedron().iter().any(|t| (t - q).norm() < 1e-15));

@@ -7,8 +7,8 @@
 //! 1. Reject an empty set, non-finite coordinates (the index is named),
 //!    coordinates beyond [`MAX_COORDINATE`] and extents below
 //!    [`MIN_EXTENT`].
-//! 2. Merge points closer than [`DUPLICATE_TOLERANCE`]` * L` to an earlier
-//!    kept point (greedy, in input order), so that near duplicates are never
+//! 2. Merge points closer than [`DUPLICATE_TOLERANCE`]` * L` to a kept
+//!    point (greedy, in order of `x`), so that near duplicates are never
 //!    handed to the hull algorithm as distinct vertices.
 //! 3. Reject sets without volume before any hull is computed: with `p0` an
 //!    extreme point, `p1` the point farthest from `p0`, `p2` the point
@@ -37,7 +37,7 @@
 
 use std::collections::HashSet;
 
-use nalgebra::{Point3, Vector3};
+use nalgebra::Point3;
 
 use super::coplanar::{COPLANAR_TOLERANCE, HullFaces, polygon_faces};
 use super::exact_hull::hull_triangles;
@@ -224,9 +224,10 @@ fn checked_extent(points: &[Point3<f64>]) -> Result<(f64, f64), GeometryError> {
     Ok((extent, largest))
 }
 
-/// Indices of the points kept after merging: a point is dropped when an
-/// earlier kept point is within `tolerance`. Sorting by `x` limits the
-/// comparisons to a slab of width `tolerance`.
+/// Indices of the points kept after merging: in order of increasing `x`,
+/// each kept point drops every later point within `tolerance` of it, so
+/// every dropped point is within `tolerance` of a kept one. Sorting by `x`
+/// limits the comparisons to a slab of width `tolerance`.
 fn merge_near_duplicates(points: &[Point3<f64>], tolerance: f64) -> Vec<usize> {
     let mut by_x: Vec<usize> = (0..points.len()).collect();
     by_x.sort_by(|&a, &b| points[a].x.total_cmp(&points[b].x).then(a.cmp(&b)));
@@ -235,16 +236,12 @@ fn merge_near_duplicates(points: &[Point3<f64>], tolerance: f64) -> Vec<usize> {
         if duplicate[i] {
             continue;
         }
-        for &j in by_x[rank + 1..].iter() {
+        for &j in &by_x[rank + 1..] {
             if points[j].x - points[i].x > tolerance {
                 break;
             }
-            if !duplicate[j] && (points[j] - points[i]).norm() <= tolerance {
-                // Keep the point that comes first in the input.
-                duplicate[i.max(j)] = true;
-                if i > j {
-                    break;
-                }
+            if (points[j] - points[i]).norm() <= tolerance {
+                duplicate[j] = true;
             }
         }
     }
@@ -290,10 +287,4 @@ fn farthest(points: &[Point3<f64>], measure: impl Fn(&Point3<f64>) -> f64) -> (u
                 best
             }
         })
-}
-
-/// Unit normal of a triangle (zero when the triangle is degenerate).
-pub(super) fn triangle_normal(points: &[Point3<f64>], t: &[usize; 3]) -> Vector3<f64> {
-    let n = (points[t[1]] - points[t[0]]).cross(&(points[t[2]] - points[t[0]]));
-    n.try_normalize(0.0).unwrap_or_else(Vector3::zeros)
 }
