@@ -15,6 +15,15 @@
 //!   the plane of `f`, perpendicular to the edge, pointing into `f`; `VR(f)`
 //!   is on the positive side. As a wall of `VR(e)` it is used negated.
 //!
+//! Construction: [`ConvexPolyhedron::from_faces`] (validated face cycles),
+//! [`ConvexPolyhedron::cuboid`], [`ConvexPolyhedron::from_points`] (convex
+//! hull with exact predicates, coplanar triangles merged; `hull`,
+//! `exact_hull`, `coplanar`, `thin_faces`), and Mirtich's test shapes
+//! [`ConvexPolyhedron::icosahedron`], [`ConvexPolyhedron::disk`],
+//! [`ConvexPolyhedron::geodesic_sphere`] (`shapes`). [`ConvexPolyhedron::to_parry`]
+//! and the `*_to_parry` / `*_from_parry` functions convert to parry3d-f64
+//! (`parry_bridge`).
+//!
 //! All coordinates are in the *body frame*: the origin is the centre of mass
 //! of the solid at uniform density, axes those of the frame in which the
 //! shape was given. [`ConvexPolyhedron::shape_origin_offset`] maps back.
