@@ -98,7 +98,7 @@ fn converted_shape_keeps_body_frame_vertices_and_mass() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
     fn pose_round_trip_maps_points_the_same_way(
@@ -181,7 +181,7 @@ fn mirtich_shapes_keep_their_mass_in_parry() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(32))]
+    #![proptest_config(ProptestConfig { cases: 32, failure_persistence: None, ..ProptestConfig::default() })]
 
     /// The converted hull has the same vertices, hence the same support
     /// function, which is all GJK uses.
