@@ -3,7 +3,7 @@
 //! collinear points.
 
 use constraint_stabilization::geometry::{
-    ConvexPolyhedron, DUPLICATE_TOLERANCE, FLATNESS_TOLERANCE, GeometryError,
+    ConvexPolyhedron, DUPLICATE_TOLERANCE, FLAT_VERTEX_TOLERANCE, FLATNESS_TOLERANCE, GeometryError,
 };
 use nalgebra::Point3;
 
@@ -82,10 +82,14 @@ fn coplanar_points_are_degenerate() {
 
 #[test]
 fn thickness_just_below_the_flatness_tolerance_is_degenerate() {
-    // Extent L = diagonal of the bounding box; the apex height relative to L.
+    // Extent L = diagonal of the bounding box; the apex height relative to
+    // L. Below the flatness tolerance: degenerate at once; below the
+    // flat-vertex tolerance: the apex is dropped, then degenerate; well
+    // above it: a pyramid.
     for (relative, expect_ok) in [
         (0.5 * FLATNESS_TOLERANCE, false),
-        (20.0 * FLATNESS_TOLERANCE, true),
+        (0.5 * FLAT_VERTEX_TOLERANCE, false),
+        (100.0 * FLAT_VERTEX_TOLERANCE, true),
     ] {
         let mut points = vec![
             p(0.0, 0.0, 0.0),

@@ -21,9 +21,11 @@
 //!    floats, whatever the coplanar and collinear points.
 //! 5. Coplanar triangles are merged into polygonal faces and vertices that
 //!    are not corners are dropped (`super::coplanar`).
-//! 6. Faces too thin for an accurate plane lose their inner vertices and
-//!    the hull is rebuilt from its remaining vertices
-//!    (`super::thin_faces`), at most [`MAX_SIMPLIFICATION_ROUNDS`] times.
+//! 6. Faces too thin for an accurate plane lose their inner vertices
+//!    (`super::thin_faces`); when there are none, vertices that barely rise
+//!    above their neighbours are dropped (`super::flat_vertices`). The hull
+//!    is rebuilt from the remaining vertices, at most
+//!    [`MAX_SIMPLIFICATION_ROUNDS`] times.
 //! 7. [`ConvexPolyhedron::from_faces`] checks topology, planarity and
 //!    convexity; finally every merged input point must lie on or below every
 //!    face plane within [`CONTAINMENT_TOLERANCE`]` * max(L, M)`.
@@ -41,6 +43,7 @@ use nalgebra::Point3;
 
 use super::coplanar::{COPLANAR_TOLERANCE, HullFaces, polygon_faces};
 use super::exact_hull::hull_triangles;
+use super::flat_vertices::flat_vertices;
 use super::thin_faces::{THIN_FACE_TOLERANCE, thin_face_vertices};
 use super::{ConvexPolyhedron, GeometryError};
 
@@ -97,7 +100,10 @@ impl ConvexPolyhedron {
         let mut active = kept_points.clone();
         for round in 0..MAX_SIMPLIFICATION_ROUNDS {
             let hull = polygon_hull(&active, &tolerances)?;
-            let thin = thin_face_vertices(&active, &hull, tolerances.thin_face);
+            let mut thin = thin_face_vertices(&active, &hull, tolerances.thin_face);
+            if thin.is_empty() {
+                thin = flat_vertices(&active, &hull, tolerances.thin_face);
+            }
             log::debug!(
                 "hull round {round}: {} of {} points -> {} vertices, {} faces; {} thin-face vertices dropped",
                 active.len(),

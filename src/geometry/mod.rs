@@ -32,6 +32,7 @@ mod coplanar;
 mod error;
 mod exact_hull;
 mod features;
+mod flat_vertices;
 mod hull;
 mod mass;
 mod parry_bridge;
@@ -44,6 +45,7 @@ mod topology;
 pub use coplanar::COPLANAR_TOLERANCE;
 pub use error::GeometryError;
 pub use features::Feature;
+pub use flat_vertices::{FLAT_VERTEX_MAX_ANGLE, FLAT_VERTEX_TOLERANCE};
 pub use hull::{
     CONTAINMENT_TOLERANCE, DUPLICATE_TOLERANCE, FLATNESS_TOLERANCE, MAX_COORDINATE,
     MAX_SIMPLIFICATION_ROUNDS, MIN_EXTENT,
