@@ -30,6 +30,7 @@ pub mod shallowest_face;
 pub mod solver;
 pub mod stabilizer;
 pub mod vclip;
+pub mod verify;
 
 pub use error::Error;
 pub use stabilizer::{Report, Settings, Stabilizer, Status};

@@ -4,7 +4,10 @@
 //! read but not solved; 2 bad input or usage (clap's own usage errors exit
 //! with 2 as well).
 
+mod demo;
+mod exit;
 mod lcp;
+mod scene;
 
 use std::process::ExitCode;
 
@@ -20,14 +23,20 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Correct a scene file: `stabilize scene IN.json -o OUT.json`.
+    Scene(scene::SceneArgs),
     /// Solve an LCP file (Siconos format) and print one JSON object.
     Lcp(lcp::LcpArgs),
+    /// Stabilize the built-in demonstration scene and print the report.
+    Demo(demo::DemoArgs),
 }
 
 fn main() -> ExitCode {
     env_logger::init();
     let cli = Cli::parse();
     match cli.command {
+        Command::Scene(args) => scene::run(&args),
         Command::Lcp(args) => lcp::run(&args),
+        Command::Demo(args) => demo::run(&args),
     }
 }

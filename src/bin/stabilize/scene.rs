@@ -1,0 +1,62 @@
+//! `stabilize scene IN.json -o OUT.json`: correct a scene file (DESIGN.md
+//! section 6). The output is the input scene (same bodies, order, names and
+//! shapes) with corrected poses and a `report` object; fed back in, it is a
+//! no-op. Exit 0 when no penetration deeper than the tolerance remains, 1
+//! when one does (pass limit, stall, or every solver failed), 2 on bad
+//! input; on bad input no output file is written.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+use constraint_stabilization::io::report_json::report_to_json;
+use constraint_stabilization::io::scene_file::{read_scene, write_scene};
+use constraint_stabilization::{Error, Settings, Stabilizer};
+
+use crate::exit;
+
+/// Arguments of `stabilize scene`.
+#[derive(Debug, Args)]
+pub struct SceneArgs {
+    /// The scene file to correct.
+    input: PathBuf,
+    /// Where to write the corrected scene.
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+/// Runs the subcommand.
+pub fn run(args: &SceneArgs) -> ExitCode {
+    let mut scene = match read_scene(&args.input) {
+        Ok(scene) => scene,
+        Err(error) => return exit::bad_input(&error),
+    };
+    let settings = Settings::default().with_scene_settings(scene.settings());
+    let mut stabilizer = match Stabilizer::new(settings) {
+        Ok(stabilizer) => stabilizer,
+        Err(error) => return exit::bad_input(&error),
+    };
+    let report = match stabilizer.stabilize(&mut scene) {
+        Ok(report) => report,
+        Err(error @ Error::Solver(_)) => return exit::not_solved(&error),
+        Err(error) => return exit::bad_input(&error),
+    };
+    let json = report_to_json(&report, &scene);
+    if let Err(error) = write_scene(&args.output, &scene, Some(&json)) {
+        return exit::bad_input(&error);
+    }
+    eprintln!(
+        "stabilize: {} after {} passes, penetration {:.3e} -> {:.3e} (tolerance {:.1e}), {} bodies moved",
+        report.status.name(),
+        report.passes,
+        report.depth_before,
+        report.depth_after,
+        report.tolerance,
+        report.bodies_moved
+    );
+    if report.status.is_resolved() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(exit::NOT_SOLVED)
+    }
+}

@@ -1,0 +1,46 @@
+//! An independent measure of the penetration left in a scene, by
+//! parry3d-f64's `query::contact` (GJK/EPA), which this project did not
+//! write: what the demo prints and what tests assert, so that our own V-Clip
+//! is never the judge of its own answers.
+
+use crate::Error;
+use crate::broad_phase::candidate_pairs;
+use crate::geometry::isometry_to_parry;
+use crate::scene::Scene;
+
+/// Penetration statistics of a scene by parry.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ParryPenetration {
+    /// Pairs that parry finds penetrating deeper than the threshold.
+    pub penetrating_pairs: usize,
+    /// Deepest penetration depth parry reports (0 if none).
+    pub deepest: f64,
+}
+
+/// Penetrations deeper than `threshold`, over the broad-phase pairs.
+pub fn parry_penetration(scene: &Scene, threshold: f64) -> Result<ParryPenetration, Error> {
+    let shapes = scene
+        .bodies()
+        .iter()
+        .map(|b| b.polyhedron().to_parry())
+        .collect::<Result<Vec<_>, _>>()?;
+    let poses: Vec<_> = scene
+        .bodies()
+        .iter()
+        .map(|b| isometry_to_parry(b.com_pose()))
+        .collect();
+    let mut result = ParryPenetration::default();
+    for pair in candidate_pairs(scene, 0.0)? {
+        let (a, b) = (pair.body_a, pair.body_b);
+        let contact =
+            parry3d_f64::query::contact(&poses[a], &shapes[a], &poses[b], &shapes[b], 0.0);
+        if let Ok(Some(contact)) = contact {
+            let depth = -contact.dist;
+            result.deepest = result.deepest.max(depth);
+            if depth > threshold {
+                result.penetrating_pairs += 1;
+            }
+        }
+    }
+    Ok(result)
+}

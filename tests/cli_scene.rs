@@ -1,0 +1,111 @@
+//! The `stabilize scene` and `stabilize demo` commands: exit codes, output
+//! files, and that a corrected scene fed back in is a no-op.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn binary() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_stabilize"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cs-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name)
+}
+
+const DESIGN_EXAMPLE: &str = r#"{
+  "bodies": [
+    { "name": "ground", "shape": { "cuboid": [10.0, 0.5, 10.0] },
+      "translation": [0.0, -0.5, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0],
+      "fixed": true },
+    { "name": "rock", "shape": { "convex_hull": [[0,0,0],[1,0,0],[0,1,0],[0,0,1]] },
+      "translation": [0.2, -0.1, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0],
+      "mass": 2.5 }
+  ],
+  "settings": { "tolerance": 1e-6 }
+}"#;
+
+fn read_json(path: &PathBuf) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).expect("output")).expect("json")
+}
+
+#[test]
+fn scene_is_corrected_and_output_fed_back_is_a_no_op() {
+    let input = scratch("design.json");
+    let output = scratch("design-out.json");
+    let again = scratch("design-again.json");
+    std::fs::write(&input, DESIGN_EXAMPLE).unwrap();
+    let status = binary()
+        .args(["scene"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&output)
+        .status()
+        .unwrap();
+    assert_eq!(status.code(), Some(0));
+    let first = read_json(&output);
+    assert_eq!(first["report"]["status"], "converged");
+    // The rock's lowest point (the shape-frame origin) was 0.1 below the
+    // ground's top face; it is lifted to the surface.
+    let rock_y = first["bodies"][1]["translation"][1].as_f64().unwrap();
+    assert!((0.0..1e-5).contains(&rock_y), "rock at y = {rock_y}");
+    assert_eq!(
+        first["bodies"][0],
+        serde_json::from_str::<serde_json::Value>(DESIGN_EXAMPLE).unwrap()["bodies"][0]
+    );
+    let status = binary()
+        .args(["scene"])
+        .arg(&output)
+        .arg("-o")
+        .arg(&again)
+        .status()
+        .unwrap();
+    assert_eq!(status.code(), Some(0));
+    let second = read_json(&again);
+    assert_eq!(second["report"]["status"], "nothing_to_do");
+    assert_eq!(first["bodies"], second["bodies"], "bit-identical poses");
+}
+
+#[test]
+fn bad_scene_exits_2_and_writes_nothing() {
+    let input = scratch("bad.json");
+    let output = scratch("bad-out.json");
+    let no_mass = DESIGN_EXAMPLE.replace("\"mass\": 2.5", "\"mas\": 2.5");
+    std::fs::write(&input, no_mass).unwrap();
+    let result = binary()
+        .args(["scene"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&output)
+        .output()
+        .unwrap();
+    assert_eq!(result.status.code(), Some(2));
+    assert!(!output.exists());
+    let message = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        message.contains("rock") && message.contains("mas"),
+        "{message}"
+    );
+}
+
+#[test]
+fn demo_converges_and_says_so() {
+    let result = binary()
+        .args(["demo", "--bodies", "40", "--seed", "3"])
+        .output()
+        .unwrap();
+    assert_eq!(result.status.code(), Some(0));
+    let text = String::from_utf8_lossy(&result.stdout);
+    assert!(text.contains("converged"), "{text}");
+    assert!(text.contains("after:  0 pairs penetrating"), "{text}");
+}
+
+#[test]
+fn demo_rejects_an_unknown_solver() {
+    let result = binary()
+        .args(["demo", "--solver", "magic"])
+        .output()
+        .unwrap();
+    assert_eq!(result.status.code(), Some(2));
+}
