@@ -381,3 +381,27 @@ fn cross_check_setting_reports_the_other_solver() {
     assert_eq!(check.reference, SolverKind::Clarabel);
     assert!(matches!(check.outcome, CrossCheckOutcome::Compared { .. }));
 }
+
+/// No rows (an island with nothing to do) and rows without bodies that
+/// already hold: every solver returns zeros.
+#[test]
+fn empty_problems() {
+    let mut qp = box_face_down(0.0, 0.0);
+    qp.rows.clear();
+    qp.phi.clear();
+    qp.target.clear();
+    let no_bodies = ProjectionQp {
+        rows: vec![JacobianRow::default()],
+        phi: vec![1.0],
+        target: vec![0.0],
+        ..Default::default()
+    };
+    for problem in [qp, no_bodies, ProjectionQp::default()] {
+        for choice in ALL {
+            let sol = solve_projection(&problem, &settings(choice)).unwrap();
+            assert_eq!(sol.dq.len(), problem.num_dofs());
+            assert!(sol.dq.iter().all(|&x| x == 0.0), "{choice:?}");
+            assert!(sol.lambda.iter().all(|&x| x == 0.0), "{choice:?}");
+        }
+    }
+}
