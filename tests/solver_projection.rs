@@ -405,3 +405,22 @@ fn empty_problems() {
         }
     }
 }
+
+/// Regression: at 1000 rows, clarabel stopped at its default tolerance
+/// misjudged an active row or two and the first polish missed the residual
+/// tolerance (4e-4); the active-set corrections of the polish fix it.
+#[test]
+fn clarabel_polish_on_large_stacks() {
+    for seed in 100..103 {
+        let qp = random_stacks(&StackSpec::new(1000, seed));
+        for choice in [SolverChoice::Clarabel, SolverChoice::ClarabelDual] {
+            let sol = solve_projection(&qp, &settings(choice)).unwrap();
+            assert!(
+                sol.fallbacks.is_empty(),
+                "seed {seed} {choice:?}: {:?}",
+                sol.fallbacks
+            );
+            assert!(sol.residuals.worst() <= TOL);
+        }
+    }
+}
