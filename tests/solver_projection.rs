@@ -5,6 +5,7 @@
 mod solver_support;
 
 use constraint_stabilization::solver::clarabel_qp::{ClarabelFailure, ClarabelSettings};
+use constraint_stabilization::solver::lemke::LemkeStatus;
 use constraint_stabilization::solver::pgs::{PgsSettings, PgsStatus};
 use constraint_stabilization::solver::{
     BodyMetric, CrossCheckOutcome, FailureReason, JacobianRow, ProjectionQp, SolverChoice,
@@ -423,4 +424,40 @@ fn clarabel_polish_on_large_stacks() {
             assert!(sol.residuals.worst() <= TOL);
         }
     }
+}
+
+/// A body squeezed between two fixed planes that overlap: `dy >= 1` and
+/// `-dy >= 1` cannot both hold. Every solver says so in its own terms and
+/// the error lists them all; no dq is made up.
+#[test]
+fn infeasible_problem_lists_every_failure() {
+    let mut qp = box_face_down(0.0, 0.0);
+    qp.rows = vec![
+        contact(0, Vector3::zeros(), Vector3::y()),
+        contact(0, Vector3::zeros(), -Vector3::y()),
+    ];
+    qp.phi = vec![-1.0, -1.0];
+    qp.target = vec![0.0, 0.0];
+    let SolverError::AllSolversFailed(fallbacks) =
+        solve_projection(&qp, &SolverSettings::default()).unwrap_err()
+    else {
+        panic!("expected AllSolversFailed");
+    };
+    let solvers: Vec<SolverKind> = fallbacks.iter().map(|f| f.solver).collect();
+    assert_eq!(
+        solvers,
+        [SolverKind::Lemke, SolverKind::Clarabel, SolverKind::Pgs]
+    );
+    assert_eq!(fallbacks[0].reason, FailureReason::Lemke(LemkeStatus::Ray));
+    assert!(matches!(
+        fallbacks[1].reason,
+        FailureReason::Clarabel(
+            ClarabelFailure::PrimalInfeasible | ClarabelFailure::AlmostPrimalInfeasible
+        )
+    ));
+    assert!(
+        matches!(fallbacks[2].reason, FailureReason::Pgs(_)),
+        "{:?}",
+        fallbacks[2]
+    );
 }
