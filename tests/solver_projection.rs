@@ -5,6 +5,7 @@
 mod solver_support;
 
 use constraint_stabilization::solver::clarabel_qp::{ClarabelFailure, ClarabelSettings};
+use constraint_stabilization::solver::lemke::LemkeStatus;
 use constraint_stabilization::solver::pgs::{PgsSettings, PgsStatus};
 use constraint_stabilization::solver::{
     BodyMetric, CrossCheckOutcome, FailureReason, JacobianRow, ProjectionQp, SolverChoice,
@@ -380,4 +381,83 @@ fn cross_check_setting_reports_the_other_solver() {
     let check = sol.cross_check.expect("asked for");
     assert_eq!(check.reference, SolverKind::Clarabel);
     assert!(matches!(check.outcome, CrossCheckOutcome::Compared { .. }));
+}
+
+/// No rows (an island with nothing to do) and rows without bodies that
+/// already hold: every solver returns zeros.
+#[test]
+fn empty_problems() {
+    let mut qp = box_face_down(0.0, 0.0);
+    qp.rows.clear();
+    qp.phi.clear();
+    qp.target.clear();
+    let no_bodies = ProjectionQp {
+        rows: vec![JacobianRow::default()],
+        phi: vec![1.0],
+        target: vec![0.0],
+        ..Default::default()
+    };
+    for problem in [qp, no_bodies, ProjectionQp::default()] {
+        for choice in ALL {
+            let sol = solve_projection(&problem, &settings(choice)).unwrap();
+            assert_eq!(sol.dq.len(), problem.num_dofs());
+            assert!(sol.dq.iter().all(|&x| x == 0.0), "{choice:?}");
+            assert!(sol.lambda.iter().all(|&x| x == 0.0), "{choice:?}");
+        }
+    }
+}
+
+/// Regression: at 1000 rows, clarabel stopped at its default tolerance
+/// misjudged an active row or two and the first polish missed the residual
+/// tolerance (4e-4); the active-set corrections of the polish fix it.
+#[test]
+fn clarabel_polish_on_large_stacks() {
+    for seed in 100..103 {
+        let qp = random_stacks(&StackSpec::new(1000, seed));
+        for choice in [SolverChoice::Clarabel, SolverChoice::ClarabelDual] {
+            let sol = solve_projection(&qp, &settings(choice)).unwrap();
+            assert!(
+                sol.fallbacks.is_empty(),
+                "seed {seed} {choice:?}: {:?}",
+                sol.fallbacks
+            );
+            assert!(sol.residuals.worst() <= TOL);
+        }
+    }
+}
+
+/// A body squeezed between two fixed planes that overlap: `dy >= 1` and
+/// `-dy >= 1` cannot both hold. Every solver says so in its own terms and
+/// the error lists them all; no dq is made up.
+#[test]
+fn infeasible_problem_lists_every_failure() {
+    let mut qp = box_face_down(0.0, 0.0);
+    qp.rows = vec![
+        contact(0, Vector3::zeros(), Vector3::y()),
+        contact(0, Vector3::zeros(), -Vector3::y()),
+    ];
+    qp.phi = vec![-1.0, -1.0];
+    qp.target = vec![0.0, 0.0];
+    let SolverError::AllSolversFailed(fallbacks) =
+        solve_projection(&qp, &SolverSettings::default()).unwrap_err()
+    else {
+        panic!("expected AllSolversFailed");
+    };
+    let solvers: Vec<SolverKind> = fallbacks.iter().map(|f| f.solver).collect();
+    assert_eq!(
+        solvers,
+        [SolverKind::Lemke, SolverKind::Clarabel, SolverKind::Pgs]
+    );
+    assert_eq!(fallbacks[0].reason, FailureReason::Lemke(LemkeStatus::Ray));
+    assert!(matches!(
+        fallbacks[1].reason,
+        FailureReason::Clarabel(
+            ClarabelFailure::PrimalInfeasible | ClarabelFailure::AlmostPrimalInfeasible
+        )
+    ));
+    assert!(
+        matches!(fallbacks[2].reason, FailureReason::Pgs(_)),
+        "{:?}",
+        fallbacks[2]
+    );
 }

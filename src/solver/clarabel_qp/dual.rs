@@ -19,7 +19,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::polish::{POLISH_DELTA, POLISH_MAX_REFINE, POLISH_REFINE_TOL};
+use super::polish::{
+    POLISH_ACTIVE_SET_BAND, POLISH_DELTA, POLISH_MAX_ACTIVE_SET_UPDATES, POLISH_MAX_REFINE,
+    POLISH_REFINE_TOL,
+};
 use super::{ClarabelPoint, ClarabelSettings, csc_from_triplets, run};
 use crate::solver::lcp::Lcp;
 use crate::solver::outcome::FailureReason;
@@ -89,10 +92,40 @@ pub fn solve_lcp_unchecked(
     })
 }
 
-/// Dense active-set polish of `z` for the scaled LCP `(m, q)`.
+/// Dense active-set polish of `z` for the scaled LCP `(m, q)`, with the
+/// primal-dual active-set corrections of [`super::polish`].
 fn polish_dense(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> Option<DVector<f64>> {
     let w = m * z + q;
-    let active: Vec<usize> = (0..z.len()).filter(|&i| z[i] > w[i]).collect();
+    let mut active: Vec<usize> = (0..z.len()).filter(|&i| z[i] > w[i]).collect();
+    let mut z = z.clone();
+    for _ in 0..=POLISH_MAX_ACTIVE_SET_UPDATES {
+        z = solve_active_dense(m, q, &active, &z)?;
+        let w = m * &z + q;
+        let next: Vec<usize> = (0..z.len())
+            .filter(|&i| {
+                if active.contains(&i) {
+                    z[i] >= -POLISH_ACTIVE_SET_BAND
+                } else {
+                    w[i] < -POLISH_ACTIVE_SET_BAND
+                }
+            })
+            .collect();
+        if next == active {
+            break;
+        }
+        active = next;
+    }
+    Some(z.map(|v| v.max(0.0)))
+}
+
+/// `M_SS z_S = -q_S` by refinement on `M_SS + delta I` from `z`; zero
+/// outside `S`, unclamped.
+fn solve_active_dense(
+    m: &DMatrix<f64>,
+    q: &DVector<f64>,
+    active: &[usize],
+    z: &DVector<f64>,
+) -> Option<DVector<f64>> {
     let k = active.len();
     if k == 0 {
         return Some(DVector::zeros(z.len()));
@@ -110,7 +143,7 @@ fn polish_dense(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> Option<
     }
     let mut out = DVector::zeros(z.len());
     for (a, &i) in active.iter().enumerate() {
-        out[i] = z_s[a].max(0.0);
+        out[i] = z_s[a];
     }
     out.iter().all(|v| v.is_finite()).then_some(out)
 }

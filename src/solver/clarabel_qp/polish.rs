@@ -15,8 +15,16 @@
 //! by iterative refinement with the quasi-definite regularization
 //! `-delta I` in the lower block (factored once with QDLDL). Redundant rows
 //! make the system singular; the refinement is then a proximal iteration
-//! that keeps `z_S` near the interior point's (positive) multipliers. The
-//! caller keeps the polished point only if its residuals are better.
+//! that keeps `z_S` near the interior point's (positive) multipliers.
+//!
+//! A loose interior point can misjudge a row or two. The guess is then
+//! corrected by primal-dual active-set steps (Hintermueller, Ito and
+//! Kunisch 2002): drop the rows of `S` whose multiplier came out negative,
+//! add the rows outside `S` that the polished `y` violates, solve again;
+//! at most [`POLISH_MAX_ACTIVE_SET_UPDATES`] times, with a dead band of
+//! [`POLISH_ACTIVE_SET_BAND`] so that rounding on degenerate rows cannot
+//! make it cycle. The caller keeps the polished point only if its
+//! residuals are better.
 
 use clarabel::qdldl::{QDLDLFactorisation, QDLDLSettings};
 
@@ -30,6 +38,12 @@ pub const POLISH_MAX_REFINE: usize = 30;
 /// Stop refining when the KKT residual is below this (unit-scaled data).
 pub const POLISH_REFINE_TOL: f64 = 1e-15;
 
+/// Active-set corrections after the first polish, at most.
+pub const POLISH_MAX_ACTIVE_SET_UPDATES: usize = 5;
+/// A multiplier below `-band` leaves the active set, a row value below
+/// `-band` joins it (unit-scaled data).
+pub const POLISH_ACTIVE_SET_BAND: f64 = 1e-13;
+
 /// A unit-scaled QP `min 1/2 |y|^2, G y + b >= 0` with sparse rows.
 pub struct WhitenedQp<'a> {
     /// Number of variables.
@@ -40,14 +54,51 @@ pub struct WhitenedQp<'a> {
     pub b: &'a [f64],
 }
 
-/// Polished `(y, z)`, or `None` when the factorization fails.
+/// Polished `(y, z)`, or `None` when a factorization fails.
 pub fn polish(
     qp: &WhitenedQp,
     y: &[f64],
     z: &[f64],
     slack: &[f64],
 ) -> Option<(Vec<f64>, Vec<f64>)> {
-    let active: Vec<usize> = (0..qp.rows.len()).filter(|&i| z[i] > slack[i]).collect();
+    let mut active: Vec<usize> = (0..qp.rows.len()).filter(|&i| z[i] > slack[i]).collect();
+    let (mut y, mut z) = (y.to_vec(), z.to_vec());
+    for _ in 0..=POLISH_MAX_ACTIVE_SET_UPDATES {
+        (y, z) = solve_active(qp, &active, &y, &z)?;
+        let next = corrected_active_set(qp, &active, &y, &z);
+        if next == active {
+            break;
+        }
+        active = next;
+    }
+    z.iter_mut().for_each(|v| *v = v.max(0.0));
+    Some((y, z))
+}
+
+/// `S` without its negative multipliers, with the violated rows outside it.
+fn corrected_active_set(qp: &WhitenedQp, active: &[usize], y: &[f64], z: &[f64]) -> Vec<usize> {
+    let mut in_set = vec![false; qp.rows.len()];
+    active.iter().for_each(|&i| in_set[i] = true);
+    (0..qp.rows.len())
+        .filter(|&i| {
+            if in_set[i] {
+                z[i] >= -POLISH_ACTIVE_SET_BAND
+            } else {
+                let value: f64 = qp.b[i] + qp.rows[i].iter().map(|&(j, v)| v * y[j]).sum::<f64>();
+                value < -POLISH_ACTIVE_SET_BAND
+            }
+        })
+        .collect()
+}
+
+/// Solves the KKT system of the active set by refinement from `(y, z)`;
+/// returns `y` and the (unclamped) multipliers, zero outside `active`.
+fn solve_active(
+    qp: &WhitenedQp,
+    active: &[usize],
+    y: &[f64],
+    z: &[f64],
+) -> Option<(Vec<f64>, Vec<f64>)> {
     let (n, m) = (qp.n, active.len());
     let mut triplets: Vec<(usize, usize, f64)> = (0..n).map(|j| (j, j, 1.0)).collect();
     for (r, &i) in active.iter().enumerate() {
@@ -65,7 +116,7 @@ pub fn polish(
     let mut x: Vec<f64> = y.to_vec();
     x.extend(active.iter().map(|&i| -z[i]));
     for _ in 0..POLISH_MAX_REFINE {
-        let mut r = kkt_residual(qp, &active, &x);
+        let mut r = kkt_residual(qp, active, &x);
         if r.iter().fold(0.0_f64, |a, v| a.max(v.abs())) <= POLISH_REFINE_TOL {
             break;
         }
@@ -77,7 +128,7 @@ pub fn polish(
     }
     let mut z_out = vec![0.0; qp.rows.len()];
     for (r, &i) in active.iter().enumerate() {
-        z_out[i] = (-x[n + r]).max(0.0);
+        z_out[i] = -x[n + r];
     }
     x.truncate(n);
     Some((x, z_out))

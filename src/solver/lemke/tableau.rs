@@ -101,8 +101,10 @@ impl Tableau {
     /// variable that left. `e` must be nonbasic.
     pub fn pivot(&mut self, r: usize, e: usize) -> usize {
         let Some(c) = self.column_of[e] else {
-            // The caller only enters complements of leaving variables and
-            // z0, which are nonbasic by construction.
+            // The path enters z0 first, then always the complement of the
+            // variable that just left: nonbasic by construction (a basis
+            // holds one variable of each complementary pair but one).
+            debug_assert!(false, "entering variable {e} is basic");
             return e;
         };
         let stride = self.stride;
