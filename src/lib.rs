@@ -34,3 +34,8 @@ pub mod verify;
 
 pub use error::Error;
 pub use stabilizer::{Report, Settings, Stabilizer, Status};
+
+/// The README's examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
