@@ -185,10 +185,10 @@ fn result_is_bit_identical_for_one_two_and_four_threads() {
 fn demo_scenes_converge_within_the_tolerance() {
     for (count, max_passes) in [(10, 10), (100, 10), (300, 10)] {
         let mut scene = demo_scene(count, DEMO_SEED);
-        let (depth_before, _) = parry_residual(&scene);
+        let (depth_before, _) = penetration_residual(&scene);
         let (report, residual) = stabilize_default(&mut scene);
         println!(
-            "{} (parry depth before {depth_before:.3e})",
+            "{} (depth before (parry, SAT) {depth_before:.3e})",
             describe(&format!("demo {count}"), &report, residual)
         );
         assert!(depth_before > report.tolerance);
@@ -322,7 +322,7 @@ fn contact_manifold_lifts_flat_deepest_vertex_stalls() {
         .angle_to(&UnitQuaternion::identity());
     println!("manifold: translation {t:?}, tilt {tilt:.3e}");
     assert_eq!((report.status, report.passes), (Status::Converged, 1));
-    assert!(parry_residual(&scene).0 <= report.tolerance);
+    assert!(penetration_residual(&scene).0 <= report.tolerance);
     assert!(tilt <= 1e-9);
     assert!((t.y - 0.5).abs() <= 1e-5 && t.x.abs() <= 1e-9 && t.z.abs() <= 1e-9);
 
@@ -331,7 +331,7 @@ fn contact_manifold_lifts_flat_deepest_vertex_stalls() {
     assert_eq!(report.status, Status::Stalled);
     assert_eq!(report.stalled_islands, vec![vec![1]]);
     assert_eq!(pose_bits(&scene), before, "a stalled step applies nothing");
-    assert!((parry_residual(&scene).0 - depth).abs() <= 1e-9);
+    assert!((penetration_residual(&scene).0 - depth).abs() <= 1e-9);
 }
 
 #[test]

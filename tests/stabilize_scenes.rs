@@ -8,7 +8,7 @@
 //! the stabilizer must not touch it (bit-identical poses).
 //!
 //! Run with `cargo test --test stabilize_scenes -- --nocapture` to see the
-//! measured figures (status, passes, depth before/after, parry residual).
+//! measured figures (status, passes, depth before/after, residual by parry and SAT).
 
 mod stabilize_support;
 
@@ -70,15 +70,15 @@ impl TestScene {
     }
 }
 
-/// Stabilizes, then asserts: converged, parry residual within the
+/// Stabilizes, then asserts: converged, residual (parry, SAT) within the
 /// tolerance, passes bounded, bystanders and fixed bodies bit-identical.
 fn run_and_check(scene_spec: &TestScene, s: f64) -> (Scene, Report) {
     let mut scene = scene_of(&scene_spec.scaled(s));
-    let (depth_before, _) = parry_residual(&scene);
+    let (depth_before, _) = penetration_residual(&scene);
     let before = pose_bits(&scene);
     let (report, residual) = stabilize_default(&mut scene);
     println!(
-        "{} (scale {s:e}; parry depth before {depth_before:.3e}): {}",
+        "{} (scale {s:e}; depth before (parry, SAT) {depth_before:.3e}): {}",
         scene_spec.name,
         describe("", &report, residual)
     );
@@ -89,7 +89,7 @@ fn run_and_check(scene_spec: &TestScene, s: f64) -> (Scene, Report) {
     assert_eq!(report.status, Status::Converged, "{}", scene_spec.name);
     assert!(
         residual <= report.tolerance,
-        "{}: parry residual {residual:e} above tolerance {:e}",
+        "{}: residual {residual:e} above tolerance {:e}",
         scene_spec.name,
         report.tolerance
     );
