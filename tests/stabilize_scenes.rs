@@ -77,10 +77,10 @@ fn run_and_check(scene_spec: &TestScene, s: f64) -> (Scene, Report) {
     let (depth_before, _) = penetration_residual(&scene);
     let before = pose_bits(&scene);
     let (report, residual) = stabilize_default(&mut scene);
+    let label = format!("{} (scale {s:e})", scene_spec.name);
     println!(
-        "{} (scale {s:e}; depth before (parry, SAT) {depth_before:.3e}): {}",
-        scene_spec.name,
-        describe("", &report, residual)
+        "{}, depth before (max of parry, SAT) {depth_before:.3e}",
+        describe(&label, &report, residual)
     );
     assert!(
         depth_before > report.tolerance,
@@ -392,4 +392,54 @@ fn small_box_inside_a_big_one_escapes() {
 fn stack_with_mass_ratio_ten_thousand() {
     let masses = [1.0, 1e4, 1.0, 1e4, 1.0, 1e4];
     check_scene_at_all_scales(&stack("mass ratio 1e4 stack", &masses, 2), true);
+}
+
+#[test]
+fn small_box_inside_a_fixed_big_one_escapes() {
+    let descs = vec![
+        cuboid(
+            "big",
+            [1.0, 1.0, 1.0],
+            [0.0, 0.0, 0.0],
+            IDENTITY_XYZW,
+            MassSpec::Fixed,
+        ),
+        cuboid(
+            "small",
+            [0.2, 0.2, 0.2],
+            [0.3, 0.1, -0.05],
+            xyzw(&UnitQuaternion::from_scaled_axis(Vector3::new(
+                0.1, 0.2, 0.0,
+            ))),
+            MassSpec::Density(1.0),
+        ),
+    ];
+    check_scene_at_all_scales(&TestScene::new("small inside fixed big", descs, 2), true);
+}
+
+#[test]
+fn box_at_the_pose_of_a_fixed_one_separates() {
+    let rotation = xyzw(&UnitQuaternion::from_scaled_axis(Vector3::new(
+        -0.2, 0.4, 0.1,
+    )));
+    let descs = vec![
+        cuboid(
+            "fixed",
+            [0.5, 0.3, 0.4],
+            [1.0, 2.0, 3.0],
+            rotation,
+            MassSpec::Fixed,
+        ),
+        cuboid(
+            "free",
+            [0.5, 0.3, 0.4],
+            [1.0, 2.0, 3.0],
+            rotation,
+            MassSpec::Mass(1.0),
+        ),
+    ];
+    check_scene_at_all_scales(
+        &TestScene::new("box at a fixed box's pose", descs, 2),
+        false,
+    );
 }
