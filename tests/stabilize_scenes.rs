@@ -331,7 +331,29 @@ fn box_face_down_is_lifted_flat() {
 
 #[test]
 fn stack_of_ten_boxes() {
-    check_scene_at_all_scales(&stack("stack of 10", &[1.0; 10], 2), true);
+    let masses = [1.0; 10];
+    check_scene_at_all_scales(&stack("stack of 10", &masses, 2), true);
+    assert_stack_lift_is_minimal(&masses);
+}
+
+/// In a stack on fixed ground, box `k` (from 1 at the bottom) must rise by
+/// at least `k` overlaps, and pure lifts of exactly that are feasible: the
+/// minimal displacement is `sqrt(sum_k m_k (k OVERLAP)^2)` (plus the target
+/// margins, far below 1%).
+fn assert_stack_lift_is_minimal(masses: &[f64]) {
+    let spec = stack("stack", masses, 2);
+    let (_, report) = run_and_check(&spec, 1.0);
+    let minimal = masses
+        .iter()
+        .enumerate()
+        .map(|(k, m)| m * ((k + 1) as f64 * OVERLAP).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    println!(
+        "stack displacement {:.6e}, minimal {minimal:.6e}",
+        report.displacement
+    );
+    assert!((report.displacement - minimal).abs() <= 0.01 * minimal);
 }
 
 #[test]
@@ -392,6 +414,7 @@ fn small_box_inside_a_big_one_escapes() {
 fn stack_with_mass_ratio_ten_thousand() {
     let masses = [1.0, 1e4, 1.0, 1e4, 1.0, 1e4];
     check_scene_at_all_scales(&stack("mass ratio 1e4 stack", &masses, 2), true);
+    assert_stack_lift_is_minimal(&masses);
 }
 
 #[test]
