@@ -166,3 +166,72 @@ fn most_aligned_face(body: PairBody, direction_world: &Vector3<f64>) -> usize {
         })
         .map_or(0, |(f, _)| f)
 }
+
+/// Overlap, relative to the smaller circumradius of a pair, up to which a
+/// pair that V-Clip reports as touching (distance 0) is taken as touching.
+/// V-Clip can stop at coincident features with distance 0 while the solids
+/// overlap (two equal boxes at one pose; a box stacked on an equal box, whose
+/// bottom vertices lie on the side planes of the one below).
+pub const TOUCHING_OVERLAP_RELATIVE: f64 = 1e-9;
+
+/// Separating-axis check of a pair that V-Clip reports as touching: `None`
+/// if a face normal of either body or a cross product of two edges
+/// separates the bodies to within `threshold` (they touch at most), else
+/// the shallowest vertex–face pair over the face normals of both bodies.
+///
+/// ```text
+/// overlap(u) = min(max_A u.p - min_B u.p, max_B u.p - min_A u.p)
+/// ```
+///
+/// over the world vertices; the bodies overlap iff `overlap(u) > 0` for
+/// every face normal and edge–edge axis `u` (separating axis theorem for
+/// convex polyhedra). Cost `O(E_A E_B (V_A + V_B))`, paid only on the rare
+/// distance-0 outcome.
+pub fn overlap_of_touching(a: PairBody, b: PairBody, threshold: f64) -> Option<DeepestVertex> {
+    let faces_of_a = (0..a.shape.faces().len()).map(|f| face_depth(BodyRole::B, a, b, f, 0));
+    let faces_of_b = (0..b.shape.faces().len()).map(|f| face_depth(BodyRole::A, b, a, f, 0));
+    let shallowest = faces_of_a
+        .chain(faces_of_b)
+        .min_by(|x, y| x.depth.total_cmp(&y.depth))?;
+    if shallowest.depth <= threshold || edge_axes_separate(a, b, threshold) {
+        return None;
+    }
+    Some(shallowest)
+}
+
+/// Whether some axis `e_a x e_b` separates the bodies to within `threshold`.
+fn edge_axes_separate(a: PairBody, b: PairBody, threshold: f64) -> bool {
+    let world = |body: PairBody| -> Vec<Point3<f64>> {
+        body.shape
+            .vertices()
+            .iter()
+            .map(|v| body.pose * v)
+            .collect()
+    };
+    let (points_a, points_b) = (world(a), world(b));
+    let span = |points: &[Point3<f64>], axis: &Vector3<f64>| {
+        points
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                let h = axis.dot(&p.coords);
+                (lo.min(h), hi.max(h))
+            })
+    };
+    a.shape.edges().iter().any(|edge_a| {
+        let da = a.pose.rotation * edge_a.direction;
+        b.shape.edges().iter().any(|edge_b| {
+            let db = b.pose.rotation * edge_b.direction;
+            // Parallel edges give no axis that the face normals miss.
+            let Some(axis) = da.cross(&db).try_normalize(PARALLEL_EDGES_SINE) else {
+                return false;
+            };
+            let (min_a, max_a) = span(&points_a, &axis);
+            let (min_b, max_b) = span(&points_b, &axis);
+            (max_a - min_b).min(max_b - min_a) <= threshold
+        })
+    })
+}
+
+/// Sine of the angle below which two edge directions count as parallel
+/// (unit directions: `|d_a x d_b|` is that sine).
+const PARALLEL_EDGES_SINE: f64 = 1e-9;

@@ -119,6 +119,9 @@ impl Settings {
         if self.max_passes == 0 {
             return Err(SettingsError::ZeroPasses);
         }
+        // The solvers' residual check `residual > tol` never fails for a
+        // NaN tolerance: any candidate would be accepted.
+        positive("solver.tol_residual", self.solver.tol_residual)?;
         let search = &self.line_search;
         if !(search.shrink > 0.0 && search.shrink < 1.0) {
             return Err(SettingsError::LineSearch("shrink must be in (0, 1)"));
