@@ -36,7 +36,7 @@ const SEED: u64 = 2026;
 
 /// Runs per size for the stage table.
 fn stage_runs(n: usize) -> usize {
-    if n >= 1000 { 7 } else { 21 }
+    if n >= 1000 { 11 } else { 31 }
 }
 
 fn main() {
@@ -109,7 +109,8 @@ fn write_stage_table() {
         md,
         "# Stage shares of `stabilize` on the demo scene (seed {SEED})\n\n\
          Medians over runs of each stage's time from `Report::times`; share = median stage time / \
-         median total. cold = fresh `Stabilizer`, warm = reused after a call on the same scene. \
+         median total. cold = fresh `Stabilizer`, warm = reused after a call on the same scene; cold and warm runs \
+         interleaved. \
          {threads} rayon thread(s): solve and line search are summed over islands, so with more \
          than one thread shares may exceed 100 % and 'other' may be negative. Machine shared and \
          noisy: compare within the table.\n"
@@ -123,34 +124,45 @@ fn write_stage_table() {
         md,
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
+    let mut ratios = Vec::new();
     for n in SIZES {
         let scene = demo_scene(n, SEED);
-        for warm in [false, true] {
-            let (samples, last) = stage_samples(&scene, stage_runs(n), warm);
-            let _ = writeln!(md, "{}", stage_row(n, warm, &samples, &last));
-        }
+        let [(cold, cold_last), (warm, warm_last)] = stage_samples(&scene, stage_runs(n));
+        let _ = writeln!(md, "{}", stage_row(n, false, &cold, &cold_last));
+        let _ = writeln!(md, "{}", stage_row(n, true, &warm, &warm_last));
+        let total =
+            |s: &[StageSample]| common::median(&s.iter().map(|x| x.total).collect::<Vec<_>>());
+        ratios.push((n, total(&warm) / total(&cold)));
     }
+    let _ = writeln!(md, "\nwarm / cold median total time (runs interleaved):");
+    for (n, ratio) in ratios {
+        let _ = writeln!(md, "- {n} bodies: {ratio:.3}");
+    }
+    let _ = writeln!(md, "\nLoad average at the end: {}", load_average());
     let path = common::results_dir().join("stabilize_stages.md");
     std::fs::write(&path, &md).expect("write stabilize_stages.md");
     println!("{md}\nwritten to {}", path.display());
 }
 
-fn stage_samples(scene: &Scene, runs: usize, warm: bool) -> (Vec<StageSample>, Report) {
-    let mut stabilizer = Stabilizer::new(Settings::default()).expect("settings");
-    if warm {
-        stabilizer.stabilize(&mut scene.clone()).expect("stabilize");
-    }
-    let mut samples = Vec::with_capacity(runs);
-    let mut last = None;
+/// Cold and warm runs, interleaved run by run so that the machine's load
+/// drifts over both alike: `(cold samples, cold report, warm samples, warm
+/// report)`, the reports of the last runs.
+fn stage_samples(scene: &Scene, runs: usize) -> [(Vec<StageSample>, Report); 2] {
+    let mut warm = Stabilizer::new(Settings::default()).expect("settings");
+    warm.stabilize(&mut scene.clone()).expect("stabilize");
+    let mut samples = [Vec::with_capacity(runs), Vec::with_capacity(runs)];
+    let mut last = [None, None];
     for _ in 0..runs {
-        if !warm {
-            stabilizer = Stabilizer::new(Settings::default()).expect("settings");
+        let mut cold = Stabilizer::new(Settings::default()).expect("settings");
+        for (k, stabilizer) in [&mut cold, &mut warm].into_iter().enumerate() {
+            let report = stabilizer.stabilize(&mut scene.clone()).expect("stabilize");
+            samples[k].push(StageSample::from(&report));
+            last[k] = Some(report);
         }
-        let report = stabilizer.stabilize(&mut scene.clone()).expect("stabilize");
-        samples.push(StageSample::from(&report));
-        last = Some(report);
     }
-    (samples, last.expect("at least one run"))
+    let [cold_samples, warm_samples] = samples;
+    let [cold_last, warm_last] = last.map(|r| r.expect("at least one run"));
+    [(cold_samples, cold_last), (warm_samples, warm_last)]
 }
 
 fn stage_row(n: usize, warm: bool, samples: &[StageSample], report: &Report) -> String {
@@ -182,6 +194,11 @@ fn stage_row(n: usize, warm: bool, samples: &[StageSample], report: &Report) -> 
         report.depth_before,
         report.depth_after,
     )
+}
+
+/// `/proc/loadavg` (the machine is shared), or "unknown".
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg").map_or("unknown".into(), |s| s.trim().to_string())
 }
 
 /// Threads the islands are solved on: `RAYON_NUM_THREADS` if set, else the
