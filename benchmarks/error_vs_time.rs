@@ -100,7 +100,8 @@ fn main() {
         "# Deepest penetration against run time, per solver\n\n\
          Default settings (contact manifold on) except `solver.choice`. Each point k reruns the \
          stabilizer with `max_passes = k` (fresh stabilizer, median of the repeats); time = whole \
-         call; solve ms = time in the solve stage (linearization and solver) of the same runs. `conv` = passes and time to reach the tolerance (1e-6 L), '-' if not reached within \
+         call; solve ms = time in the solve stage (linearization and solver) of the same runs, summed over \
+         islands solved on different threads (so it can exceed the total). `conv` = passes and time to reach the tolerance (1e-6 L), '-' if not reached within \
          the measured passes. Machine shared and noisy: compare within a scene.\n",
     );
     for case in &cases {

@@ -6,9 +6,10 @@
 //!   [`STACK_OVERLAP`] of its height, with a small random tilt, yaw and
 //!   sideways offset (seeded `ChaCha8Rng`), as a stack after a bad step;
 //! - [`box_on_ground`]: one box resting face down on the fixed ground,
-//!   sunk by [`RESTING_SINK`] of its height, exactly upright. The exact
-//!   answer moves it straight up: any final tilt is an artefact of the
-//!   contact model (one deepest vertex rather than the face's manifold).
+//!   sunk by [`RESTING_SINK`] of its height, upright or slightly tilted.
+//!   Upright, the exact answer moves it straight up: any final tilt is an
+//!   artefact of the contact model (one deepest vertex rather than the
+//!   face's manifold).
 //!
 //! Tilt of a body: the angle between its body `y` axis in world frame
 //! (`R e_y`) and the world `y` axis, `acos(clamp((R e_y).y))`.
@@ -100,8 +101,9 @@ pub fn box_stack(height: usize, seed: u64) -> Scene {
     scene
 }
 
-/// Ground plus one upright box sunk by [`RESTING_SINK`] of its height.
-pub fn box_on_ground() -> Scene {
+/// Ground plus one box sunk by [`RESTING_SINK`] of its height (at its
+/// centre), tilted by `tilt` radians about the world `x` axis.
+pub fn box_on_ground(tilt: f64) -> Scene {
     let half = Vector3::new(0.5, 0.25, 0.4);
     let mut scene = Scene::new();
     scene.add_body(ground()).expect("valid ground");
@@ -110,7 +112,7 @@ pub fn box_on_ground() -> Scene {
             name: "box".into(),
             shape: Shape::Cuboid { half_extents: half },
             translation: Vector3::new(0.0, half.y - RESTING_SINK * 2.0 * half.y, 0.0),
-            rotation_xyzw: [0.0, 0.0, 0.0, 1.0],
+            rotation_xyzw: xyzw(&UnitQuaternion::from_axis_angle(&Vector3::x_axis(), tilt)),
             mass: MassSpec::Mass(1.0),
         })
         .expect("valid box");
