@@ -86,7 +86,7 @@ fn main() {
         Case {
             name: "demo_1000",
             scene: demo_scene(1000, 2026),
-            repeats: 1,
+            repeats: 3,
         },
         Case {
             name: "stack_10",
