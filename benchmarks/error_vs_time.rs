@@ -2,8 +2,8 @@
 //!
 //! For each scene and each `SolverChoice` (Auto, Clarabel, ClarabelDual,
 //! Lemke, Pgs), the stabilizer runs with `max_passes = k` for
-//! k = 1, 2, ... until it resolves the scene, stalls, fails or reaches
-//! [`MAX_PASSES`]. Each run ends with a detection after its k-th pass, so
+//! k = 1, 2, ... up to the passes it needs to resolve the scene or stall
+//! (at most [`MAX_PASSES`]), all (k, solver) runs interleaved per repeat. Each run ends with a detection after its k-th pass, so
 //! its `depth_after` is the deepest penetration after k passes and its
 //! total time (median of `repeats` runs, fresh stabilizer each) the
 //! cumulative wall time to get there. Point k = 0 is the initial depth at
@@ -31,7 +31,7 @@ use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::lemke::LemkeStatus;
 use constraint_stabilization::solver::pgs::PgsStatus;
 use constraint_stabilization::solver::{FailureReason, SolverChoice};
-use constraint_stabilization::{Report, Settings, Stabilizer, Status};
+use constraint_stabilization::{Report, Settings, Stabilizer};
 use plotters::prelude::*;
 
 /// Largest pass count measured per solver.
@@ -81,17 +81,17 @@ fn main() {
         Case {
             name: "demo_100",
             scene: demo_scene(100, 2026),
-            repeats: 5,
+            repeats: 15,
         },
         Case {
             name: "demo_1000",
             scene: demo_scene(1000, 2026),
-            repeats: 3,
+            repeats: 5,
         },
         Case {
             name: "stack_10",
             scene: common::box_stack(10, 1),
-            repeats: 9,
+            repeats: 25,
         },
     ];
     let dir = common::results_dir();
@@ -102,7 +102,9 @@ fn main() {
          stabilizer with `max_passes = k` (fresh stabilizer, median of the repeats); time = whole \
          call; solve ms = time in the solve stage (linearization and solver) of the same runs, summed over \
          islands solved on different threads (so it can exceed the total). `conv` = passes and time to reach the tolerance (1e-6 L), '-' if not reached within \
-         the measured passes. Machine shared and noisy: compare within a scene.\n",
+         the measured passes. Machine shared and noisy: compare within a scene; each point is an \
+         independent set of runs (all points of a scene interleaved per \
+         repeat); noise can still put point k+1 slightly before point k on the time axis.\n",
     );
     for case in &cases {
         let curves = measure(case);
@@ -132,9 +134,13 @@ fn main() {
     println!("{md}\nwritten to {}", dir.display());
 }
 
-/// The curves of every solver on one scene. For each `k`, the solvers run
-/// interleaved (repeat by repeat), so that the machine's load drifts over
-/// all of them alike.
+/// The curves of every solver on one scene.
+///
+/// A first run per solver with `max_passes = MAX_PASSES` gives the number of
+/// passes `K_s` it needs (or the error that ends its curve). Then every
+/// repeat runs every (k, solver) with `k <= K_s`, interleaved, so that the
+/// machine's load drifts over all points alike (grouping the repeats of one
+/// k together made whole columns of points early or late).
 fn measure(case: &Case) -> Vec<Curve> {
     let mut curves: Vec<Curve> = SOLVERS
         .iter()
@@ -146,44 +152,56 @@ fn measure(case: &Case) -> Vec<Curve> {
             tolerance: 0.0,
         })
         .collect();
-    let mut active = vec![true; SOLVERS.len()];
-    for k in 1..=MAX_PASSES {
-        let mut times = vec![Vec::with_capacity(case.repeats); SOLVERS.len()];
-        let mut solve_times = vec![Vec::with_capacity(case.repeats); SOLVERS.len()];
-        let mut last: Vec<Option<Report>> = vec![None; SOLVERS.len()];
-        for _ in 0..case.repeats {
+    let passes_needed: Vec<usize> = SOLVERS
+        .iter()
+        .zip(&mut curves)
+        .map(
+            |(&(choice, _), curve)| match run(&case.scene, choice, MAX_PASSES) {
+                Ok(report) => report.passes.max(1),
+                Err(e) => {
+                    curve.error = Some(e);
+                    0
+                }
+            },
+        )
+        .collect();
+    let k_max = passes_needed.iter().copied().max().unwrap_or(0);
+    // times[s][k - 1]: (total, solve) seconds of each repeat.
+    let mut times: Vec<Vec<Vec<(f64, f64)>>> = passes_needed
+        .iter()
+        .map(|&n| vec![Vec::with_capacity(case.repeats); n])
+        .collect();
+    let mut last: Vec<Vec<Option<Report>>> = passes_needed.iter().map(|&n| vec![None; n]).collect();
+    for _ in 0..case.repeats {
+        for k in 1..=k_max {
             for (s, &(choice, _)) in SOLVERS.iter().enumerate() {
-                if !active[s] {
+                if k > passes_needed[s] || curves[s].error.is_some() {
                     continue;
                 }
                 match run(&case.scene, choice, k) {
                     Ok(report) => {
-                        times[s].push(report.times.total);
-                        solve_times[s].push(report.times.solve);
-                        last[s] = Some(report);
+                        times[s][k - 1].push((report.times.total, report.times.solve));
+                        last[s][k - 1] = Some(report);
                     }
-                    Err(e) => {
-                        curves[s].error = Some(e);
-                        active[s] = false;
-                    }
+                    Err(e) => curves[s].error = Some(e),
                 }
             }
         }
-        for (s, curve) in curves.iter_mut().enumerate() {
-            let Some(report) = last[s].take().filter(|_| active[s]) else {
-                continue;
-            };
-            let seconds = common::median(&times[s]);
-            extend(curve, &report, seconds, common::median(&solve_times[s]));
-            if report.status != Status::PassLimit {
-                active[s] = false;
-            }
-        }
-        if !active.iter().any(|&a| a) {
-            break;
-        }
     }
-    for curve in &curves {
+    for (s, curve) in curves.iter_mut().enumerate() {
+        for (k_times, report) in times[s].iter().zip(last[s].iter_mut()) {
+            let Some(report) = report.take() else {
+                break;
+            };
+            let total: Vec<f64> = k_times.iter().map(|t| t.0).collect();
+            let solve: Vec<f64> = k_times.iter().map(|t| t.1).collect();
+            extend(
+                curve,
+                &report,
+                common::median(&total),
+                common::median(&solve),
+            );
+        }
         log_curve(case.name, curve);
     }
     curves
