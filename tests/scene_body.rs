@@ -128,6 +128,8 @@ proptest! {
         let inertia_oracle = r.matrix() * matrix_of(&oracle.reconstruct_inertia_matrix()) * r.matrix().transpose();
         let inertia = body.inertia_world().unwrap();
         prop_assert!((inertia - inertia_oracle).norm() <= 1e-8 * inertia_oracle.norm());
+        let product = body.inverse_inertia_world().unwrap() * inertia;
+        prop_assert!((product - Matrix3::identity()).norm() <= 1e-8);
         // Every body-frame vertex maps to the same world point by both poses.
         let offset = body.polyhedron().shape_origin_offset();
         for v_body in body.polyhedron().vertices() {
