@@ -18,6 +18,41 @@ pub enum GeometryError {
     /// remain after nearly duplicate points are merged.
     #[error("fewer than four non-coplanar points: the hull has no volume")]
     Degenerate,
+    /// Coordinates beyond `geometry::MAX_COORDINATE`, or distinct points
+    /// spanning less than `geometry::MIN_EXTENT`: mass properties or the
+    /// hull's exact predicates would overflow or underflow.
+    #[error("coordinates up to {largest:e} spanning {extent:e} are out of the supported range")]
+    CoordinatesOutOfRange {
+        /// The largest absolute coordinate given.
+        largest: f64,
+        /// The extent (bounding-box diagonal) of the points.
+        extent: f64,
+    },
+    /// The hull algorithm failed numerically (a typed error instead of a
+    /// panic or a wrong hull; see `geometry::hull`).
+    #[error("convex hull failed: {0}")]
+    HullFailed(String),
+    /// A shape parameter (radius, thickness, ...) is not a finite positive
+    /// number.
+    #[error("{name} is {value}: it must be finite and positive")]
+    InvalidDimension {
+        /// Name of the parameter.
+        name: &'static str,
+        /// The value that was given.
+        value: f64,
+    },
+    /// A count parameter (polygon sides, subdivisions) is out of range.
+    #[error("{name} is {value}: it must be in {min}..={max}")]
+    InvalidCount {
+        /// Name of the parameter.
+        name: &'static str,
+        /// The value that was given.
+        value: usize,
+        /// Smallest accepted value.
+        min: usize,
+        /// Largest accepted value.
+        max: usize,
+    },
     /// A cuboid half extent is not a finite positive number.
     #[error("half extent {axis} is {value}: it must be finite and positive")]
     InvalidHalfExtent {

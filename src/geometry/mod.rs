@@ -19,15 +19,32 @@
 //! of the solid at uniform density, axes those of the frame in which the
 //! shape was given. [`ConvexPolyhedron::shape_origin_offset`] maps back.
 
+mod coplanar;
 mod error;
+mod exact_hull;
 mod features;
+mod hull;
 mod mass;
+mod parry_bridge;
 mod plane;
 mod polyhedron;
+mod shapes;
+mod thin_faces;
 mod topology;
 
+pub use coplanar::COPLANAR_TOLERANCE;
 pub use error::GeometryError;
 pub use features::Feature;
+pub use hull::{
+    CONTAINMENT_TOLERANCE, DUPLICATE_TOLERANCE, FLATNESS_TOLERANCE, MAX_COORDINATE,
+    MAX_SIMPLIFICATION_ROUNDS, MIN_EXTENT,
+};
 pub use mass::MassProperties;
+pub use parry_bridge::{
+    isometry_from_parry, isometry_to_parry, point_from_parry, point_to_parry, vector_from_parry,
+    vector_to_parry,
+};
 pub use plane::Plane;
-pub use polyhedron::{ConvexPolyhedron, Edge, Face};
+pub use polyhedron::{ConvexPolyhedron, Edge, Face, PLANARITY_TOLERANCE};
+pub use shapes::MAX_GEODESIC_SUBDIVISIONS;
+pub use thin_faces::THIN_FACE_TOLERANCE;
