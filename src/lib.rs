@@ -21,7 +21,6 @@ pub mod broad_phase;
 pub mod demo;
 pub mod error;
 pub mod geometry;
-mod hull_shim;
 pub mod io;
 pub mod island;
 pub mod scene;
