@@ -298,6 +298,15 @@ fn document_and_settings_errors_name_the_field() {
         top_or_settings("{\"bodies\": [}"),
         SceneFileError::Json { line: 1, .. }
     ));
+    let duplicate = with_second_body(&format!("{SHAPE}, {POSE}, \"mass\": 1, \"mass\": 2"));
+    match top_or_settings(&duplicate) {
+        SceneFileError::Json {
+            line: 3, message, ..
+        } => {
+            assert!(message.contains("duplicate field `mass`"), "{message}")
+        }
+        other => panic!("expected a duplicate-field error, got {other:?}"),
+    }
     assert!(matches!(
         top_or_settings("[]"),
         SceneFileError::TopLevel {

@@ -2,3 +2,5 @@
 
 #[cfg(feature = "serde")]
 pub mod scene_file;
+#[cfg(feature = "serde")]
+mod strict_json;
