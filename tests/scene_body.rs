@@ -348,4 +348,22 @@ fn scene_error_names_index_and_name() {
         "{message}"
     );
     assert_eq!(scene.len(), 1);
+    let mut nan_pose = *scene.bodies()[0].com_pose();
+    nan_pose.translation.vector.y = f64::NAN;
+    let e = scene.set_com_pose(0, nan_pose).unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            SceneError::Body {
+                index: 0,
+                source: BodyError::NonFiniteTranslation { component: 1, .. },
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert_eq!(
+        scene.set_com_pose(3, nan_pose).unwrap_err(),
+        SceneError::NoSuchBody { index: 3, len: 1 }
+    );
 }
