@@ -97,6 +97,8 @@ pub struct BodyMass {
     /// Inertia tensor about the centre of mass, in the body frame (axes of
     /// the shape frame), mass·length².
     pub inertia_body: Matrix3<f64>,
+    /// Its inverse (symmetric positive definite for a solid).
+    pub inverse_inertia_body: Matrix3<f64>,
 }
 
 /// A body as the user describes it, before validation. See
@@ -262,6 +264,13 @@ impl Body {
             .map(|m| rotation.matrix() * m.inertia_body * rotation.matrix().transpose())
     }
 
+    /// World-frame inverse inertia `R I_body^-1 R^T`; `None` if fixed.
+    pub fn inverse_inertia_world(&self) -> Option<Matrix3<f64>> {
+        let rotation = self.com_pose.rotation.to_rotation_matrix();
+        self.mass
+            .map(|m| rotation.matrix() * m.inverse_inertia_body * rotation.matrix().transpose())
+    }
+
     /// World position of the shape-frame origin, exactly as given or as
     /// derived from the last moved COM pose.
     pub fn translation_user(&self) -> &Vector3<f64> {
@@ -396,11 +405,16 @@ fn body_mass(spec: MassSpec, polyhedron: &ConvexPolyhedron) -> Result<Option<Bod
         MassSpec::Density(rho) => return Err(BodyError::InvalidDensity(rho)),
     };
     let inertia_body = polyhedron.mass_properties().inertia_unit_density * density;
+    let inverse_inertia_body = inertia_body
+        .try_inverse()
+        .unwrap_or(Matrix3::from_element(f64::NAN));
+    let all_finite = |m: &Matrix3<f64>| m.iter().all(|c| c.is_finite());
     let usable = mass.is_finite()
         && mass > 0.0
         && density.is_finite()
         && density > 0.0
-        && inertia_body.iter().all(|c| c.is_finite());
+        && all_finite(&inertia_body)
+        && all_finite(&inverse_inertia_body);
     if !usable {
         return Err(BodyError::DegenerateMass {
             given: spec,
@@ -411,5 +425,6 @@ fn body_mass(spec: MassSpec, polyhedron: &ConvexPolyhedron) -> Result<Option<Bod
         mass,
         density,
         inertia_body,
+        inverse_inertia_body,
     }))
 }

@@ -196,6 +196,22 @@ impl Scene {
             .ok_or(SceneError::NoSuchBody { index, len })
     }
 
+    /// Moves body `index` to a new centre-of-mass pose (see
+    /// [`Body::set_com_pose`]); errors name the body.
+    pub fn set_com_pose(
+        &mut self,
+        index: usize,
+        com_pose: nalgebra::Isometry3<f64>,
+    ) -> Result<(), SceneError> {
+        let body = self.body_mut(index)?;
+        body.set_com_pose(com_pose)
+            .map_err(|source| SceneError::Body {
+                index,
+                name: body.name().to_owned(),
+                source,
+            })
+    }
+
     /// Number of bodies.
     pub fn len(&self) -> usize {
         self.bodies.len()

@@ -128,6 +128,8 @@ proptest! {
         let inertia_oracle = r.matrix() * matrix_of(&oracle.reconstruct_inertia_matrix()) * r.matrix().transpose();
         let inertia = body.inertia_world().unwrap();
         prop_assert!((inertia - inertia_oracle).norm() <= 1e-8 * inertia_oracle.norm());
+        let product = body.inverse_inertia_world().unwrap() * inertia;
+        prop_assert!((product - Matrix3::identity()).norm() <= 1e-8);
         // Every body-frame vertex maps to the same world point by both poses.
         let offset = body.polyhedron().shape_origin_offset();
         for v_body in body.polyhedron().vertices() {
@@ -346,4 +348,22 @@ fn scene_error_names_index_and_name() {
         "{message}"
     );
     assert_eq!(scene.len(), 1);
+    let mut nan_pose = *scene.bodies()[0].com_pose();
+    nan_pose.translation.vector.y = f64::NAN;
+    let e = scene.set_com_pose(0, nan_pose).unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            SceneError::Body {
+                index: 0,
+                source: BodyError::NonFiniteTranslation { component: 1, .. },
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert_eq!(
+        scene.set_com_pose(3, nan_pose).unwrap_err(),
+        SceneError::NoSuchBody { index: 3, len: 1 }
+    );
 }

@@ -3,6 +3,7 @@
 //! are present but shallow, and islands that are many and moderate.
 #![cfg(feature = "demo")]
 
+use constraint_stabilization::body::Shape;
 use constraint_stabilization::broad_phase::{BodyPair, candidate_pairs};
 use constraint_stabilization::demo::{
     DEFAULT_BODY_COUNT, MAX_CLUSTER_COLUMNS, MAX_STACK_HEIGHT, OVERLAP_MAX, demo_scene,
@@ -73,6 +74,25 @@ fn body_counts_are_exact_and_body_zero_is_the_fixed_ground() {
         if n > 0 {
             assert!(scene.bodies()[0].is_fixed() && scene.bodies()[0].name() == "ground");
             assert!(scene.bodies()[1..].iter().all(|b| !b.is_fixed()));
+        }
+    }
+}
+
+#[test]
+fn every_generated_hull_builds() {
+    // A hull that failed to build would have been replaced by a cube.
+    for seed in 0..4 {
+        let scene = demo_scene(500, seed);
+        for body in scene
+            .bodies()
+            .iter()
+            .filter(|b| b.name().starts_with("hull"))
+        {
+            assert!(
+                matches!(body.shape(), Shape::ConvexHull { .. }),
+                "{} (seed {seed})",
+                body.name()
+            );
         }
     }
 }

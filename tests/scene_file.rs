@@ -30,6 +30,17 @@ fn design_example_reads_and_round_trips() {
     assert_eq!(rock.mass_spec(), MassSpec::Mass(2.5));
     assert!(matches!(rock.shape(), Shape::ConvexHull { points } if points.len() == 4));
     assert!(scene.bodies()[0].is_fixed());
+    // The hull's points are in its shape frame: the centre of mass of the
+    // unit tetrahedron is (1/4, 1/4, 1/4) there, so (0.45, 0.35, 0.25) in world.
+    let com = rock.com_world();
+    assert!(
+        (com - nalgebra::Point3::new(0.45, 0.35, 0.25)).norm() < 1e-12,
+        "{com}"
+    );
+    assert_eq!(
+        rock.translation_user(),
+        &nalgebra::Vector3::new(0.2, 0.1, 0.0)
+    );
     assert_eq!(scene.settings().tolerance, Some(1e-6));
     let written = scene_to_string(&scene, None);
     let again = scene_to_string(&parse_scene(&written).unwrap(), None);
@@ -287,6 +298,15 @@ fn document_and_settings_errors_name_the_field() {
         top_or_settings("{\"bodies\": [}"),
         SceneFileError::Json { line: 1, .. }
     ));
+    let duplicate = with_second_body(&format!("{SHAPE}, {POSE}, \"mass\": 1, \"mass\": 2"));
+    match top_or_settings(&duplicate) {
+        SceneFileError::Json {
+            line: 3, message, ..
+        } => {
+            assert!(message.contains("duplicate field `mass`"), "{message}")
+        }
+        other => panic!("expected a duplicate-field error, got {other:?}"),
+    }
     assert!(matches!(
         top_or_settings("[]"),
         SceneFileError::TopLevel {

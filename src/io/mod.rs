@@ -6,5 +6,7 @@ pub mod lcp_file;
 pub mod report_json;
 #[cfg(feature = "serde")]
 pub mod scene_file;
+#[cfg(feature = "serde")]
+mod strict_json;
 
 pub use lcp_file::{LcpFileError, parse_lcp, read_lcp_file};

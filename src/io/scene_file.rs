@@ -18,7 +18,7 @@
 //!   `contact_margin`, `target_margin`, `max_passes`, `solver`
 //!   (`auto|clarabel|lemke|pgs`), `cross_check`.
 //! - An unknown or missing field is an error naming the body (index and
-//!   name) and the field; so is a value of the wrong type, and every
+//!   name) and the field; a field given twice is an error with its line; so is a value of the wrong type, and every
 //!   invalid value that [`crate::body::Body::new`] rejects.
 //!
 //! Numbers round-trip exactly: serde_json is built with `float_roundtrip`
@@ -101,7 +101,7 @@ pub enum SceneFileError {
         /// The system's message.
         message: String,
     },
-    /// The text is not JSON.
+    /// The text is not JSON, or an object repeats a key.
     #[error("invalid JSON at line {line}, column {column}: {message}")]
     Json {
         /// 1-based line.
@@ -156,7 +156,7 @@ pub fn read_scene(path: &Path) -> Result<Scene, SceneFileError> {
 /// Parses a scene from JSON text. A top-level `report` (as written by
 /// [`scene_to_string`]) is accepted and ignored.
 pub fn parse_scene(text: &str) -> Result<Scene, SceneFileError> {
-    let document: Value = serde_json::from_str(text).map_err(|e| SceneFileError::Json {
+    let document = super::strict_json::parse(text).map_err(|e| SceneFileError::Json {
         line: e.line(),
         column: e.column(),
         message: e.to_string(),
