@@ -32,11 +32,13 @@ mod query;
 mod settings;
 mod state;
 mod types;
+mod verify;
 mod vertex_states;
 mod witness;
 
-pub use query::{VClip, vclip};
+pub use query::{HISTORY, ROTATION_NORM_TOLERANCE, VClip, vclip};
 pub use settings::{
-    DEFAULT_ITERATIONS_PER_FEATURE, DEFAULT_MIN_ITERATIONS, VClipError, VClipSettings,
+    DEFAULT_ITERATIONS_PER_FEATURE, DEFAULT_MIN_ITERATIONS, DEFAULT_TIE_TOLERANCE, VClipError,
+    VClipSettings,
 };
 pub use types::{BodyRole, DeepestVertex, FallbackReason, FeaturePair, Outcome, VClipResult};

@@ -7,8 +7,20 @@
 //! case the exhaustive [`fallback`](super::fallback) answers and the
 //! result says so. Any start converges (Mirtich 1998, Theorem 2), so a
 //! warm start changes the cost, not the answer.
+//!
+//! Rounding ties. In exact arithmetic no state repeats (each move lowers
+//! the inter-feature distance, or keeps it and lowers the dimension). In
+//! floating point, features at equal distance (parallel faces with aligned
+//! edges, Mirtich's degeneracy test) can make predicates that are exactly
+//! zero come out with either sign in different states, and the walk can
+//! cycle among pairs at the same distance. The driver remembers the last
+//! [`HISTORY`] states; when a state repeats, the remembered pairs are
+//! tried in order of distance and the first that passes Theorem 1 with the
+//! tolerance [`VClipSettings::tie_tolerance`] is the answer
+//! (`resolved_cycle` is set). If none passes, the exhaustive fallback
+//! answers.
 
-use nalgebra::Isometry3;
+use nalgebra::{Isometry3, UnitQuaternion};
 
 use super::deepest::deepest_vertex;
 use super::fallback::exhaustive;
@@ -16,7 +28,15 @@ use super::pair::Pair;
 use super::settings::{VClipError, VClipSettings};
 use super::state::{Step, step};
 use super::types::{BodyRole, FallbackReason, FeaturePair, Outcome, VClipResult};
+use super::verify::is_closest_pair;
 use super::witness::closest_points;
+
+/// Largest accepted `| |q| - 1 |` of a pose's rotation quaternion; within
+/// it the quaternion is renormalized.
+pub const ROTATION_NORM_TOLERANCE: f64 = 1e-6;
+
+/// Number of recent states remembered to detect a cycle.
+pub const HISTORY: usize = 32;
 use crate::geometry::{ConvexPolyhedron, Feature};
 
 /// A V-Clip query engine with its settings.
@@ -55,8 +75,8 @@ impl VClip {
         pose_b: &Isometry3<f64>,
         warm_start: Option<FeaturePair>,
     ) -> Result<VClipResult, VClipError> {
-        check_pose(pose_a, BodyRole::A)?;
-        check_pose(pose_b, BodyRole::B)?;
+        let pose_a = &normalized_pose(pose_a, BodyRole::A)?;
+        let pose_b = &normalized_pose(pose_b, BodyRole::B)?;
         let start = warm_start.unwrap_or_else(FeaturePair::cold);
         check_feature(poly_a, start.a, BodyRole::A)?;
         check_feature(poly_b, start.b, BodyRole::B)?;
@@ -66,11 +86,18 @@ impl VClip {
             .settings
             .iteration_cap(poly_a.feature_count(), poly_b.feature_count());
         let mut features = start.to_array();
+        let mut history = [features; HISTORY];
         for iterations in 0..cap {
             match step(&pair, features) {
                 Step::Move { body, to } => {
                     log::trace!("v-clip: {features:?}: body {body} -> {to:?}");
                     features[body] = to;
+                    let seen = iterations.min(HISTORY);
+                    if history[..seen].contains(&features) {
+                        log::debug!("v-clip: state {features:?} repeats; resolving the tie");
+                        return Ok(self.resolve_cycle(&pair, poses, &history[..seen], iterations));
+                    }
+                    history[iterations % HISTORY] = features;
                 }
                 Step::Done => {
                     return Ok(separated(&pair, poses, features, iterations));
@@ -82,6 +109,7 @@ impl VClip {
                         final_pair: FeaturePair::from_array(features),
                         iterations,
                         fallback: None,
+                        resolved_cycle: false,
                     });
                 }
             }
@@ -89,6 +117,53 @@ impl VClip {
         log::debug!("v-clip: iteration cap {cap} reached at {features:?}; exhaustive fallback");
         Ok(fall_back(&pair, poses, cap, FallbackReason::IterationCap))
     }
+}
+
+impl VClip {
+    /// The answer after a repeated state: the remembered pair of smallest
+    /// distance that passes Theorem 1 up to the tie tolerance, else the
+    /// exhaustive fallback.
+    fn resolve_cycle(
+        &self,
+        pair: &Pair,
+        poses: [&Isometry3<f64>; 2],
+        states: &[[Feature; 2]],
+        iterations: usize,
+    ) -> VClipResult {
+        let tol = self.settings.tie_tolerance * pair_scale(pair);
+        let mut candidates: Vec<([Feature; 2], [nalgebra::Point3<f64>; 2], f64)> = states
+            .iter()
+            .filter_map(|&f| closest_points(pair, f).map(|p| (f, p, (p[0] - p[1]).norm())))
+            .collect();
+        candidates.sort_by(|x, y| x.2.total_cmp(&y.2));
+        match candidates
+            .into_iter()
+            .find(|(f, p, _)| is_closest_pair(pair, *f, p, tol))
+        {
+            Some((features, [p_a, p_b], distance)) => VClipResult {
+                outcome: Outcome::Separated {
+                    distance,
+                    witness_a_world: poses[0] * p_a,
+                    witness_b_world: poses[0] * p_b,
+                },
+                final_pair: FeaturePair::from_array(features),
+                iterations,
+                fallback: None,
+                resolved_cycle: true,
+            },
+            None => fall_back(pair, poses, iterations, FallbackReason::Cycle),
+        }
+    }
+}
+
+/// The length scale of rounding in a query: both bodies' scales plus the
+/// distance between their centres (the size of transformed coordinates).
+fn pair_scale(pair: &Pair) -> f64 {
+    let offset = pair.to_other[1]
+        .point(&nalgebra::Point3::origin())
+        .coords
+        .norm();
+    pair.polys[0].scale() + pair.polys[1].scale() + offset
 }
 
 /// The separated outcome of a done state.
@@ -108,6 +183,7 @@ fn separated(
             final_pair: FeaturePair::from_array(features),
             iterations,
             fallback: None,
+            resolved_cycle: false,
         },
         // Never reached: no handler returns done on an edge–face or
         // face–face pair. Answer correctly all the same.
@@ -127,17 +203,27 @@ fn fall_back(
         final_pair,
         iterations,
         fallback: Some(reason),
+        resolved_cycle: false,
     }
 }
 
-fn check_pose(pose: &Isometry3<f64>, body: BodyRole) -> Result<(), VClipError> {
+/// The pose with its quaternion renormalized, or an error if it is not
+/// finite or not unit within [`ROTATION_NORM_TOLERANCE`]. A quaternion off
+/// unit by `δ` scales every transformed length by `1 + O(δ)`, which would
+/// show directly in the distances; interpolated rotations (slerp) drift by
+/// about 1e-9.
+fn normalized_pose(pose: &Isometry3<f64>, body: BodyRole) -> Result<Isometry3<f64>, VClipError> {
     let finite = pose.translation.vector.iter().all(|c| c.is_finite())
         && pose.rotation.coords.iter().all(|c| c.is_finite());
-    if finite {
-        Ok(())
-    } else {
-        Err(VClipError::NonFinitePose { body })
+    if !finite {
+        return Err(VClipError::NonFinitePose { body });
     }
+    let norm = pose.rotation.coords.norm();
+    if (norm - 1.0).abs() > ROTATION_NORM_TOLERANCE {
+        return Err(VClipError::NonUnitRotation { body, norm });
+    }
+    let rotation = UnitQuaternion::new_unchecked(pose.rotation.into_inner() / norm);
+    Ok(Isometry3::from_parts(pose.translation, rotation))
 }
 
 fn check_feature(

@@ -22,6 +22,14 @@ pub const DEFAULT_ITERATIONS_PER_FEATURE: usize = 4;
 /// whatever the feature counts (a tetrahedron pair has only 28 features).
 pub const DEFAULT_MIN_ITERATIONS: usize = 64;
 
+/// Default of [`VClipSettings::tie_tolerance`]: a pair is accepted after a
+/// cycle if its closest points are inside each other's Voronoi regions up
+/// to this fraction of the pair's length scale (the bodies' scales plus the
+/// distance between their centres). Rounding in the plane tests is about
+/// 1e-16 of that scale; 1e-10 leaves a wide margin and still pins the
+/// distance far below the 1e-9 relative accuracy the tests demand.
+pub const DEFAULT_TIE_TOLERANCE: f64 = 1e-10;
+
 /// Settings of a query.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VClipSettings {
@@ -32,6 +40,8 @@ pub struct VClipSettings {
     pub min_iterations: usize,
     /// Overrides the cap when `Some` (tests force the fallback with it).
     pub max_iterations: Option<usize>,
+    /// Relative tolerance of the closest-pair test after a cycle.
+    pub tie_tolerance: f64,
 }
 
 impl Default for VClipSettings {
@@ -40,6 +50,7 @@ impl Default for VClipSettings {
             iterations_per_feature: DEFAULT_ITERATIONS_PER_FEATURE,
             min_iterations: DEFAULT_MIN_ITERATIONS,
             max_iterations: None,
+            tie_tolerance: DEFAULT_TIE_TOLERANCE,
         }
     }
 }
@@ -64,6 +75,15 @@ pub enum VClipError {
     NonFinitePose {
         /// The body whose pose is bad.
         body: super::BodyRole,
+    },
+    /// A pose's rotation quaternion is not of unit norm (within
+    /// [`ROTATION_NORM_TOLERANCE`](super::ROTATION_NORM_TOLERANCE)).
+    #[error("the rotation of body {body:?} has quaternion norm {norm}, not 1")]
+    NonUnitRotation {
+        /// The body whose pose is bad.
+        body: super::BodyRole,
+        /// The norm found.
+        norm: f64,
     },
     /// A warm-start feature index is out of range for its body (a stale
     /// cache from another shape).
