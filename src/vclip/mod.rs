@@ -31,6 +31,7 @@ mod pair;
 mod query;
 mod settings;
 mod state;
+mod touching;
 mod types;
 mod verify;
 mod vertex_states;
@@ -38,7 +39,7 @@ mod witness;
 
 pub use query::{HISTORY, ROTATION_NORM_TOLERANCE, VClip, vclip};
 pub use settings::{
-    DEFAULT_ITERATIONS_PER_FEATURE, DEFAULT_MIN_ITERATIONS, DEFAULT_TIE_TOLERANCE, VClipError,
-    VClipSettings,
+    DEFAULT_ITERATIONS_PER_FEATURE, DEFAULT_MIN_ITERATIONS, DEFAULT_TIE_TOLERANCE,
+    DEFAULT_TOUCH_TOLERANCE, VClipError, VClipSettings,
 };
 pub use types::{BodyRole, DeepestVertex, FallbackReason, FeaturePair, Outcome, VClipResult};

@@ -20,13 +20,14 @@
 //! (`resolved_cycle` is set). If none passes, the exhaustive fallback
 //! answers.
 
-use nalgebra::{Isometry3, UnitQuaternion};
+use nalgebra::{Isometry3, Point3, UnitQuaternion};
 
 use super::deepest::deepest_vertex;
 use super::fallback::exhaustive;
 use super::pair::Pair;
 use super::settings::{VClipError, VClipSettings};
 use super::state::{Step, step};
+use super::touching::classify_contact;
 use super::types::{BodyRole, FallbackReason, FeaturePair, Outcome, VClipResult};
 use super::verify::is_closest_pair;
 use super::witness::closest_points;
@@ -100,7 +101,7 @@ impl VClip {
                     history[iterations % HISTORY] = features;
                 }
                 Step::Done => {
-                    return Ok(separated(&pair, poses, features, iterations));
+                    return Ok(self.done(&pair, poses, features, iterations));
                 }
                 Step::Penetration(witness) => {
                     log::trace!("v-clip: penetration {witness:?}");
@@ -131,7 +132,7 @@ impl VClip {
         iterations: usize,
     ) -> VClipResult {
         let tol = self.settings.tie_tolerance * pair_scale(pair);
-        let mut candidates: Vec<([Feature; 2], [nalgebra::Point3<f64>; 2], f64)> = states
+        let mut candidates: Vec<([Feature; 2], [Point3<f64>; 2], f64)> = states
             .iter()
             .filter_map(|&f| closest_points(pair, f).map(|p| (f, p, (p[0] - p[1]).norm())))
             .collect();
@@ -140,16 +141,9 @@ impl VClip {
             .into_iter()
             .find(|(f, p, _)| is_closest_pair(pair, *f, p, tol))
         {
-            Some((features, [p_a, p_b], distance)) => VClipResult {
-                outcome: Outcome::Separated {
-                    distance,
-                    witness_a_world: poses[0] * p_a,
-                    witness_b_world: poses[0] * p_b,
-                },
-                final_pair: FeaturePair::from_array(features),
-                iterations,
-                fallback: None,
+            Some((features, points, _)) => VClipResult {
                 resolved_cycle: true,
+                ..self.finish(pair, poses, features, points, iterations)
             },
             None => fall_back(pair, poses, iterations, FallbackReason::Cycle),
         }
@@ -166,28 +160,55 @@ fn pair_scale(pair: &Pair) -> f64 {
     pair.polys[0].scale() + pair.polys[1].scale() + offset
 }
 
-/// The separated outcome of a done state.
-fn separated(
-    pair: &Pair,
-    poses: [&Isometry3<f64>; 2],
-    features: [Feature; 2],
-    iterations: usize,
-) -> VClipResult {
-    match closest_points(pair, features) {
-        Some([p_a, p_b]) => VClipResult {
-            outcome: Outcome::Separated {
-                distance: (p_a - p_b).norm(),
+impl VClip {
+    /// The result of a done state.
+    fn done(
+        &self,
+        pair: &Pair,
+        poses: [&Isometry3<f64>; 2],
+        features: [Feature; 2],
+        iterations: usize,
+    ) -> VClipResult {
+        match closest_points(pair, features) {
+            Some(points) => self.finish(pair, poses, features, points, iterations),
+            // Never reached: no handler returns done on an edge–face or
+            // face–face pair. Answer correctly all the same.
+            None => fall_back(pair, poses, iterations, FallbackReason::IterationCap),
+        }
+    }
+
+    /// Separated with these closest points (`[on A, on B]`, A's frame),
+    /// unless they coincide within the touch tolerance and the bodies
+    /// overlap (see [`classify_contact`]).
+    fn finish(
+        &self,
+        pair: &Pair,
+        poses: [&Isometry3<f64>; 2],
+        features: [Feature; 2],
+        points: [Point3<f64>; 2],
+        iterations: usize,
+    ) -> VClipResult {
+        let [p_a, p_b] = points;
+        let distance = (p_a - p_b).norm();
+        let tol = self.settings.touch_tolerance * pair_scale(pair);
+        let outcome = match (distance <= tol)
+            .then(|| classify_contact(pair, poses, features, &points, tol))
+            .flatten()
+        {
+            Some(deepest) => Outcome::Penetrating(deepest),
+            None => Outcome::Separated {
+                distance,
                 witness_a_world: poses[0] * p_a,
                 witness_b_world: poses[0] * p_b,
             },
+        };
+        VClipResult {
+            outcome,
             final_pair: FeaturePair::from_array(features),
             iterations,
             fallback: None,
             resolved_cycle: false,
-        },
-        // Never reached: no handler returns done on an edge–face or
-        // face–face pair. Answer correctly all the same.
-        None => fall_back(pair, poses, iterations, FallbackReason::IterationCap),
+        }
     }
 }
 

@@ -30,6 +30,12 @@ pub const DEFAULT_MIN_ITERATIONS: usize = 64;
 /// distance far below the 1e-9 relative accuracy the tests demand.
 pub const DEFAULT_TIE_TOLERANCE: f64 = 1e-10;
 
+/// Default of [`VClipSettings::touch_tolerance`]: a done state whose
+/// closest points are closer than this fraction of the pair's length scale
+/// is checked for overlap (touching or penetrating, see the `touching`
+/// module); rounding of the distance itself is about 1e-16 of that scale.
+pub const DEFAULT_TOUCH_TOLERANCE: f64 = 1e-10;
+
 /// Settings of a query.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VClipSettings {
@@ -42,6 +48,9 @@ pub struct VClipSettings {
     pub max_iterations: Option<usize>,
     /// Relative tolerance of the closest-pair test after a cycle.
     pub tie_tolerance: f64,
+    /// Relative distance below which a separated answer is checked for
+    /// overlap, and within which a separating plane counts as touching.
+    pub touch_tolerance: f64,
 }
 
 impl Default for VClipSettings {
@@ -51,6 +60,7 @@ impl Default for VClipSettings {
             min_iterations: DEFAULT_MIN_ITERATIONS,
             max_iterations: None,
             tie_tolerance: DEFAULT_TIE_TOLERANCE,
+            touch_tolerance: DEFAULT_TOUCH_TOLERANCE,
         }
     }
 }
