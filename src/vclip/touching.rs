@@ -46,9 +46,9 @@ pub(crate) fn classify_contact(
         some_vertex(pair.polys[1], minimal[1]),
     ];
     let mut least_deep: Option<(f64, usize, usize, usize)> = None;
-    for face_body in 0..2 {
+    for (face_body, &feature) in minimal.iter().enumerate() {
         let vertex_body = 1 - face_body;
-        for f in faces_around(pair.polys[face_body], minimal[face_body]) {
+        for f in faces_around(pair.polys[face_body], feature) {
             let plane = pair.face_plane_in_other(face_body, f);
             let (v, height) = descend(pair.polys[vertex_body], &plane, starts[vertex_body]);
             if height >= -tol {
