@@ -37,7 +37,8 @@ pub(crate) enum Reference {
     Heights(f64, f64),
 }
 
-/// `D'(l)` up to a positive factor (only its sign is meaningful).
+/// `D'(l)` in length units up to a positive factor: the point form is
+/// divided by `|u|` so that it compares with a length slack.
 pub(crate) fn derivative(
     tail: &Point3<f64>,
     head: &Point3<f64>,
@@ -45,7 +46,10 @@ pub(crate) fn derivative(
     reference: &Reference,
 ) -> f64 {
     match reference {
-        Reference::Point(v) => (head - tail).dot(&(lerp(tail, head, l) - v)),
+        Reference::Point(v) => {
+            let u = head - tail;
+            u.dot(&(lerp(tail, head, l) - v)) / u.norm()
+        }
         Reference::Heights(d_tail, d_head) => face_slope(*d_tail, *d_head, l),
     }
 }
@@ -73,12 +77,12 @@ pub(crate) fn check(
     reference: impl Fn(Feature) -> Reference,
 ) -> Option<Feature> {
     if let Some(n) = clip.n_lo
-        && derivative(tail, head, clip.l_lo, &reference(n)) > 0.0
+        && derivative(tail, head, clip.l_lo, &reference(n)) > clip.slack
     {
         return Some(n);
     }
     if let Some(n) = clip.n_hi
-        && derivative(tail, head, clip.l_hi, &reference(n)) < 0.0
+        && derivative(tail, head, clip.l_hi, &reference(n)) < -clip.slack
     {
         return Some(n);
     }

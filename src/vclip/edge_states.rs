@@ -59,7 +59,7 @@ fn clip_against_edge_region(pair: &Pair, body: usize, x: usize, y: usize) -> Opt
     };
     let vertex_walls = [edge.tail, edge.head]
         .map(|w| (poly.vertex_edge_plane(x, w).flipped(), Feature::Vertex(w)));
-    let mut clip = Clip::new();
+    let mut clip = Clip::new(pair.slack);
     match clip.against_all(vertex_walls, &tail, &head) {
         Some(Exclusion::Simple(n)) => return Some(n),
         Some(Exclusion::Compound) => {
@@ -89,7 +89,7 @@ pub(crate) fn edge_face(pair: &Pair, edge_body: usize, e: usize, f: usize) -> St
         .edges
         .iter()
         .map(|&e_f| (poly_f.face_edge_plane(e_f, f), Feature::Edge(e_f)));
-    let mut clip = Clip::new();
+    let mut clip = Clip::new(pair.slack);
     if clip.against_all(planes, &tail_f, &head_f).is_some() {
         return Step::Move {
             body: face_body,

@@ -28,6 +28,7 @@ mod edge_states;
 mod fallback;
 mod local_min;
 mod pair;
+mod polish;
 mod query;
 mod settings;
 mod state;

@@ -25,8 +25,9 @@ use nalgebra::{Isometry3, Point3, UnitQuaternion};
 use super::deepest::deepest_vertex;
 use super::fallback::exhaustive;
 use super::pair::Pair;
+use super::polish::polish;
 use super::settings::{VClipError, VClipSettings};
-use super::state::{Step, step};
+use super::state::{Step, Witness, step};
 use super::touching::classify_contact;
 use super::types::{BodyRole, FallbackReason, FeaturePair, Outcome, VClipResult};
 use super::verify::is_closest_pair;
@@ -86,37 +87,71 @@ impl VClip {
         let cap = self
             .settings
             .iteration_cap(poly_a.feature_count(), poly_b.feature_count());
-        let mut features = start.to_array();
+        Ok(match self.walk(&pair, start.to_array(), 0, cap) {
+            WalkEnd::Done(features, iterations) => self.done(&pair, poses, features, iterations),
+            WalkEnd::Penetration(witness, features, iterations) => {
+                penetrating(&pair, poses, witness, features, iterations)
+            }
+            WalkEnd::Cycle(states, iterations) => {
+                self.resolve_cycle(&pair, poses, &states, iterations, cap)
+            }
+            WalkEnd::Cap => {
+                log::debug!("v-clip: iteration cap {cap} reached; exhaustive fallback");
+                fall_back(&pair, poses, cap, FallbackReason::IterationCap)
+            }
+        })
+    }
+
+    /// Runs the state machine from `features` until done, penetration, a
+    /// repeated state or `cap` transitions in all.
+    fn walk(&self, pair: &Pair, mut features: [Feature; 2], first: usize, cap: usize) -> WalkEnd {
         let mut history = [features; HISTORY];
-        for iterations in 0..cap {
-            match step(&pair, features) {
+        for iterations in first..cap {
+            match step(pair, features) {
                 Step::Move { body, to } => {
                     log::trace!("v-clip: {features:?}: body {body} -> {to:?}");
                     features[body] = to;
-                    let seen = iterations.min(HISTORY);
+                    let seen = (iterations - first).min(HISTORY);
                     if history[..seen].contains(&features) {
-                        log::debug!("v-clip: state {features:?} repeats; resolving the tie");
-                        return Ok(self.resolve_cycle(&pair, poses, &history[..seen], iterations));
+                        log::debug!("v-clip: state {features:?} repeats");
+                        return WalkEnd::Cycle(history[..seen].to_vec(), iterations);
                     }
-                    history[iterations % HISTORY] = features;
+                    history[(iterations - first) % HISTORY] = features;
                 }
-                Step::Done => {
-                    return Ok(self.done(&pair, poses, features, iterations));
-                }
+                Step::Done => return WalkEnd::Done(features, iterations),
                 Step::Penetration(witness) => {
                     log::trace!("v-clip: penetration {witness:?}");
-                    return Ok(VClipResult {
-                        outcome: Outcome::Penetrating(deepest_vertex(&pair, poses, witness)),
-                        final_pair: FeaturePair::from_array(features),
-                        iterations,
-                        fallback: None,
-                        resolved_cycle: false,
-                    });
+                    return WalkEnd::Penetration(witness, features, iterations);
                 }
             }
         }
-        log::debug!("v-clip: iteration cap {cap} reached at {features:?}; exhaustive fallback");
-        Ok(fall_back(&pair, poses, cap, FallbackReason::IterationCap))
+        WalkEnd::Cap
+    }
+}
+
+/// How a walk ended.
+enum WalkEnd {
+    Done([Feature; 2], usize),
+    Penetration(Witness, [Feature; 2], usize),
+    /// A state repeated; the remembered states (most recent last is not
+    /// guaranteed: a ring) and the iteration count.
+    Cycle(Vec<[Feature; 2]>, usize),
+    Cap,
+}
+
+fn penetrating(
+    pair: &Pair,
+    poses: [&Isometry3<f64>; 2],
+    witness: Witness,
+    features: [Feature; 2],
+    iterations: usize,
+) -> VClipResult {
+    VClipResult {
+        outcome: Outcome::Penetrating(deepest_vertex(pair, poses, witness)),
+        final_pair: FeaturePair::from_array(features),
+        iterations,
+        fallback: None,
+        resolved_cycle: false,
     }
 }
 
@@ -130,6 +165,7 @@ impl VClip {
         poses: [&Isometry3<f64>; 2],
         states: &[[Feature; 2]],
         iterations: usize,
+        cap: usize,
     ) -> VClipResult {
         let tol = self.settings.tie_tolerance * pair_scale(pair);
         let mut candidates: Vec<([Feature; 2], [Point3<f64>; 2], f64)> = states
@@ -137,6 +173,12 @@ impl VClip {
             .filter_map(|&f| closest_points(pair, f).map(|p| (f, p, (p[0] - p[1]).norm())))
             .collect();
         candidates.sort_by(|x, y| x.2.total_cmp(&y.2));
+        for (f, p, d) in &candidates {
+            log::debug!(
+                "v-clip: tie candidate {f:?} at {d:e}: closest pair {}",
+                is_closest_pair(pair, *f, p, tol)
+            );
+        }
         match candidates
             .into_iter()
             .find(|(f, p, _)| is_closest_pair(pair, *f, p, tol))
@@ -145,7 +187,40 @@ impl VClip {
                 resolved_cycle: true,
                 ..self.finish(pair, poses, features, points, iterations)
             },
-            None => fall_back(pair, poses, iterations, FallbackReason::Cycle),
+            None => self.tolerant_walk(pair, poses, states, iterations, cap),
+        }
+    }
+
+    /// The walk again from the nearest remembered state, with every sign
+    /// test given a slack of the tie tolerance, so that rounding noise no
+    /// longer moves it; a second cycle or the cap ends in the fallback.
+    fn tolerant_walk(
+        &self,
+        pair: &Pair,
+        poses: [&Isometry3<f64>; 2],
+        states: &[[Feature; 2]],
+        iterations: usize,
+        cap: usize,
+    ) -> VClipResult {
+        let tolerant = Pair {
+            polys: pair.polys,
+            to_other: pair.to_other,
+            slack: self.settings.tie_tolerance * pair_scale(pair),
+        };
+        let start = states.last().copied().unwrap_or([Feature::Vertex(0); 2]);
+        let result = match self.walk(&tolerant, start, iterations, cap) {
+            WalkEnd::Done(features, iterations) => self.done(pair, poses, features, iterations),
+            WalkEnd::Penetration(witness, features, iterations) => {
+                penetrating(pair, poses, witness, features, iterations)
+            }
+            WalkEnd::Cycle(..) | WalkEnd::Cap => {
+                log::debug!("v-clip: the tolerant walk did not end; exhaustive fallback");
+                return fall_back(pair, poses, iterations, FallbackReason::Cycle);
+            }
+        };
+        VClipResult {
+            resolved_cycle: true,
+            ..result
         }
     }
 }
@@ -170,7 +245,10 @@ impl VClip {
         iterations: usize,
     ) -> VClipResult {
         match closest_points(pair, features) {
-            Some(points) => self.finish(pair, poses, features, points, iterations),
+            Some(points) => {
+                let (features, points) = polish(pair, features, points);
+                self.finish(pair, poses, features, points, iterations)
+            }
             // Never reached: no handler returns done on an edge–face or
             // face–face pair. Answer correctly all the same.
             None => fall_back(pair, poses, iterations, FallbackReason::IterationCap),

@@ -56,6 +56,11 @@ pub(crate) fn is_closest_pair(
     tol: f64,
 ) -> bool {
     let x_in_b = pair.to_other[0].point(&points[0]);
+    log::debug!(
+        "v-clip: verify {features:?}: y in VR(X) {}, x in VR(Y) {}",
+        in_region(pair.polys[0], features[0], &points[1], tol),
+        in_region(pair.polys[1], features[1], &x_in_b, tol)
+    );
     in_region(pair.polys[0], features[0], &points[1], tol)
         && in_region(pair.polys[1], features[1], &x_in_b, tol)
 }

@@ -85,9 +85,11 @@ pub struct DegeneracyCounts {
     /// distance by more than `agreement * scale` (oracle noise, for the
     /// record; not counted as wrong).
     pub parry_off: usize,
-    /// Queries whose distance differs from the brute-force distance by more
-    /// than `agreement * scale`, or whose status differs from parry's
-    /// intersection test outside its fuzz band.
+    /// Wrong answers: separated while parry's intersection test says
+    /// intersecting, beyond its fuzz band; separated at a distance that
+    /// differs from the brute-force distance by more than
+    /// `agreement * scale` (bodies disjoint for parry); penetrating while
+    /// parry says disjoint beyond the fuzz band.
     pub wrong: usize,
     /// Trials whose end poses had different closest features (the binary
     /// search ran).
@@ -156,11 +158,11 @@ pub fn degeneracy_experiment(
         let parry_d = parry_distance(&parry_cube, &origin, &parry_cube, pose);
         let intersects = parry_intersects(&parry_cube, &origin, &parry_cube, pose);
         let wrong = match result.outcome {
+            Outcome::Separated { distance, .. } if intersects => distance > parry_fuzz * scale,
             Outcome::Separated { distance, .. } => {
                 let exact = brute_force_distance(&cube, &origin, &cube, pose);
                 counts.parry_off += ((parry_d - exact).abs() > agreement * scale) as usize;
                 (distance - exact).abs() > agreement * scale
-                    || (distance > parry_fuzz * scale && intersects)
             }
             Outcome::Penetrating(_) => !intersects && parry_d > parry_fuzz * scale,
         };
