@@ -52,16 +52,85 @@ const METHODS: [&str; 4] = [
     "parry_contact",
 ];
 
+/// Rounds of the interleaved measurement.
+const ROUNDS: usize = 31;
+
 fn main() {
     degeneracy();
-    let mut criterion = Criterion::default()
-        .sample_size(20)
-        .warm_up_time(Duration::from_millis(500))
-        .measurement_time(Duration::from_secs(2))
-        .configure_from_args();
-    coherence(&mut criterion);
-    criterion.final_summary();
-    print_table();
+    if std::env::var("VCLIP_SKIP_CRITERION").is_err() {
+        let mut criterion = Criterion::default()
+            .sample_size(20)
+            .warm_up_time(Duration::from_millis(500))
+            .measurement_time(Duration::from_secs(2))
+            .configure_from_args();
+        coherence(&mut criterion);
+        criterion.final_summary();
+        print_table();
+    }
+    interleaved_table();
+}
+
+/// The four methods timed in alternation, one whole path each per round,
+/// `ROUNDS` rounds; the median per method. On a shared, loaded machine the
+/// load then weighs on all four alike, which keeps the ratios meaningful
+/// where criterion's separate runs (minutes apart) do not.
+fn interleaved_table() {
+    let fixed = Isometry3::identity();
+    let fixed_parry = parry_pose(&fixed);
+    let mut table = String::from(
+        "| shape | deg/query | V-Clip warm | V-Clip cold | parry distance | parry contact | distance / warm | contact / warm |\n\
+         |---|---|---|---|---|---|---|---|\n",
+    );
+    for (name, shape) in mirtich_shapes() {
+        let parry = parry_shape(&shape);
+        for omega in OMEGAS {
+            let poses = path(&shape, omega, 11);
+            let parry_poses: Vec<_> = poses.iter().map(parry_pose).collect();
+            let mut times = [(); 4].map(|_| Vec::with_capacity(ROUNDS));
+            for _ in 0..ROUNDS {
+                let clock = std::time::Instant::now();
+                let mut warm: Option<FeaturePair> = None;
+                for pose in &poses {
+                    warm = Some(
+                        black_box(vclip(&shape, &fixed, &shape, pose, warm).unwrap()).final_pair,
+                    );
+                }
+                times[0].push(clock.elapsed().as_secs_f64());
+                let clock = std::time::Instant::now();
+                for pose in &poses {
+                    black_box(vclip(&shape, &fixed, &shape, pose, None).unwrap());
+                }
+                times[1].push(clock.elapsed().as_secs_f64());
+                let clock = std::time::Instant::now();
+                for pose in &parry_poses {
+                    black_box(query::distance(&fixed_parry, &parry, pose, &parry).unwrap());
+                }
+                times[2].push(clock.elapsed().as_secs_f64());
+                let clock = std::time::Instant::now();
+                for pose in &parry_poses {
+                    black_box(query::contact(&fixed_parry, &parry, pose, &parry, 0.0).unwrap());
+                }
+                times[3].push(clock.elapsed().as_secs_f64());
+            }
+            let median = |v: &mut Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2] * 1e9 / PATH_LENGTH as f64
+            };
+            let m: Vec<f64> = times.iter_mut().map(median).collect();
+            table += &format!(
+                "| {name} | {omega} | {} | {} | {} | {} | {:.1}x | {:.1}x |\n",
+                format_ns(m[0]),
+                format_ns(m[1]),
+                format_ns(m[2]),
+                format_ns(m[3]),
+                m[2] / m[0],
+                m[3] / m[0],
+            );
+        }
+    }
+    println!("\nInterleaved, median time per query ({ROUNDS} rounds):\n\n{table}");
+    let _ = std::fs::create_dir_all("target/criterion");
+    let _ = std::fs::write("target/criterion/vclip_table_interleaved.md", &table);
 }
 
 fn degeneracy() {

@@ -39,6 +39,13 @@ pub const ROTATION_NORM_TOLERANCE: f64 = 1e-6;
 
 /// Number of recent states remembered to detect a cycle.
 pub const HISTORY: usize = 32;
+
+/// Transitions of a walk before states are remembered: cycle detection
+/// costs nothing in the common short walk (a warm query takes a few
+/// transitions, a cold one on a 642-vertex sphere about a hundred; a
+/// cycle found later is found all the same, and the iteration cap bounds
+/// the delay).
+pub const CYCLE_CHECK_AFTER: usize = 64;
 use crate::geometry::{ConvexPolyhedron, Feature};
 
 /// A V-Clip query engine with its settings.
@@ -105,18 +112,24 @@ impl VClip {
     /// Runs the state machine from `features` until done, penetration, a
     /// repeated state or `cap` transitions in all.
     fn walk(&self, pair: &Pair, mut features: [Feature; 2], first: usize, cap: usize) -> WalkEnd {
-        let mut history = [features; HISTORY];
+        // Filled only after `CYCLE_CHECK_AFTER` transitions: a normal walk
+        // ends long before, and a cycle, once entered, repeats forever.
+        let mut history: Vec<[Feature; 2]> = Vec::new();
         for iterations in first..cap {
             match step(pair, features) {
                 Step::Move { body, to } => {
                     log::trace!("v-clip: {features:?}: body {body} -> {to:?}");
                     features[body] = to;
-                    let seen = (iterations - first).min(HISTORY);
-                    if history[..seen].contains(&features) {
-                        log::debug!("v-clip: state {features:?} repeats");
-                        return WalkEnd::Cycle(history[..seen].to_vec(), iterations);
+                    if iterations - first >= CYCLE_CHECK_AFTER {
+                        if history.contains(&features) {
+                            log::debug!("v-clip: state {features:?} repeats");
+                            return WalkEnd::Cycle(history, iterations);
+                        }
+                        if history.len() == HISTORY {
+                            history.remove(0);
+                        }
+                        history.push(features);
                     }
-                    history[(iterations - first) % HISTORY] = features;
                 }
                 Step::Done => return WalkEnd::Done(features, iterations),
                 Step::Penetration(witness) => {
@@ -133,8 +146,8 @@ impl VClip {
 enum WalkEnd {
     Done([Feature; 2], usize),
     Penetration(Witness, [Feature; 2], usize),
-    /// A state repeated; the remembered states (most recent last is not
-    /// guaranteed: a ring) and the iteration count.
+    /// A state repeated; the remembered states (oldest first) and the
+    /// iteration count.
     Cycle(Vec<[Feature; 2]>, usize),
     Cap,
 }
