@@ -97,7 +97,7 @@ impl VClip {
         Ok(match self.walk(&pair, start.to_array(), 0, cap) {
             WalkEnd::Done(features, iterations) => self.done(&pair, poses, features, iterations),
             WalkEnd::Penetration(witness, features, iterations) => {
-                penetrating(&pair, poses, witness, features, iterations)
+                self.penetrating(&pair, poses, witness, features, iterations)
             }
             WalkEnd::Cycle(states, iterations) => {
                 self.resolve_cycle(&pair, poses, &states, iterations, cap)
@@ -152,19 +152,23 @@ enum WalkEnd {
     Cap,
 }
 
-fn penetrating(
-    pair: &Pair,
-    poses: [&Isometry3<f64>; 2],
-    witness: Witness,
-    features: [Feature; 2],
-    iterations: usize,
-) -> VClipResult {
-    VClipResult {
-        outcome: Outcome::Penetrating(deepest_vertex(pair, poses, witness)),
-        final_pair: FeaturePair::from_array(features),
-        iterations,
-        fallback: None,
-        resolved_cycle: false,
+impl VClip {
+    fn penetrating(
+        &self,
+        pair: &Pair,
+        poses: [&Isometry3<f64>; 2],
+        witness: Witness,
+        features: [Feature; 2],
+        iterations: usize,
+    ) -> VClipResult {
+        let deepest = deepest_vertex(pair, poses, witness, self.settings.refine_face);
+        VClipResult {
+            outcome: Outcome::Penetrating(deepest),
+            final_pair: FeaturePair::from_array(features),
+            iterations,
+            fallback: None,
+            resolved_cycle: false,
+        }
     }
 }
 
@@ -224,7 +228,7 @@ impl VClip {
         let result = match self.walk(&tolerant, start, iterations, cap) {
             WalkEnd::Done(features, iterations) => self.done(pair, poses, features, iterations),
             WalkEnd::Penetration(witness, features, iterations) => {
-                penetrating(pair, poses, witness, features, iterations)
+                self.penetrating(pair, poses, witness, features, iterations)
             }
             WalkEnd::Cycle(..) | WalkEnd::Cap => {
                 log::debug!("v-clip: the tolerant walk did not end; exhaustive fallback");

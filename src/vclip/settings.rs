@@ -51,6 +51,10 @@ pub struct VClipSettings {
     /// Relative distance below which a separated answer is checked for
     /// overlap, and within which a separating plane counts as touching.
     pub touch_tolerance: f64,
+    /// After the deepest-vertex walk, search the neighbouring faces for a
+    /// less deep vertex–face pair (see the `deepest` module). `false` gives
+    /// exactly the witness face of DESIGN.md section 4.
+    pub refine_face: bool,
 }
 
 impl Default for VClipSettings {
@@ -61,6 +65,7 @@ impl Default for VClipSettings {
             max_iterations: None,
             tie_tolerance: DEFAULT_TIE_TOLERANCE,
             touch_tolerance: DEFAULT_TOUCH_TOLERANCE,
+            refine_face: true,
         }
     }
 }
