@@ -8,7 +8,7 @@ use constraint_stabilization::geometry::{
 };
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::query;
-use parry3d_f64::shape::Shape;
+use parry3d_f64::shape::{Shape, SupportMap};
 use proptest::prelude::*;
 
 /// Distance between two axis-aligned boxes `[c - h, c + h]`: per axis gap
@@ -98,7 +98,7 @@ fn converted_shape_keeps_body_frame_vertices_and_mass() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
     fn pose_round_trip_maps_points_the_same_way(
@@ -139,5 +139,67 @@ proptest! {
         .unwrap()
         .distance;
         prop_assert!((d - expected).abs() <= 1e-9 * (1.0 + expected), "{d} vs {expected}");
+    }
+}
+
+/// parry's own mass properties (`Shape::mass_properties`) of the converted
+/// Mirtich shapes agree with ours: these shapes have no nearly coplanar
+/// faces, which parry would merge.
+#[test]
+fn mirtich_shapes_keep_their_mass_in_parry() {
+    let shapes = [
+        ConvexPolyhedron::icosahedron(1.5).unwrap(),
+        ConvexPolyhedron::disk(1.0, 0.1, 60).unwrap(),
+        ConvexPolyhedron::geodesic_sphere(2.0, 3).unwrap(),
+    ];
+    for shape in shapes {
+        let mass = shape.to_parry().unwrap().mass_properties(1.0);
+        assert_relative_eq!(mass.mass(), shape.volume(), max_relative = 1e-9);
+        let ours: Vec<f64> = {
+            let mut e: Vec<f64> = shape
+                .mass_properties()
+                .inertia_unit_density
+                .symmetric_eigen()
+                .eigenvalues
+                .iter()
+                .copied()
+                .collect();
+            e.sort_by(f64::total_cmp);
+            e
+        };
+        let mut theirs = vector_from_parry(mass.principal_inertia());
+        theirs.as_mut_slice().sort_by(f64::total_cmp);
+        // The sum of the principal moments is the trace, which survives a
+        // repeated eigenvalue exactly; single eigenvalues from parry's
+        // (glamx's) closed-form 3x3 solver lose about sqrt(ε) when two
+        // coincide (the disk: I_xx = I_yy; the icosphere: all three).
+        assert_relative_eq!(ours.iter().sum::<f64>(), theirs.sum(), max_relative = 1e-9);
+        for (a, b) in ours.iter().zip(theirs.iter()) {
+            assert_relative_eq!(*a, *b, max_relative = 1e-7);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// The converted hull has the same vertices, hence the same support
+    /// function, which is all GJK uses.
+    #[test]
+    fn converted_hull_has_the_same_support_points(
+        points in prop::collection::vec(prop::array::uniform3(-1.0..1.0f64), 4..100),
+        directions in prop::collection::vec(prop::array::uniform3(-1.0..1.0f64), 8),
+    ) {
+        let points: Vec<Point3<f64>> = points.into_iter().map(Point3::from).collect();
+        let Ok(hull) = ConvexPolyhedron::from_points(&points) else {
+            return Ok(());
+        };
+        let parry_hull = hull.to_parry().unwrap();
+        for d in directions {
+            let d = Vector3::from(d);
+            let ours = hull.vertices().iter().map(|v| v.coords.dot(&d)).fold(f64::NEG_INFINITY, f64::max);
+            let theirs = point_from_parry(parry_hull.local_support_point(vector_to_parry(&d)));
+            prop_assert!((theirs.coords.dot(&d) - ours).abs() <= 1e-12 * (1.0 + ours.abs()));
+        }
     }
 }

@@ -32,10 +32,15 @@ fn icosahedron_counts_volume_and_radius() {
     for e in ico.edges() {
         assert_relative_eq!(e.length, edge, max_relative = 1e-12);
     }
-    // Regular solid: inertia is isotropic, I = 2/5 m R_g² with ... just
-    // check isotropy against its own trace.
+    // Solid regular icosahedron: isotropic inertia I = φ²/10 m a².
+    let phi = 0.5 * (1.0 + 5.0_f64.sqrt());
     let inertia = ico.mass_properties().inertia_unit_density;
     let mean = inertia.trace() / 3.0;
+    assert_relative_eq!(
+        mean,
+        phi * phi / 10.0 * volume * edge * edge,
+        max_relative = 1e-12
+    );
     for i in 0..3 {
         for j in 0..3 {
             let expected = if i == j { mean } else { 0.0 };

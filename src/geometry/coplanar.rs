@@ -1,16 +1,20 @@
 //! From a triangulated convex hull to polygonal faces.
 //!
 //! Hull algorithms return triangles; a polyhedron for V-Clip wants one face
-//! per supporting plane. With `L` the extent of the point set:
+//! per supporting plane. With `L` the extent of the point set and `M` its
+//! largest absolute coordinate:
 //! 1. Triangles are visited by decreasing area; each unassigned triangle
 //!    seeds a face with its own plane `P` (the largest triangle of a face has
 //!    the best conditioned normal). The face grows across edges to adjacent
 //!    unassigned triangles whose three vertices all lie within
-//!    [`COPLANAR_TOLERANCE`]` * L` of `P`.
+//!    [`COPLANAR_TOLERANCE`]` * max(L, M)` of `P` (`M` the largest
+//!    coordinate).
 //! 2. The boundary of a face is the set of its triangles' half-edges whose
-//!    twin belongs to another face. It must be one simple cycle; a face
-//!    whose union is pinched or has a hole (only possible through rounding)
-//!    is split back into its triangles.
+//!    twin belongs to another face. It must be one simple cycle and turn
+//!    left at every vertex (within the tolerance); a face whose union is
+//!    pinched, has a hole or is notched (a bump of points just above the
+//!    plane, but above the tolerance, forms faces of its own that can cut
+//!    into the union) is split back into its triangles.
 //! 3. Vertices that lie on exactly two faces are not corners of the hull:
 //!    both faces contain the vertex and its two neighbours, so the three are
 //!    collinear on the faces' common line (a point in the middle of an
@@ -22,16 +26,17 @@
 
 use std::collections::{HashMap, HashSet, VecDeque};
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 
 use super::GeometryError;
-use super::hull::triangle_normal;
 
 /// Adjacent hull triangles are one face when every vertex of one is within
-/// `COPLANAR_TOLERANCE * L` of the plane of the face's largest triangle.
-/// Covers rounding of points generated on a common plane (about `1e-16 L`)
+/// `COPLANAR_TOLERANCE * max(L, M)` of the plane of the face's largest
+/// triangle (`L` extent, `M` largest coordinate of the input). Covers the
+/// rounding of points generated on a common plane (a few `ε max(L, M)`)
 /// with a wide margin, while keeping the Newell normal of a merged face of
-/// size `s` within `COPLANAR_TOLERANCE * L / s` radians of its plane.
+/// width `w` within about `COPLANAR_TOLERANCE * max(L, M) / w` radians of
+/// its plane.
 pub const COPLANAR_TOLERANCE: f64 = 1e-12;
 
 /// Polygonal faces over a subset of the input points.
@@ -45,19 +50,31 @@ pub(crate) struct HullFaces {
 
 /// Merges the counter-clockwise `triangles` (indices into `points`) of a
 /// closed convex hull into polygonal faces; see the module doc.
+/// `tolerance` is absolute (see [`COPLANAR_TOLERANCE`]).
 pub(crate) fn polygon_faces(
     points: &[Point3<f64>],
     triangles: &[[usize; 3]],
-    extent: f64,
+    tolerance: f64,
 ) -> Result<HullFaces, GeometryError> {
     let neighbours = triangle_neighbours(triangles)?;
-    let groups = group_coplanar(points, triangles, &neighbours, COPLANAR_TOLERANCE * extent);
+    let groups = group_coplanar(points, triangles, &neighbours, tolerance);
     let mut cycles = Vec::new();
-    for group in &groups {
-        match boundary_cycle(triangles, group) {
+    let mut split = 0;
+    for (group, normal) in &groups {
+        let convex = |members: &[usize]| {
+            boundary_cycle(triangles, members)
+                .filter(|cycle| is_convex_polygon(points, cycle, normal, tolerance))
+        };
+        match convex(group) {
             Some(cycle) => cycles.push(cycle),
-            None => cycles.extend(group.iter().map(|&t| triangles[t].to_vec())),
+            None => {
+                split += 1;
+                cycles.extend(convex_pieces(triangles, group, &neighbours, convex));
+            }
         }
+    }
+    if split > 0 {
+        log::debug!("{split} coplanar groups split into convex pieces");
     }
     drop_edge_points(&mut cycles)?;
     Ok(compact(cycles))
@@ -94,13 +111,14 @@ fn triangle_neighbours(triangles: &[[usize; 3]]) -> Result<Vec<[usize; 3]>, Geom
         .collect()
 }
 
-/// Groups of triangles (by index) that form one planar face.
+/// Groups of triangles (by index) that form one planar face, with the unit
+/// normal of their seed.
 fn group_coplanar(
     points: &[Point3<f64>],
     triangles: &[[usize; 3]],
     neighbours: &[[usize; 3]],
     tolerance: f64,
-) -> Vec<Vec<usize>> {
+) -> Vec<(Vec<usize>, Vector3<f64>)> {
     let doubled_area = |t: &[usize; 3]| {
         (points[t[1]] - points[t[0]])
             .cross(&(points[t[2]] - points[t[0]]))
@@ -133,9 +151,72 @@ fn group_coplanar(
                 }
             }
         }
-        groups.push(group);
+        groups.push((group, normal));
     }
     groups
+}
+
+/// Splits a group (triangles in decreasing area) into pieces grown like the
+/// groups, a neighbour joining only if the piece's boundary stays one
+/// convex cycle (`convex` returns it). A piece that is a single triangle
+/// is that triangle. `O(k²)` for `k` triangles; only notched groups come
+/// here.
+fn convex_pieces(
+    triangles: &[[usize; 3]],
+    group: &[usize],
+    neighbours: &[[usize; 3]],
+    convex: impl Fn(&[usize]) -> Option<Vec<usize>>,
+) -> Vec<Vec<usize>> {
+    let in_group: HashSet<usize> = group.iter().copied().collect();
+    let mut assigned: HashSet<usize> = HashSet::new();
+    let mut pieces = Vec::new();
+    for &seed in group {
+        if !assigned.insert(seed) {
+            continue;
+        }
+        let mut piece = vec![seed];
+        let mut k = 0;
+        while k < piece.len() {
+            for &u in &neighbours[piece[k]] {
+                if in_group.contains(&u) && !assigned.contains(&u) {
+                    piece.push(u);
+                    if convex(&piece).is_some() {
+                        assigned.insert(u);
+                    } else {
+                        piece.pop();
+                    }
+                }
+            }
+            k += 1;
+        }
+        match convex(&piece) {
+            Some(cycle) if piece.len() > 1 => pieces.push(cycle),
+            _ => pieces.extend(piece.iter().map(|&t| triangles[t].to_vec())),
+        }
+    }
+    pieces
+}
+
+/// Whether the cycle turns left (about `normal`) at every vertex, allowing
+/// each vertex to lie up to `tolerance` on the wrong side of the segment
+/// joining its neighbours.
+///
+/// The union of triangles near one plane need not be convex: a bump of
+/// points just above a face (higher than the merge tolerance) forms its own
+/// faces and can notch the merged polygon. A notched group is split back
+/// into its triangles, which are each convex.
+fn is_convex_polygon(
+    points: &[Point3<f64>],
+    cycle: &[usize],
+    normal: &Vector3<f64>,
+    tolerance: f64,
+) -> bool {
+    let n = cycle.len();
+    (0..n).all(|i| {
+        let [a, b, c] = [i, i + 1, i + 2].map(|k| points[cycle[k % n]]);
+        let turn = (b - a).cross(&(c - b)).dot(normal);
+        turn >= -tolerance * (c - a).norm()
+    })
 }
 
 /// The boundary of a group of triangles as one counter-clockwise cycle, or
@@ -204,4 +285,10 @@ fn compact(cycles: Vec<Vec<usize>>) -> HullFaces {
         })
         .collect();
     HullFaces { vertices, faces }
+}
+
+/// Unit normal of a triangle (zero when the triangle is degenerate).
+fn triangle_normal(points: &[Point3<f64>], t: &[usize; 3]) -> Vector3<f64> {
+    let n = (points[t[1]] - points[t[0]]).cross(&(points[t[2]] - points[t[0]]));
+    n.try_normalize(0.0).unwrap_or_else(Vector3::zeros)
 }

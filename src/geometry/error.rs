@@ -18,10 +18,16 @@ pub enum GeometryError {
     /// remain after nearly duplicate points are merged.
     #[error("fewer than four non-coplanar points: the hull has no volume")]
     Degenerate,
-    /// The coordinates are finite but so far apart that their extent
-    /// overflows `f64`.
-    #[error("the extent of the point set overflows f64")]
-    ExtentTooLarge,
+    /// Coordinates beyond `geometry::MAX_COORDINATE`, or distinct points
+    /// spanning less than `geometry::MIN_EXTENT`: mass properties or the
+    /// hull's exact predicates would overflow or underflow.
+    #[error("coordinates up to {largest:e} spanning {extent:e} are out of the supported range")]
+    CoordinatesOutOfRange {
+        /// The largest absolute coordinate given.
+        largest: f64,
+        /// The extent (bounding-box diagonal) of the points.
+        extent: f64,
+    },
     /// The hull algorithm failed numerically (a typed error instead of a
     /// panic or a wrong hull; see `geometry::hull`).
     #[error("convex hull failed: {0}")]

@@ -1,36 +1,50 @@
 //! Convex hull of a point set: [`ConvexPolyhedron::from_points`].
 //!
-//! Pipeline, every tolerance relative to the extent `L` of the input (the
-//! diagonal of its axis-aligned bounding box):
-//! 1. Reject an empty set and non-finite coordinates (the index is named).
-//! 2. Merge points closer than [`DUPLICATE_TOLERANCE`]` * L` to an earlier
-//!    kept point (greedy, in input order), so that near duplicates are never
+//! Pipeline. `L` is the extent of the input (diagonal of its axis-aligned
+//! bounding box) and `M` its largest absolute coordinate; tolerances that
+//! absorb rounding of the input scale with `max(L, M)`, because a
+//! coordinate carries rounding of order `ε M`.
+//! 1. Reject an empty set, non-finite coordinates (the index is named),
+//!    coordinates beyond [`MAX_COORDINATE`] and extents below
+//!    [`MIN_EXTENT`].
+//! 2. Merge points closer than [`DUPLICATE_TOLERANCE`]` * L` to a kept
+//!    point (greedy, in order of `x`), so that near duplicates are never
 //!    handed to the hull algorithm as distinct vertices.
 //! 3. Reject sets without volume before any hull is computed: with `p0` an
 //!    extreme point, `p1` the point farthest from `p0`, `p2` the point
 //!    farthest from the line `p0 p1` and `p3` the point farthest from the
 //!    plane `p0 p1 p2`, the set is all equal, collinear or coplanar when
-//!    `d1 = |p1 - p0|`, `d2 = dist(p2, line)` or `d3 = dist(p3, plane)` is
-//!    at most [`FLATNESS_TOLERANCE`]` * L`.
-//! 4. Triangulated hull by parry3d-f64 (`transformation::try_convex_hull`,
-//!    an incremental quickhull), computed on the affine image of the set in
-//!    the frame of step 3 scaled by `1/d1, 1/d2, 1/d3` (see
-//!    `parry_hull_triangles` for why). Its output vertices are bitwise
-//!    copies of its input, which maps them back to input indices.
-//! 5. Triangles are merged into polygonal faces and vertices that are not
-//!    corners of the hull are dropped (see [`super::coplanar`]).
-//! 6. [`ConvexPolyhedron::from_faces`] checks topology, planarity and
-//!    convexity; finally every kept input point must lie on or below every
-//!    face plane within [`CONTAINMENT_TOLERANCE`]` * L`.
+//!    `|p1 - p0|`, `dist(p2, line)` or `dist(p3, plane)` is at most
+//!    [`FLATNESS_TOLERANCE`]` * L`.
+//! 4. Triangulated hull with exact predicates from the simplex
+//!    `p0 p1 p2 p3` (`super::exact_hull`): exactly convex for the given
+//!    floats, whatever the coplanar and collinear points.
+//! 5. Coplanar triangles are merged into polygonal faces and vertices that
+//!    are not corners are dropped (`super::coplanar`).
+//! 6. Faces too thin for an accurate plane lose their inner vertices
+//!    (`super::thin_faces`); when there are none, vertices that barely rise
+//!    above their neighbours are dropped (`super::flat_vertices`). The hull
+//!    is rebuilt from the remaining vertices, at most
+//!    [`MAX_SIMPLIFICATION_ROUNDS`] times.
+//! 7. [`ConvexPolyhedron::from_faces`] checks topology, planarity and
+//!    convexity; finally every merged input point must lie on or below every
+//!    face plane within [`CONTAINMENT_TOLERANCE`]` * max(L, M)`.
+//!
+//! Why not parry's hull (`parry3d_f64::transformation::try_convex_hull`,
+//! tried first): it decides that a set is flat when an eigenvalue of its
+//! normalized covariance is below `1e-7`, so solids thinner than about
+//! `3e-4 L` come back as a flat double-sided mesh; and on a rotated
+//! `5 × 5 × 3` lattice (many coplanar points) it returned a non-convex
+//! triangle mesh. Exact predicates cannot produce either.
 
-use std::collections::HashMap;
-use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::collections::HashSet;
 
-use nalgebra::{Point3, Vector3};
-use parry3d_f64::math::Vector as ParryVector;
-use parry3d_f64::transformation::try_convex_hull;
+use nalgebra::Point3;
 
-use super::coplanar::{HullFaces, polygon_faces};
+use super::coplanar::{COPLANAR_TOLERANCE, HullFaces, polygon_faces};
+use super::exact_hull::hull_triangles;
+use super::flat_vertices::flat_vertices;
+use super::thin_faces::{THIN_FACE_TOLERANCE, thin_face_vertices};
 use super::{ConvexPolyhedron, GeometryError};
 
 /// Two input points closer than `DUPLICATE_TOLERANCE * L` are one point.
@@ -41,9 +55,25 @@ pub const DUPLICATE_TOLERANCE: f64 = 1e-10;
 /// face normals and is rejected as degenerate.
 pub const FLATNESS_TOLERANCE: f64 = 1e-8;
 
+/// Largest accepted absolute coordinate. Inertia scales as `L⁵` and the
+/// exact orientation predicate multiplies three coordinate differences:
+/// below `1e50` neither comes near overflow (`f64::MAX ≈ 1.8e308`).
+pub const MAX_COORDINATE: f64 = 1e50;
+
+/// Smallest accepted extent `L` (a set of distinct points closer together
+/// is rejected): keeps `L⁵` and the predicate's products far from
+/// underflow (`f64::MIN_POSITIVE ≈ 2.2e-308`).
+pub const MIN_EXTENT: f64 = 1e-50;
+
 /// After the hull is built, every (merged) input point must lie at most
-/// `CONTAINMENT_TOLERANCE * L` above every face plane.
-pub const CONTAINMENT_TOLERANCE: f64 = 1e-9;
+/// `CONTAINMENT_TOLERANCE * max(L, M)` above every face plane: a few rounds
+/// of thin-face removal, each moving the hull by at most about
+/// [`THIN_FACE_TOLERANCE`]` * max(L, M)`.
+pub const CONTAINMENT_TOLERANCE: f64 = 8.0 * THIN_FACE_TOLERANCE;
+
+/// Rounds of thin-face removal (each drops at least one vertex) before the
+/// hull is declared failed.
+pub const MAX_SIMPLIFICATION_ROUNDS: usize = 32;
 
 impl ConvexPolyhedron {
     /// The convex hull of `points` (given in the shape frame), with
@@ -51,29 +81,55 @@ impl ConvexPolyhedron {
     /// result are a subset of the input points (stored relative to the
     /// centre of mass, see [`ConvexPolyhedron::shape_origin_offset`]).
     ///
+    /// Vertices closer than about [`THIN_FACE_TOLERANCE`]` * max(L, M)` to
+    /// the hull of the others may be dropped (module doc, step 6), so the
+    /// result contains every input point within
+    /// [`CONTAINMENT_TOLERANCE`]` * max(L, M)`.
+    ///
     /// Errors: [`GeometryError::Empty`], [`GeometryError::NonFinite`],
+    /// [`GeometryError::CoordinatesOutOfRange`],
     /// [`GeometryError::Degenerate`] (all equal, collinear or coplanar after
-    /// merging near duplicates), [`GeometryError::HullFailed`] when the
-    /// hull algorithm fails numerically.
+    /// merging near duplicates), and, should the checks of the result fail
+    /// (not observed in the fuzz tests), [`GeometryError::HullFailed`],
+    /// [`GeometryError::InvalidTopology`] or [`GeometryError::NotConvex`].
     pub fn from_points(points: &[Point3<f64>]) -> Result<Self, GeometryError> {
-        let extent = checked_extent(points)?;
-        let kept = merge_near_duplicates(points, DUPLICATE_TOLERANCE * extent);
+        let (extent, largest) = checked_extent(points)?;
+        let tolerances = Tolerances::new(extent, largest);
+        let kept = merge_near_duplicates(points, tolerances.duplicate);
         let kept_points: Vec<Point3<f64>> = kept.iter().map(|&i| points[i]).collect();
-        let frame = extreme_frame(&kept_points, FLATNESS_TOLERANCE * extent)?;
-        let triangles = parry_hull_triangles(&kept_points, &frame)?;
-        let HullFaces { vertices, faces } = polygon_faces(&kept_points, &triangles, extent)?;
-        log::debug!(
-            "hull of {} points ({} after merging): {} triangles -> {} vertices, {} faces",
-            points.len(),
-            kept_points.len(),
-            triangles.len(),
-            vertices.len(),
-            faces.len()
-        );
-        let hull_points = vertices.iter().map(|&i| kept_points[i]).collect();
-        let polyhedron = Self::from_faces(hull_points, faces)?;
-        polyhedron.check_contains(&kept_points, CONTAINMENT_TOLERANCE * extent)?;
-        Ok(polyhedron)
+        let mut active = kept_points.clone();
+        for round in 0..MAX_SIMPLIFICATION_ROUNDS {
+            let hull = polygon_hull(&active, &tolerances)?;
+            let mut thin = thin_face_vertices(&active, &hull, tolerances.thin_face);
+            if thin.is_empty() {
+                thin = flat_vertices(&active, &hull, tolerances.thin_face);
+            }
+            log::debug!(
+                "hull round {round}: {} of {} points -> {} vertices, {} faces; {} thin-face vertices dropped",
+                active.len(),
+                points.len(),
+                hull.vertices.len(),
+                hull.faces.len(),
+                thin.len()
+            );
+            if thin.is_empty() {
+                let hull_points: Vec<Point3<f64>> =
+                    hull.vertices.iter().map(|&i| active[i]).collect();
+                let polyhedron = Self::from_faces(hull_points.clone(), hull.faces)?;
+                let inner = inner_points(&kept_points, &hull_points);
+                polyhedron.check_contains(&inner, tolerances.containment)?;
+                return Ok(polyhedron);
+            }
+            active = hull
+                .vertices
+                .iter()
+                .filter(|i| thin.binary_search(i).is_err())
+                .map(|&i| active[i])
+                .collect();
+        }
+        Err(GeometryError::HullFailed(format!(
+            "thin faces remain after {MAX_SIMPLIFICATION_ROUNDS} rounds"
+        )))
     }
 
     /// Checks that every point (shape frame) is on or below every face plane
@@ -84,7 +140,7 @@ impl ConvexPolyhedron {
         tolerance: f64,
     ) -> Result<(), GeometryError> {
         let offset = self.shape_origin_offset();
-        for (index, p_shape) in points_shape.iter().enumerate() {
+        for p_shape in points_shape {
             let p_body = p_shape - offset;
             let height = self
                 .faces()
@@ -93,7 +149,7 @@ impl ConvexPolyhedron {
                 .fold(f64::NEG_INFINITY, f64::max);
             if height > tolerance {
                 return Err(GeometryError::HullFailed(format!(
-                    "point {index} is {height:e} outside the hull"
+                    "point {p_shape} is {height:e} outside the hull"
                 )));
             }
         }
@@ -101,9 +157,54 @@ impl ConvexPolyhedron {
     }
 }
 
+/// The absolute tolerances of one call, from the extent `L` and the largest
+/// coordinate `M` of the input (module doc).
+struct Tolerances {
+    duplicate: f64,
+    flatness: f64,
+    coplanar: f64,
+    thin_face: f64,
+    containment: f64,
+}
+
+impl Tolerances {
+    fn new(extent: f64, largest: f64) -> Self {
+        let precision_scale = extent.max(largest);
+        Tolerances {
+            duplicate: DUPLICATE_TOLERANCE * extent,
+            flatness: FLATNESS_TOLERANCE * extent,
+            coplanar: COPLANAR_TOLERANCE * precision_scale,
+            thin_face: THIN_FACE_TOLERANCE * precision_scale,
+            containment: CONTAINMENT_TOLERANCE * precision_scale,
+        }
+    }
+}
+
+/// Steps 3 to 5 of the module doc on `points`.
+fn polygon_hull(
+    points: &[Point3<f64>],
+    tolerances: &Tolerances,
+) -> Result<HullFaces, GeometryError> {
+    let simplex = extreme_simplex(points, tolerances.flatness)?;
+    let triangles = hull_triangles(points, simplex)?;
+    polygon_faces(points, &triangles, tolerances.coplanar)
+}
+
+/// The points that are not (bitwise) vertices of the hull: vertices are
+/// checked by [`ConvexPolyhedron::from_faces`] already.
+fn inner_points(points: &[Point3<f64>], hull_points: &[Point3<f64>]) -> Vec<Point3<f64>> {
+    let bits = |p: &Point3<f64>| p.coords.map(f64::to_bits);
+    let vertices: HashSet<_> = hull_points.iter().map(bits).collect();
+    points
+        .iter()
+        .filter(|p| !vertices.contains(&bits(p)))
+        .copied()
+        .collect()
+}
+
 /// Validates the coordinates and returns the extent `L` (bounding-box
-/// diagonal) of the point set.
-fn checked_extent(points: &[Point3<f64>]) -> Result<f64, GeometryError> {
+/// diagonal) of the point set and its largest absolute coordinate `M`.
+fn checked_extent(points: &[Point3<f64>]) -> Result<(f64, f64), GeometryError> {
     if points.is_empty() {
         return Err(GeometryError::Empty);
     }
@@ -118,19 +219,21 @@ fn checked_extent(points: &[Point3<f64>]) -> Result<f64, GeometryError> {
         .fold((points[0].coords, points[0].coords), |(lower, upper), p| {
             (lower.inf(&p.coords), upper.sup(&p.coords))
         });
+    let largest = lower.abs().sup(&upper.abs()).max();
     let extent = (upper - lower).norm();
-    if !extent.is_finite() {
-        return Err(GeometryError::ExtentTooLarge);
-    }
     if extent == 0.0 {
         return Err(GeometryError::Degenerate);
     }
-    Ok(extent)
+    if largest > MAX_COORDINATE || extent < MIN_EXTENT {
+        return Err(GeometryError::CoordinatesOutOfRange { largest, extent });
+    }
+    Ok((extent, largest))
 }
 
-/// Indices of the points kept after merging: a point is dropped when an
-/// earlier kept point is within `tolerance`. Sorting by `x` limits the
-/// comparisons to a slab of width `tolerance`.
+/// Indices of the points kept after merging: in order of increasing `x`,
+/// each kept point drops every later point within `tolerance` of it, so
+/// every dropped point is within `tolerance` of a kept one. Sorting by `x`
+/// limits the comparisons to a slab of width `tolerance`.
 fn merge_near_duplicates(points: &[Point3<f64>], tolerance: f64) -> Vec<usize> {
     let mut by_x: Vec<usize> = (0..points.len()).collect();
     by_x.sort_by(|&a, &b| points[a].x.total_cmp(&points[b].x).then(a.cmp(&b)));
@@ -139,178 +242,55 @@ fn merge_near_duplicates(points: &[Point3<f64>], tolerance: f64) -> Vec<usize> {
         if duplicate[i] {
             continue;
         }
-        for &j in by_x[rank + 1..].iter() {
+        for &j in &by_x[rank + 1..] {
             if points[j].x - points[i].x > tolerance {
                 break;
             }
-            if !duplicate[j] && (points[j] - points[i]).norm() <= tolerance {
-                // Keep the point that comes first in the input.
-                duplicate[i.max(j)] = true;
-                if i > j {
-                    break;
-                }
+            if (points[j] - points[i]).norm() <= tolerance {
+                duplicate[j] = true;
             }
         }
     }
     (0..points.len()).filter(|&i| !duplicate[i]).collect()
 }
 
-/// An affine frame spanned by four extreme points of the set: origin
-/// `p0`, orthonormal right-handed axes `e1, e2, e3` and the extent of the
-/// set along each, `d1 = |p1 - p0|`, `d2 = dist(p2, line)`,
-/// `d3 = dist(p3, plane)`.
-struct ExtremeFrame {
-    origin: Point3<f64>,
-    axes: [Vector3<f64>; 3],
-    extents: [f64; 3],
-}
-
-impl ExtremeFrame {
-    /// Coordinates `((x - p0) . e_i) / d_i`. Every point of the set lies in
-    /// `[-1, 1]^3` in this frame (each `d_i` is a maximum over the set), and
-    /// `p1, p2, p3` have coordinate 1 on their axis: the set is "round",
-    /// however thin it was.
-    fn normalized(&self, x: &Point3<f64>) -> Vector3<f64> {
-        let r = x - self.origin;
-        Vector3::from_fn(|i, _| r.dot(&self.axes[i]) / self.extents[i])
-    }
-}
-
-/// The extreme frame of the module doc, or [`GeometryError::Degenerate`]
-/// when the set is all equal, collinear or coplanar within `tolerance`
-/// (absolute).
-fn extreme_frame(points: &[Point3<f64>], tolerance: f64) -> Result<ExtremeFrame, GeometryError> {
+/// Indices of four extreme points `p0, p1, p2, p3` (module doc, step 3),
+/// or [`GeometryError::Degenerate`] when the set is all equal, collinear or
+/// coplanar within `tolerance` (absolute).
+fn extreme_simplex(points: &[Point3<f64>], tolerance: f64) -> Result<[usize; 4], GeometryError> {
     if points.len() < 4 {
         return Err(GeometryError::Degenerate);
     }
-    let p0 = points
-        .iter()
-        .min_by(|a, b| a.x.total_cmp(&b.x))
-        .copied()
-        .unwrap_or(points[0]);
-    let (p1, d1) = farthest(points, |p| (p - p0).norm());
+    let (i0, _) = farthest(points, |p| -p.x);
+    let p0 = points[i0];
+    let (i1, d1) = farthest(points, |p| (p - p0).norm());
     if d1 <= tolerance {
         return Err(GeometryError::Degenerate);
     }
-    let e1 = (p1 - p0) / d1;
-    let (p2, d2) = farthest(points, |p| (p - p0).cross(&e1).norm());
+    let e1 = (points[i1] - p0) / d1;
+    let (i2, d2) = farthest(points, |p| (p - p0).cross(&e1).norm());
     if d2 <= tolerance {
         return Err(GeometryError::Degenerate);
     }
-    let in_plane = (p2 - p0) - e1 * (p2 - p0).dot(&e1);
-    let e2 = in_plane / in_plane.norm();
-    let e3 = e1.cross(&e2);
-    let (_, d3) = farthest(points, |p| (p - p0).dot(&e3).abs());
+    let normal = e1.cross(&(points[i2] - p0)).normalize();
+    let (i3, d3) = farthest(points, |p| (p - p0).dot(&normal).abs());
     if d3 <= tolerance {
         return Err(GeometryError::Degenerate);
     }
-    Ok(ExtremeFrame {
-        origin: p0,
-        axes: [e1, e2, e3],
-        extents: [d1, d2, d3],
-    })
+    Ok([i0, i1, i2, i3])
 }
 
-/// The point maximizing `measure`, and the maximum.
-fn farthest(points: &[Point3<f64>], measure: impl Fn(&Point3<f64>) -> f64) -> (Point3<f64>, f64) {
-    points.iter().map(|p| (*p, measure(p))).fold(
-        (points[0], f64::NEG_INFINITY),
-        |best, candidate| {
+/// The index of the point maximizing `measure`, and the maximum.
+fn farthest(points: &[Point3<f64>], measure: impl Fn(&Point3<f64>) -> f64) -> (usize, f64) {
+    points
+        .iter()
+        .map(measure)
+        .enumerate()
+        .fold((0, f64::NEG_INFINITY), |best, candidate| {
             if candidate.1 > best.1 {
                 candidate
             } else {
                 best
             }
-        },
-    )
-}
-
-/// Triangles of the hull by parry3d-f64, as indices into `points`,
-/// counter-clockwise seen from outside.
-///
-/// parry treats a set as flat when an eigenvalue of its covariance (in
-/// coordinates scaled by the bounding-box diagonal) is below `1e-7`, which
-/// flattens solids thinner than about `3e-4 L`. The hull is therefore
-/// computed in the coordinates of the [`ExtremeFrame`], an affine image of
-/// the set that is round; a convex hull's combinatorics are invariant under
-/// invertible affine maps, and the orientation is fixed afterwards in the
-/// original coordinates.
-fn parry_hull_triangles(
-    points: &[Point3<f64>],
-    frame: &ExtremeFrame,
-) -> Result<Vec<[usize; 3]>, GeometryError> {
-    let normalized: Vec<ParryVector> = points
-        .iter()
-        .map(|p| {
-            let x = frame.normalized(p);
-            ParryVector::new(x.x, x.y, x.z)
         })
-        .collect();
-    // parry's hull asserts internal invariants that rounding can break on
-    // nearly degenerate input; a panic there becomes a typed error here
-    // rather than unwinding through the caller. (With `panic = "abort"` this
-    // guard does nothing, which is why degenerate sets are rejected first.)
-    let result = catch_unwind(AssertUnwindSafe(|| try_convex_hull(&normalized)));
-    let (hull_points, indices) = match result {
-        Ok(Ok(hull)) => hull,
-        Ok(Err(error)) => return Err(GeometryError::HullFailed(error.to_string())),
-        Err(_) => return Err(GeometryError::HullFailed("parry's hull panicked".into())),
-    };
-    let index_of: HashMap<[u64; 3], usize> = normalized
-        .iter()
-        .enumerate()
-        .map(|(i, p)| (bits(p), i))
-        .collect();
-    let to_input = |k: u32| -> Result<usize, GeometryError> {
-        let p = hull_points
-            .get(k as usize)
-            .ok_or_else(|| GeometryError::HullFailed(format!("index {k} out of range")))?;
-        index_of
-            .get(&bits(p))
-            .copied()
-            .ok_or_else(|| GeometryError::HullFailed("a hull vertex is not an input point".into()))
-    };
-    let triangles = indices
-        .iter()
-        .map(|t| Ok([to_input(t[0])?, to_input(t[1])?, to_input(t[2])?]))
-        .collect::<Result<Vec<_>, GeometryError>>()?;
-    orient_outward(points, triangles)
-}
-
-fn bits(p: &ParryVector) -> [u64; 3] {
-    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
-}
-
-/// Flips every triangle if the signed volume they enclose is negative; a
-/// hull without volume (parry returns a flat, two-sided mesh for a set it
-/// judges coplanar) is an error.
-fn orient_outward(
-    points: &[Point3<f64>],
-    mut triangles: Vec<[usize; 3]>,
-) -> Result<Vec<[usize; 3]>, GeometryError> {
-    let origin = points[0];
-    let signed_volume: f64 = triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| points[i] - origin);
-            a.dot(&b.cross(&c))
-        })
-        .sum();
-    if signed_volume == 0.0 || !signed_volume.is_finite() {
-        return Err(GeometryError::HullFailed(
-            "the triangle hull has no volume".into(),
-        ));
-    }
-    if signed_volume < 0.0 {
-        for t in &mut triangles {
-            t.swap(1, 2);
-        }
-    }
-    Ok(triangles)
-}
-
-/// Unit normal of a triangle (zero when the triangle is degenerate).
-pub(super) fn triangle_normal(points: &[Point3<f64>], t: &[usize; 3]) -> Vector3<f64> {
-    let n = (points[t[1]] - points[t[0]]).cross(&(points[t[2]] - points[t[0]]));
-    n.try_normalize(0.0).unwrap_or_else(Vector3::zeros)
 }

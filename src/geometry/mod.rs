@@ -15,25 +15,41 @@
 //!   the plane of `f`, perpendicular to the edge, pointing into `f`; `VR(f)`
 //!   is on the positive side. As a wall of `VR(e)` it is used negated.
 //!
+//! Construction: [`ConvexPolyhedron::from_faces`] (validated face cycles),
+//! [`ConvexPolyhedron::cuboid`], [`ConvexPolyhedron::from_points`] (convex
+//! hull with exact predicates, coplanar triangles merged; `hull`,
+//! `exact_hull`, `coplanar`, `thin_faces`), and Mirtich's test shapes
+//! [`ConvexPolyhedron::icosahedron`], [`ConvexPolyhedron::disk`],
+//! [`ConvexPolyhedron::geodesic_sphere`] (`shapes`). [`ConvexPolyhedron::to_parry`]
+//! and the `*_to_parry` / `*_from_parry` functions convert to parry3d-f64
+//! (`parry_bridge`).
+//!
 //! All coordinates are in the *body frame*: the origin is the centre of mass
 //! of the solid at uniform density, axes those of the frame in which the
 //! shape was given. [`ConvexPolyhedron::shape_origin_offset`] maps back.
 
 mod coplanar;
 mod error;
+mod exact_hull;
 mod features;
+mod flat_vertices;
 mod hull;
 mod mass;
 mod parry_bridge;
 mod plane;
 mod polyhedron;
 mod shapes;
+mod thin_faces;
 mod topology;
 
 pub use coplanar::COPLANAR_TOLERANCE;
 pub use error::GeometryError;
 pub use features::Feature;
-pub use hull::{CONTAINMENT_TOLERANCE, DUPLICATE_TOLERANCE, FLATNESS_TOLERANCE};
+pub use flat_vertices::{FLAT_VERTEX_MAX_ANGLE, FLAT_VERTEX_TOLERANCE};
+pub use hull::{
+    CONTAINMENT_TOLERANCE, DUPLICATE_TOLERANCE, FLATNESS_TOLERANCE, MAX_COORDINATE,
+    MAX_SIMPLIFICATION_ROUNDS, MIN_EXTENT,
+};
 pub use mass::MassProperties;
 pub use parry_bridge::{
     isometry_from_parry, isometry_to_parry, point_from_parry, point_to_parry, vector_from_parry,
@@ -42,3 +58,4 @@ pub use parry_bridge::{
 pub use plane::Plane;
 pub use polyhedron::{ConvexPolyhedron, Edge, Face, PLANARITY_TOLERANCE};
 pub use shapes::MAX_GEODESIC_SUBDIVISIONS;
+pub use thin_faces::THIN_FACE_TOLERANCE;

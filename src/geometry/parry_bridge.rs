@@ -18,9 +18,16 @@ use super::{ConvexPolyhedron, GeometryError};
 
 impl ConvexPolyhedron {
     /// The same solid as a parry3d-f64 convex polyhedron, in the body frame
-    /// (same vertex coordinates). Faces are fanned into triangles and given
-    /// to parry's `from_convex_mesh`; should parry reject that mesh, its
-    /// own hull of the vertices is used.
+    /// (same vertices, same order). Faces are fanned into triangles and
+    /// given to parry's `from_convex_mesh`; should parry reject that mesh,
+    /// its own hull of the vertices is used.
+    ///
+    /// The vertices, hence the support function (all that GJK, EPA and
+    /// AABBs use), are exactly ours. parry's *faces* are not: it merges
+    /// adjacent triangles whose normals are within about `1.7e-4` rad
+    /// (`1 - n1·n2 < sqrt(ε)`), and on thin hulls its
+    /// `Shape::mass_properties` then loses volume (observed: half of a slab
+    /// of relative thickness `3e-5`). Use [`ConvexPolyhedron::mass_properties`].
     pub fn to_parry(&self) -> Result<ParryConvexPolyhedron, GeometryError> {
         let points: Vec<Vector> = self.vertices().iter().map(point_to_parry).collect();
         let triangles: Vec<[u32; 3]> = self

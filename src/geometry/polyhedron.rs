@@ -261,12 +261,34 @@ impl ConvexPolyhedron {
         self.vertices.len() + self.edges.len() + self.faces.len()
     }
 
+    /// A face must be a convex polygon: at every corner `b` (between `a`
+    /// and `c`) the cycle turns left about the outward normal, `b` lying at
+    /// most `tolerance` on the wrong side of the segment `ac`. Vertex heights
+    /// alone accept a planar non-convex face whose missing wedge is covered
+    /// by coplanar neighbours.
+    fn check_face_turns_left(&self, f: usize, tolerance: f64) -> Result<(), GeometryError> {
+        let face = &self.faces[f];
+        let n = face.vertices.len();
+        for i in 0..n {
+            let [a, b, c] = [i, i + 1, i + 2].map(|k| self.vertices[face.vertices[k % n]]);
+            let turn = (b - a).cross(&(c - b)).dot(&face.plane.normal);
+            if turn < -tolerance * (c - a).norm() {
+                return Err(GeometryError::NotConvex(format!(
+                    "face {f} turns clockwise at vertex {}",
+                    face.vertices[(i + 1) % n]
+                )));
+            }
+        }
+        Ok(())
+    }
+
     fn check_convex(&self) -> Result<(), GeometryError> {
         let tolerance = PLANARITY_TOLERANCE * self.scale;
         for (f, face) in self.faces.iter().enumerate() {
             if !face.plane.normal.iter().all(|c| c.is_finite()) {
                 return Err(GeometryError::NotConvex(format!("face {f} has no normal")));
             }
+            self.check_face_turns_left(f, tolerance)?;
             for (v, vertex) in self.vertices.iter().enumerate() {
                 let height = face.plane.signed_distance(vertex);
                 let on_face = face.vertices.contains(&v);
