@@ -34,6 +34,8 @@ pub(crate) enum Exclusion {
 /// for edge regions: vertex-edge planes first, then face-edge planes).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Clip {
+    /// A point is on the negative side of a plane only below `-slack`.
+    pub slack: f64,
     pub l_lo: f64,
     pub l_hi: f64,
     pub n_lo: Option<Feature>,
@@ -42,8 +44,9 @@ pub(crate) struct Clip {
 
 impl Clip {
     /// The whole edge, no neighbour yet.
-    pub fn new() -> Self {
+    pub fn new(slack: f64) -> Self {
         Clip {
+            slack,
             l_lo: 0.0,
             l_hi: 1.0,
             n_lo: None,
@@ -61,18 +64,19 @@ impl Clip {
     ) -> Option<Exclusion> {
         let dt = plane.signed_distance(tail);
         let dh = plane.signed_distance(head);
-        if dt < 0.0 && dh < 0.0 {
+        let outside = -self.slack;
+        if dt < outside && dh < outside {
             self.n_lo = Some(neighbour);
             self.n_hi = Some(neighbour);
             return Some(Exclusion::Simple(neighbour));
         }
-        if dt < 0.0 {
+        if dt < outside {
             let l = dt / (dt - dh);
             if l > self.l_lo {
                 self.l_lo = l;
                 self.n_lo = Some(neighbour);
             }
-        } else if dh < 0.0 {
+        } else if dh < outside {
             let l = dt / (dt - dh);
             if l < self.l_hi {
                 self.l_hi = l;
@@ -115,7 +119,7 @@ mod tests {
     #[test]
     fn clip_keeps_the_part_on_the_positive_side() {
         let (t, h) = (Point3::new(-1.0, 0.0, 0.0), Point3::new(3.0, 0.0, 0.0));
-        let mut clip = Clip::new();
+        let mut clip = Clip::new(0.0);
         assert_eq!(
             clip.against(&plane_x(0.0), Feature::Vertex(7), &t, &h),
             None
@@ -132,13 +136,13 @@ mod tests {
     #[test]
     fn simple_and_compound_exclusion() {
         let (t, h) = (Point3::new(-1.0, 0.0, 0.0), Point3::new(3.0, 0.0, 0.0));
-        let mut clip = Clip::new();
+        let mut clip = Clip::new(0.0);
         let far = plane_x(5.0);
         assert_eq!(
             clip.against(&far, Feature::Edge(1), &t, &h),
             Some(Exclusion::Simple(Feature::Edge(1)))
         );
-        let mut clip = Clip::new();
+        let mut clip = Clip::new(0.0);
         assert_eq!(clip.against(&plane_x(2.0), Feature::Edge(1), &t, &h), None);
         assert_eq!(
             clip.against(&plane_x(1.0).flipped(), Feature::Edge(2), &t, &h),

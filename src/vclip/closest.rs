@@ -3,9 +3,9 @@
 //!
 //! Segment–segment (`p(s) = p0 + s d1`, `q(t) = q0 + t d2`, `s, t ∈ [0, 1]`):
 //! the minimum of the convex function `|p(s) - q(t)|²` over the unit square
-//! is either interior (the stationary point of the two lines,
-//! `s = (b f - c e) / (a e - b²)` with `a = d1.d1`, `b = d1.d2`, `c = d1.r`,
-//! `e = d2.d2`, `f = d2.r`, `r = p0 - q0`) or on the square's boundary, i.e.
+//! is either interior (the stationary point of the two lines, computed with
+//! the common normal `d1 × d2`, see [`interior_stationary_point`]) or on
+//! the square's boundary, i.e.
 //! an endpoint of one segment against the other segment. We take the best of
 //! the four endpoint projections (well conditioned, exact up to rounding) and
 //! the interior point when it exists. Every candidate is a pair of points of
@@ -70,27 +70,32 @@ pub(crate) fn segment_segment(
 
 /// The stationary point of `|p(s) - q(t)|²` if it lies strictly inside the
 /// unit square and the lines are not parallel.
+///
+/// With `n = d1 × d2` and `w = q0 - p0`, the lines' closest points are at
+/// `s = ((w × d2) . n) / |n|²`. The cross product keeps a relative accuracy
+/// of `ε / sin θ` for an angle `θ` between the segments, where the textbook
+/// denominator `|d1|²|d2|² - (d1 . d2)²` loses `ε / sin² θ` to cancellation,
+/// which for nearly parallel edges (Mirtich's degeneracy test) is the whole
+/// answer. `t` is then the projection of `p(s)` on the other line, so that
+/// the pair's distance is off only to second order in the error of `s`.
 fn interior_stationary_point(
     p0: &Point3<f64>,
     p1: &Point3<f64>,
     q0: &Point3<f64>,
     q1: &Point3<f64>,
 ) -> Option<(f64, f64)> {
-    let (d1, d2, r) = (p1 - p0, q1 - q0, p0 - q0);
-    let (a, b, c, e, f) = (
-        d1.dot(&d1),
-        d1.dot(&d2),
-        d1.dot(&r),
-        d2.dot(&d2),
-        d2.dot(&r),
-    );
-    let denominator = a * e - b * b;
-    if denominator <= 0.0 {
+    let (d1, d2, w) = (p1 - p0, q1 - q0, q0 - p0);
+    let n = d1.cross(&d2);
+    let nn = n.norm_squared();
+    if nn <= 0.0 {
         return None;
     }
-    let s = (b * f - c * e) / denominator;
-    let t = (a * f - b * c) / denominator;
-    (s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0).then_some((s, t))
+    let s = w.cross(&d2).dot(&n) / nn;
+    if !(s > 0.0 && s < 1.0) {
+        return None;
+    }
+    let t = ((p0 + d1 * s) - q0).dot(&d2) / d2.norm_squared();
+    (t > 0.0 && t < 1.0).then_some((s, t))
 }
 
 #[cfg(test)]
@@ -107,6 +112,24 @@ mod tests {
         );
         assert!((pair.s - 0.5).abs() < 1e-15 && (pair.t - 0.25).abs() < 1e-15);
         assert!((pair.distance_squared - 1.0).abs() < 1e-15);
+    }
+
+    /// Nearly parallel crossing edges (angle 1e-7): the distance must be the
+    /// gap between them, not an endpoint distance.
+    #[test]
+    fn nearly_parallel_segments_keep_their_interior_minimum() {
+        let angle: f64 = 1e-7;
+        let gap = 3e-7;
+        let pair = segment_segment(
+            &Point3::new(-1.0, 0.0, 0.0),
+            &Point3::new(1.0, 0.0, 0.0),
+            &Point3::new(-1.0, -angle, gap),
+            &Point3::new(1.0, angle, gap),
+        );
+        assert!(
+            (pair.distance_squared.sqrt() - gap).abs() < 1e-15,
+            "{pair:?}"
+        );
     }
 
     #[test]

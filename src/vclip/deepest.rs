@@ -12,6 +12,19 @@
 //! the simplex method, so a vertex with no better neighbour minimizes `D_P`
 //! over the whole body. `P` is pulled back into the vertex body's frame
 //! once, so the walk costs one dot product per vertex examined.
+//!
+//! Face refinement ([`VClipSettings::refine_face`](super::VClipSettings),
+//! on by default). The witness face is where V-Clip happened to detect the
+//! penetration, not a good direction to separate along: its depth was a
+//! median 1.5 and up to 100 times parry's EPA depth on random hulls. Every
+//! face plane of either body with the other body's deepest vertex under it
+//! is a valid answer (the push-out argument holds for each), and the
+//! smallest such depth is the separating-axis bound over face normals. The
+//! refinement climbs towards it locally: it tries the faces adjacent to the
+//! current face (same body) and the faces around the current deepest vertex
+//! (the other body, with that body's deepest vertex found by a descent from
+//! the current face), moves to the least deep, and repeats while the depth
+//! strictly decreases. Each try is a descent started next to its answer.
 
 use nalgebra::Isometry3;
 
@@ -26,6 +39,7 @@ pub(crate) fn deepest_vertex(
     pair: &Pair,
     poses: [&Isometry3<f64>; 2],
     witness: Witness,
+    refine: bool,
 ) -> DeepestVertex {
     let (vertex_body, start, face) = match witness {
         Witness::VertexFace {
@@ -49,7 +63,62 @@ pub(crate) fn deepest_vertex(
             (edge_body, start, face)
         }
     };
+    if refine {
+        let (vertex_body, start, face, _) =
+            refine_face(pair, candidate(pair, vertex_body, start, face));
+        return walk_to_deepest(pair, poses, vertex_body, start, face);
+    }
     walk_to_deepest(pair, poses, vertex_body, start, face)
+}
+
+/// A vertex–face candidate: vertex body, vertex, face (of the other body),
+/// height `D_P(vertex)` (negative below).
+type Candidate = (usize, usize, usize, f64);
+
+/// The deepest vertex under `face` of the other body, by descent from
+/// `start` (of `vertex_body`).
+fn candidate(pair: &Pair, vertex_body: usize, start: usize, face: usize) -> Candidate {
+    let plane = pair.face_plane_in_other(1 - vertex_body, face);
+    let (vertex, height) = descend(pair.polys[vertex_body], &plane, start);
+    (vertex_body, vertex, face, height)
+}
+
+/// Local search for the least deep vertex–face pair, from `current`.
+pub(crate) fn refine_face(pair: &Pair, mut current: Candidate) -> Candidate {
+    loop {
+        let (vertex_body, vertex, face, _) = current;
+        let face_body = 1 - vertex_body;
+        let face_poly = pair.polys[face_body];
+        let vertex_poly = pair.polys[vertex_body];
+        let mut best = current;
+        for &e in &face_poly.faces()[face].edges {
+            let edge = &face_poly.edges()[e];
+            let g = if edge.left_face == face {
+                edge.right_face
+            } else {
+                edge.left_face
+            };
+            let c = candidate(pair, vertex_body, vertex, g);
+            if c.3 > best.3 {
+                best = c;
+            }
+        }
+        let start_on_face_body = face_poly.faces()[face].vertices[0];
+        for &e in vertex_poly.vertex_edges(vertex) {
+            let edge = &vertex_poly.edges()[e];
+            for g in [edge.left_face, edge.right_face] {
+                let c = candidate(pair, face_body, start_on_face_body, g);
+                if c.3 > best.3 {
+                    best = c;
+                }
+            }
+        }
+        if best.3 > current.3 {
+            current = best;
+        } else {
+            return current;
+        }
+    }
 }
 
 /// Walks from `start` (body `vertex_body`) to the vertex deepest below face

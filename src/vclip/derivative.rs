@@ -8,7 +8,14 @@
 //! Only signs are needed:
 //! - to a point `v`: `sign D'(l) = sign(u . (e(l) - v))`;
 //! - to a face with plane `P`, unit normal `n`: `sign D'(l) = sign(u . n)`
-//!   if `D_P(e(l)) > 0`, `-sign(u . n)` if `D_P(e(l)) < 0`.
+//!   if `D_P(e(l)) > 0`, `-sign(u . n)` if `D_P(e(l)) < 0`. With the
+//!   heights `d_t = D_P(t)`, `d_h = D_P(h)`, `u . n = d_h - d_t` and
+//!   `D_P(e(l)) = d_t + l (d_h - d_t)`: the check needs only the two
+//!   heights. They are computed once per state, with `P` pulled back into
+//!   the edge's own frame, by every state that compares an edge with a face
+//!   (E-E, E-F, V-F), so that all of them take the same decision for an
+//!   edge (nearly) parallel to the face; otherwise rounding differences
+//!   between frames can make two states send the walk back and forth.
 //!
 //! When `X` is an edge, the distance is measured to the neighbour (vertex or
 //! face) whose plane was crossed: at the crossing point both give the same
@@ -19,38 +26,44 @@
 use nalgebra::Point3;
 
 use super::clip::{Clip, lerp};
-use crate::geometry::{Feature, Plane};
+use crate::geometry::Feature;
 
 /// What the distance is measured to.
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum Reference {
     /// A vertex position.
     Point(Point3<f64>),
-    /// A face plane.
-    Plane(Plane),
+    /// A face plane, by the heights `(D_P(t), D_P(h))` of the edge's ends.
+    Heights(f64, f64),
 }
 
-/// `D'(l)` up to a positive factor (only its sign is meaningful).
+/// `D'(l)` in length units up to a positive factor: the point form is
+/// divided by `|u|` so that it compares with a length slack.
 pub(crate) fn derivative(
     tail: &Point3<f64>,
     head: &Point3<f64>,
     l: f64,
     reference: &Reference,
 ) -> f64 {
-    let u = head - tail;
-    let point = lerp(tail, head, l);
     match reference {
-        Reference::Point(v) => u.dot(&(point - v)),
-        Reference::Plane(plane) => {
-            let height = plane.signed_distance(&point);
-            if height > 0.0 {
-                u.dot(&plane.normal)
-            } else if height < 0.0 {
-                -u.dot(&plane.normal)
-            } else {
-                0.0
-            }
+        Reference::Point(v) => {
+            let u = head - tail;
+            u.dot(&(lerp(tail, head, l) - v)) / u.norm()
         }
+        Reference::Heights(d_tail, d_head) => face_slope(*d_tail, *d_head, l),
+    }
+}
+
+/// Sign of the derivative of `|D_P(e(l))|` from the heights of the ends:
+/// `(d_h - d_t) sign(D_P(e(l)))`, 0 on the plane.
+pub(crate) fn face_slope(d_tail: f64, d_head: f64, l: f64) -> f64 {
+    let height = d_tail + (d_head - d_tail) * l;
+    if height > 0.0 {
+        d_head - d_tail
+    } else if height < 0.0 {
+        d_tail - d_head
+    } else {
+        0.0
     }
 }
 
@@ -64,12 +77,12 @@ pub(crate) fn check(
     reference: impl Fn(Feature) -> Reference,
 ) -> Option<Feature> {
     if let Some(n) = clip.n_lo
-        && derivative(tail, head, clip.l_lo, &reference(n)) > 0.0
+        && derivative(tail, head, clip.l_lo, &reference(n)) > clip.slack
     {
         return Some(n);
     }
     if let Some(n) = clip.n_hi
-        && derivative(tail, head, clip.l_hi, &reference(n)) < 0.0
+        && derivative(tail, head, clip.l_hi, &reference(n)) < -clip.slack
     {
         return Some(n);
     }

@@ -46,15 +46,20 @@ fn clip_against_edge_region(pair: &Pair, body: usize, x: usize, y: usize) -> Opt
     let poly = pair.polys[body];
     let edge = &poly.edges()[x];
     let (tail, head) = pair.edge_in_other(1 - body, y);
+    let other = &pair.polys[1 - body].edges()[y];
     let reference = |n: Feature| match n {
-        Feature::Face(f) => Reference::Plane(poly.faces()[f].plane),
+        Feature::Face(f) => {
+            let plane = pair.face_plane_in_other(body, f);
+            let height = |v: usize| plane.signed_distance(&pair.vertex(1 - body, v));
+            Reference::Heights(height(other.tail), height(other.head))
+        }
         Feature::Vertex(w) => Reference::Point(poly.vertices()[w]),
         // An edge's neighbours are vertices and faces only.
         Feature::Edge(_) => Reference::Point(poly.vertices()[edge.tail]),
     };
     let vertex_walls = [edge.tail, edge.head]
         .map(|w| (poly.vertex_edge_plane(x, w).flipped(), Feature::Vertex(w)));
-    let mut clip = Clip::new();
+    let mut clip = Clip::new(pair.slack);
     match clip.against_all(vertex_walls, &tail, &head) {
         Some(Exclusion::Simple(n)) => return Some(n),
         Some(Exclusion::Compound) => {
@@ -84,7 +89,7 @@ pub(crate) fn edge_face(pair: &Pair, edge_body: usize, e: usize, f: usize) -> St
         .edges
         .iter()
         .map(|&e_f| (poly_f.face_edge_plane(e_f, f), Feature::Edge(e_f)));
-    let mut clip = Clip::new();
+    let mut clip = Clip::new(pair.slack);
     if clip.against_all(planes, &tail_f, &head_f).is_some() {
         return Step::Move {
             body: face_body,
@@ -97,6 +102,7 @@ pub(crate) fn edge_face(pair: &Pair, edge_body: usize, e: usize, f: usize) -> St
     let d_head = plane.signed_distance(&pair.vertex(edge_body, edge.head));
     let d_lo = d_tail + (d_head - d_tail) * clip.l_lo;
     let d_hi = d_tail + (d_head - d_tail) * clip.l_hi;
+    // `|d(l)|` is linear on the interval (no sign change): one slope.
     let same_side = (d_lo > 0.0 && d_hi > 0.0) || (d_lo < 0.0 && d_hi < 0.0);
     if !same_side {
         return Step::Penetration(Witness::EdgeFace {
@@ -105,7 +111,7 @@ pub(crate) fn edge_face(pair: &Pair, edge_body: usize, e: usize, f: usize) -> St
             face: f,
         });
     }
-    let slope = (d_head - d_tail) * d_lo.signum();
+    let slope = derivative::face_slope(d_tail, d_head, clip.l_lo);
     let (neighbour, end) = if slope >= 0.0 {
         (clip.n_lo, edge.tail)
     } else {

@@ -48,6 +48,10 @@ pub(crate) struct Pair<'a> {
     pub polys: [&'a ConvexPolyhedron; 2],
     /// `to_other[i]` maps body `i`'s frame into the other body's frame.
     pub to_other: [RigidMap; 2],
+    /// Slack of every sign test of the walk (length units): 0 in the normal
+    /// walk; positive in the tolerant walk after a cycle, where a plane is
+    /// only violated, and a derivative only nonzero, beyond the slack.
+    pub slack: f64,
 }
 
 impl<'a> Pair<'a> {
@@ -64,6 +68,7 @@ impl<'a> Pair<'a> {
                 RigidMap::from_isometry(&b_in_a.inverse()),
                 RigidMap::from_isometry(&b_in_a),
             ],
+            slack: 0.0,
         }
     }
 

@@ -22,6 +22,20 @@ pub const DEFAULT_ITERATIONS_PER_FEATURE: usize = 4;
 /// whatever the feature counts (a tetrahedron pair has only 28 features).
 pub const DEFAULT_MIN_ITERATIONS: usize = 64;
 
+/// Default of [`VClipSettings::tie_tolerance`]: a pair is accepted after a
+/// cycle if its closest points are inside each other's Voronoi regions up
+/// to this fraction of the pair's length scale (the bodies' scales plus the
+/// distance between their centres). Rounding in the plane tests is about
+/// 1e-16 of that scale; 1e-10 leaves a wide margin and still pins the
+/// distance far below the 1e-9 relative accuracy the tests demand.
+pub const DEFAULT_TIE_TOLERANCE: f64 = 1e-10;
+
+/// Default of [`VClipSettings::touch_tolerance`]: a done state whose
+/// closest points are closer than this fraction of the pair's length scale
+/// is checked for overlap (touching or penetrating, see the `touching`
+/// module); rounding of the distance itself is about 1e-16 of that scale.
+pub const DEFAULT_TOUCH_TOLERANCE: f64 = 1e-10;
+
 /// Settings of a query.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VClipSettings {
@@ -32,6 +46,15 @@ pub struct VClipSettings {
     pub min_iterations: usize,
     /// Overrides the cap when `Some` (tests force the fallback with it).
     pub max_iterations: Option<usize>,
+    /// Relative tolerance of the closest-pair test after a cycle.
+    pub tie_tolerance: f64,
+    /// Relative distance below which a separated answer is checked for
+    /// overlap, and within which a separating plane counts as touching.
+    pub touch_tolerance: f64,
+    /// After the deepest-vertex walk, search the neighbouring faces for a
+    /// less deep vertex–face pair (see the `deepest` module). `false` gives
+    /// exactly the witness face of DESIGN.md section 4.
+    pub refine_face: bool,
 }
 
 impl Default for VClipSettings {
@@ -40,6 +63,9 @@ impl Default for VClipSettings {
             iterations_per_feature: DEFAULT_ITERATIONS_PER_FEATURE,
             min_iterations: DEFAULT_MIN_ITERATIONS,
             max_iterations: None,
+            tie_tolerance: DEFAULT_TIE_TOLERANCE,
+            touch_tolerance: DEFAULT_TOUCH_TOLERANCE,
+            refine_face: true,
         }
     }
 }
@@ -64,6 +90,15 @@ pub enum VClipError {
     NonFinitePose {
         /// The body whose pose is bad.
         body: super::BodyRole,
+    },
+    /// A pose's rotation quaternion is not of unit norm (within
+    /// [`ROTATION_NORM_TOLERANCE`](super::ROTATION_NORM_TOLERANCE)).
+    #[error("the rotation of body {body:?} has quaternion norm {norm}, not 1")]
+    NonUnitRotation {
+        /// The body whose pose is bad.
+        body: super::BodyRole,
+        /// The norm found.
+        norm: f64,
     },
     /// A warm-start feature index is out of range for its body (a stale
     /// cache from another shape).

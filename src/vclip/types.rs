@@ -112,6 +112,9 @@ pub enum FallbackReason {
     /// The walk reached the iteration cap (a cycle caused by rounding, or a
     /// cap set too low): the answer is exhaustive, O(features²).
     IterationCap,
+    /// The walk revisited a state and no remembered pair passed the
+    /// closest-pair test within the tie tolerance.
+    Cycle,
 }
 
 /// The result of a query.
@@ -126,6 +129,11 @@ pub struct VClipResult {
     pub iterations: usize,
     /// `Some` when the answer comes from the brute-force fallback.
     pub fallback: Option<FallbackReason>,
+    /// The walk revisited a state (a rounding tie between pairs of features
+    /// at the same distance) and the answer is the closest remembered pair
+    /// that passed Mirtich's Theorem 1 within
+    /// [`VClipSettings::tie_tolerance`](super::VClipSettings::tie_tolerance).
+    pub resolved_cycle: bool,
 }
 
 impl VClipResult {

@@ -51,7 +51,7 @@ fn most_violated_vertex_plane(
 ) -> Option<usize> {
     let poly = pair.polys[body];
     let mut best = None;
-    let mut most_negative = 0.0;
+    let mut most_negative = -pair.slack;
     for &e in poly.vertex_edges(v) {
         let d = poly.vertex_edge_plane(e, v).signed_distance(p);
         if d < most_negative {
@@ -78,7 +78,7 @@ pub(crate) fn vertex_edge(pair: &Pair, vertex_body: usize, v: usize, e: usize) -
         .vertex_edges(v)
         .iter()
         .map(|&e_v| (poly.vertex_edge_plane(e_v, v), Feature::Edge(e_v)));
-    let mut clip = Clip::new();
+    let mut clip = Clip::new(pair.slack);
     let reference = |_| Reference::Point(pair.vertex(vertex_body, v));
     let update = match clip.against_all(planes, &tail, &head) {
         Some(Exclusion::Simple(n)) => Some(n),
@@ -100,12 +100,12 @@ fn violated_edge_wall(pair: &Pair, body: usize, e: usize, p: &Point3<f64>) -> Op
     let poly = pair.polys[body];
     let edge = &poly.edges()[e];
     for w in [edge.tail, edge.head] {
-        if poly.vertex_edge_plane(e, w).signed_distance(p) > 0.0 {
+        if poly.vertex_edge_plane(e, w).signed_distance(p) > pair.slack {
             return Some(Feature::Vertex(w));
         }
     }
     let mut best = None;
-    let mut most_violated = 0.0;
+    let mut most_violated = pair.slack;
     for f in [edge.left_face, edge.right_face] {
         let d = poly.face_edge_plane(e, f).signed_distance(p);
         if d > most_violated {
@@ -150,7 +150,7 @@ fn most_violated_face_edge_plane(
 ) -> Option<usize> {
     let poly = pair.polys[body];
     let mut best = None;
-    let mut most_negative = 0.0;
+    let mut most_negative = -pair.slack;
     for &e in &poly.faces()[f].edges {
         let d = poly.face_edge_plane(e, f).signed_distance(p);
         if d < most_negative {
@@ -168,6 +168,6 @@ fn edge_toward_plane(pair: &Pair, body: usize, v: usize, plane: &Plane) -> Optio
     let d = plane.signed_distance(&poly.vertices()[v]);
     poly.vertex_edges(v).iter().copied().find(|&e| {
         let d_other = plane.signed_distance(&poly.vertices()[poly.other_vertex(e, v)]);
-        (d > 0.0 && d_other < d) || (d < 0.0 && d_other > d)
+        (d > 0.0 && d_other < d - pair.slack) || (d < 0.0 && d_other > d + pair.slack)
     })
 }

@@ -1,0 +1,289 @@
+//! Mirtich's experiments as a benchmark (V-Clip, 1998, section 6).
+//!
+//! 1. Degeneracy (Algorithm 10): `VCLIP_DEGENERACY_TRIALS` (default
+//!    100,000) trials of two cubes with nearly parallel faces and edges,
+//!    binary-searching for where the closest features change; every query
+//!    is checked against a brute-force distance and parry's intersection
+//!    test. Prints the counts of cycles (exhaustive fallbacks), resolved
+//!    rounding ties and wrong answers.
+//! 2. Coherence (Algorithm 9): body 1 fixed, body 2 of the same shape moving
+//!    sinusoidally and rotating 0.5, 5 and 25 degrees per query, for the
+//!    cube, icosahedron, disk (60-gon, 10:1) and 642-vertex sphere. Side by
+//!    side: V-Clip warm (cached feature pair), V-Clip cold, parry3d-f64
+//!    `distance`, parry3d-f64 `contact`. One criterion iteration is a whole
+//!    path of `PATH_LENGTH` queries; the table divides by it. Accuracy of
+//!    the warm queries against parry's distance is counted on the way.
+//!
+//! Run: `cargo bench --bench vclip`. The Markdown table is printed at the
+//! end and written to `target/criterion/vclip_table.md`.
+
+#[path = "../tests/vclip_support/mod.rs"]
+mod vclip_support;
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use constraint_stabilization::geometry::ConvexPolyhedron;
+use constraint_stabilization::vclip::{FeaturePair, VClip, vclip};
+use criterion::Criterion;
+use nalgebra::Isometry3;
+use parry3d_f64::query;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use vclip_support::experiments::{CoherenceRun, degeneracy_experiment, mirtich_shapes};
+use vclip_support::{parry_distance, parry_pose, parry_shape, separated_distance};
+
+/// Queries per coherence path (Mirtich: 1000 per run).
+const PATH_LENGTH: usize = 1000;
+
+/// Degrees per query of the coherence experiment.
+const OMEGAS: [f64; 3] = [0.5, 5.0, 25.0];
+
+/// Agreement of distances with the oracle, relative to the shape scale.
+const AGREEMENT: f64 = 1e-9;
+
+/// parry's intersection test is fuzzy within about 5e-8 of touching.
+const PARRY_FUZZ: f64 = 1e-7;
+
+const METHODS: [&str; 4] = [
+    "vclip_warm",
+    "vclip_cold",
+    "parry_distance",
+    "parry_contact",
+];
+
+/// Rounds of the interleaved measurement.
+const ROUNDS: usize = 31;
+
+fn main() {
+    degeneracy();
+    if std::env::var("VCLIP_SKIP_CRITERION").is_err() {
+        let mut criterion = Criterion::default()
+            .sample_size(20)
+            .warm_up_time(Duration::from_millis(500))
+            .measurement_time(Duration::from_secs(2))
+            .configure_from_args();
+        coherence(&mut criterion);
+        criterion.final_summary();
+        print_table();
+    }
+    interleaved_table();
+}
+
+/// The four methods timed in alternation, one whole path each per round,
+/// `ROUNDS` rounds; the median per method. On a shared, loaded machine the
+/// load then weighs on all four alike, which keeps the ratios meaningful
+/// where criterion's separate runs (minutes apart) do not.
+fn interleaved_table() {
+    let fixed = Isometry3::identity();
+    let fixed_parry = parry_pose(&fixed);
+    let mut table = String::from(
+        "| shape | deg/query | V-Clip warm | V-Clip cold | parry distance | parry contact | distance / warm | contact / warm |\n\
+         |---|---|---|---|---|---|---|---|\n",
+    );
+    for (name, shape) in mirtich_shapes() {
+        let parry = parry_shape(&shape);
+        for omega in OMEGAS {
+            let poses = path(&shape, omega, 11);
+            let parry_poses: Vec<_> = poses.iter().map(parry_pose).collect();
+            let mut times = [(); 4].map(|_| Vec::with_capacity(ROUNDS));
+            for _ in 0..ROUNDS {
+                let clock = std::time::Instant::now();
+                let mut warm: Option<FeaturePair> = None;
+                for pose in &poses {
+                    warm = Some(
+                        black_box(vclip(&shape, &fixed, &shape, pose, warm).unwrap()).final_pair,
+                    );
+                }
+                times[0].push(clock.elapsed().as_secs_f64());
+                let clock = std::time::Instant::now();
+                for pose in &poses {
+                    black_box(vclip(&shape, &fixed, &shape, pose, None).unwrap());
+                }
+                times[1].push(clock.elapsed().as_secs_f64());
+                let clock = std::time::Instant::now();
+                for pose in &parry_poses {
+                    black_box(query::distance(&fixed_parry, &parry, pose, &parry).unwrap());
+                }
+                times[2].push(clock.elapsed().as_secs_f64());
+                let clock = std::time::Instant::now();
+                for pose in &parry_poses {
+                    black_box(query::contact(&fixed_parry, &parry, pose, &parry, 0.0).unwrap());
+                }
+                times[3].push(clock.elapsed().as_secs_f64());
+            }
+            let median = |v: &mut Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2] * 1e9 / PATH_LENGTH as f64
+            };
+            let m: Vec<f64> = times.iter_mut().map(median).collect();
+            table += &format!(
+                "| {name} | {omega} | {} | {} | {} | {} | {:.1}x | {:.1}x |\n",
+                format_ns(m[0]),
+                format_ns(m[1]),
+                format_ns(m[2]),
+                format_ns(m[3]),
+                m[2] / m[0],
+                m[3] / m[0],
+            );
+        }
+    }
+    println!("\nInterleaved, median time per query ({ROUNDS} rounds):\n\n{table}");
+    let _ = std::fs::create_dir_all("target/criterion");
+    let _ = std::fs::write("target/criterion/vclip_table_interleaved.md", &table);
+}
+
+fn degeneracy() {
+    let trials = std::env::var("VCLIP_DEGENERACY_TRIALS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(100_000);
+    let mut rng = ChaCha8Rng::seed_from_u64(10);
+    let start = std::time::Instant::now();
+    let counts = degeneracy_experiment(
+        &mut rng,
+        &VClip::default(),
+        trials,
+        30,
+        AGREEMENT,
+        PARRY_FUZZ,
+    );
+    println!(
+        "degeneracy: {counts:?} in {:.1} s (oracle checks included)",
+        start.elapsed().as_secs_f64()
+    );
+}
+
+/// One coherence path: poses of body 2, body 1 at the origin.
+fn path(shape: &ConvexPolyhedron, omega: f64, seed: u64) -> Vec<Isometry3<f64>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let run = CoherenceRun::new(&mut rng, shape.scale(), omega);
+    (1..=PATH_LENGTH).map(|i| run.pose(i)).collect()
+}
+
+fn coherence(criterion: &mut Criterion) {
+    let fixed = Isometry3::identity();
+    let fixed_parry = parry_pose(&fixed);
+    for (name, shape) in mirtich_shapes() {
+        let parry = parry_shape(&shape);
+        for omega in OMEGAS {
+            let poses = path(&shape, omega, 11);
+            let parry_poses: Vec<_> = poses.iter().map(parry_pose).collect();
+            count_disagreements(name, omega, &shape, &parry, &poses);
+            let mut group = criterion.benchmark_group(format!("vclip_{name}_{omega}deg"));
+            group.bench_function(METHODS[0], |b| {
+                b.iter(|| {
+                    let mut warm: Option<FeaturePair> = None;
+                    for pose in &poses {
+                        let result = vclip(&shape, &fixed, &shape, pose, warm).unwrap();
+                        warm = Some(black_box(result).final_pair);
+                    }
+                })
+            });
+            group.bench_function(METHODS[1], |b| {
+                b.iter(|| {
+                    for pose in &poses {
+                        black_box(vclip(&shape, &fixed, &shape, pose, None).unwrap());
+                    }
+                })
+            });
+            group.bench_function(METHODS[2], |b| {
+                b.iter(|| {
+                    for pose in &parry_poses {
+                        black_box(query::distance(&fixed_parry, &parry, pose, &parry).unwrap());
+                    }
+                })
+            });
+            group.bench_function(METHODS[3], |b| {
+                b.iter(|| {
+                    for pose in &parry_poses {
+                        black_box(query::contact(&fixed_parry, &parry, pose, &parry, 0.0).unwrap());
+                    }
+                })
+            });
+            group.finish();
+        }
+    }
+}
+
+/// Counts warm queries whose distance differs from parry's by more than
+/// `AGREEMENT * scale`, fallbacks and resolved ties, and prints them.
+fn count_disagreements(
+    name: &str,
+    omega: f64,
+    shape: &ConvexPolyhedron,
+    parry: &parry3d_f64::shape::ConvexPolyhedron,
+    poses: &[Isometry3<f64>],
+) {
+    let fixed = Isometry3::identity();
+    let (mut warm, mut off, mut fell_back, mut ties, mut iterations) = (None, 0, 0, 0, 0);
+    for pose in poses {
+        let result = vclip(shape, &fixed, shape, pose, warm).unwrap();
+        warm = Some(result.final_pair);
+        let d_parry = parry_distance(parry, &fixed, parry, pose);
+        let d = separated_distance(&result).unwrap_or(0.0);
+        off += ((d - d_parry).abs() > AGREEMENT * shape.scale()) as usize;
+        fell_back += result.fell_back() as usize;
+        ties += result.resolved_cycle as usize;
+        iterations += result.iterations;
+    }
+    println!(
+        "coherence {name} {omega} deg/query: {} queries, {off} off parry by > {AGREEMENT:e}, \
+         {fell_back} fallbacks, {ties} resolved ties, {:.2} iterations per warm query",
+        poses.len(),
+        iterations as f64 / poses.len() as f64
+    );
+}
+
+/// Reads criterion's median estimates and prints the Markdown table.
+fn print_table() {
+    let mut table = String::from(
+        "| shape | deg/query | V-Clip warm | V-Clip cold | parry distance | parry contact | distance / warm | contact / warm |\n\
+         |---|---|---|---|---|---|---|---|\n",
+    );
+    for (name, _) in mirtich_shapes() {
+        for omega in OMEGAS {
+            let medians: Vec<Option<f64>> = METHODS
+                .iter()
+                .map(|m| median_ns(&format!("vclip_{name}_{omega}deg"), m))
+                .collect();
+            let per_query = |m: Option<f64>| m.map(|ns| ns / PATH_LENGTH as f64);
+            let cell = |m: Option<f64>| per_query(m).map_or("-".into(), format_ns);
+            let ratio = |m: Option<f64>| match (per_query(m), per_query(medians[0])) {
+                (Some(x), Some(w)) => format!("{:.1}x", x / w),
+                _ => "-".into(),
+            };
+            table += &format!(
+                "| {name} | {omega} | {} | {} | {} | {} | {} | {} |\n",
+                cell(medians[0]),
+                cell(medians[1]),
+                cell(medians[2]),
+                cell(medians[3]),
+                ratio(medians[2]),
+                ratio(medians[3]),
+            );
+        }
+    }
+    println!("\nMedian time per query:\n\n{table}");
+    let _ = std::fs::write("target/criterion/vclip_table.md", &table);
+}
+
+fn format_ns(ns: f64) -> String {
+    if ns >= 1000.0 {
+        format!("{:.2} µs", ns / 1000.0)
+    } else {
+        format!("{ns:.0} ns")
+    }
+}
+
+/// Median of a benchmark in ns, from criterion's `estimates.json`.
+fn median_ns(group: &str, function: &str) -> Option<f64> {
+    let path = format!("target/criterion/{group}/{function}/new/estimates.json");
+    let text = std::fs::read_to_string(path).ok()?;
+    let start = text.find("\"median\"")?;
+    let rest = &text[start..];
+    let key = "\"point_estimate\":";
+    let at = rest.find(key)? + key.len();
+    let end = rest[at..].find([',', '}'])? + at;
+    rest[at..end].trim().parse().ok()
+}
