@@ -27,9 +27,6 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use crate::broad_phase::BodyPair;
 use crate::geometry::{ConvexPolyhedron, Feature};
 use crate::projector::{ConstraintRow, ContactSide, contact_row};
-use crate::shallowest_face::{
-    PairBody, TOUCHING_OVERLAP_RELATIVE, overlap_of_touching, shallowest_face,
-};
 use crate::vclip::{BodyRole, DeepestVertex, FeaturePair, Outcome, VClip, VClipResult};
 
 /// Distance, relative to the pair's scale, below which the witness
@@ -104,42 +101,15 @@ impl WarmStartCache {
     }
 }
 
-/// V-Clip on two bodies, `a` the pair's first body; a penetration is
-/// refined to the shallowest face found by [`shallowest_face`], and a
-/// distance-0 separation is checked by [`overlap_of_touching`] (V-Clip can
-/// end at coincident features of overlapping solids).
+/// V-Clip on two bodies, `a` the pair's first body (a penetration comes
+/// back as V-Clip's refined, shallow vertex–face pair).
 pub fn query(
     vclip: &VClip,
     a: &BodyGeometry,
     b: &BodyGeometry,
     warm_start: Option<FeaturePair>,
 ) -> Result<VClipResult, crate::vclip::VClipError> {
-    let mut result = vclip.query(a.shape, &a.pose, b.shape, &b.pose, warm_start)?;
-    let body_a = PairBody {
-        shape: a.shape,
-        pose: &a.pose,
-    };
-    let body_b = PairBody {
-        shape: b.shape,
-        pose: &b.pose,
-    };
-    match result.outcome {
-        Outcome::Penetrating(witness) => {
-            let refined = shallowest_face(witness, body_a, body_b);
-            result.outcome = Outcome::Penetrating(refined);
-        }
-        Outcome::Separated { distance, .. } => {
-            // V-Clip may stop at coincident features with distance 0 while
-            // the solids overlap: check such a contact by separating axes.
-            let threshold = TOUCHING_OVERLAP_RELATIVE * a.shape.scale().min(b.shape.scale());
-            if distance <= threshold
-                && let Some(deepest) = overlap_of_touching(body_a, body_b, threshold)
-            {
-                result.outcome = Outcome::Penetrating(deepest);
-            }
-        }
-    }
-    Ok(result)
+    vclip.query(a.shape, &a.pose, b.shape, &b.pose, warm_start)
 }
 
 /// Distance when separated, minus the deepest-vertex depth when penetrating.

@@ -26,7 +26,6 @@ pub mod io;
 pub mod island;
 pub mod projector;
 pub mod scene;
-pub mod shallowest_face;
 pub mod solver;
 pub mod stabilizer;
 pub mod vclip;
