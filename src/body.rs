@@ -42,6 +42,7 @@ use nalgebra::{Isometry3, Matrix3, Point3, Quaternion, Translation3, UnitQuatern
 use thiserror::Error;
 
 use crate::geometry::{ConvexPolyhedron, GeometryError};
+use crate::projector::BodyState;
 
 /// Largest accepted deviation `| |q| - 1 |` of a given rotation quaternion
 /// from unit norm. Quaternions written with four significant digits (for
@@ -333,11 +334,11 @@ impl Body {
     /// The COM pose displaced by a correction `(dx, dtheta)` (world frame):
     /// `t_com + dx`, `exp(dtheta) R` with `dtheta` a rotation vector.
     pub fn displaced_com_pose(&self, dx: &Vector3<f64>, dtheta: &Vector3<f64>) -> Isometry3<f64> {
-        let rotation = UnitQuaternion::from_scaled_axis(*dtheta) * self.com_pose.rotation;
-        Isometry3::from_parts(
-            Translation3::from(self.com_pose.translation.vector + dx),
-            UnitQuaternion::new_normalize(rotation.into_inner()),
-        )
+        let state = BodyState {
+            position: self.com_world(),
+            rotation: self.com_pose.rotation,
+        };
+        state.moved(dx, dtheta, 1.0).isometry()
     }
 
     /// The world-frame axis-aligned bounding box `(min, max)` of the body,
