@@ -387,15 +387,15 @@ fn identical_boxes_at_the_same_pose_separate() {
     check_scene_at_all_scales(&TestScene::new("identical boxes", descs, 2), false);
 }
 
-#[test]
-fn small_box_inside_a_big_one_escapes() {
-    let descs = vec![
+/// A small box entirely inside a big one of the given mass.
+fn small_inside_big(big_mass: MassSpec) -> Vec<BodyDesc> {
+    vec![
         cuboid(
             "big",
             [1.0, 1.0, 1.0],
             [0.0, 0.0, 0.0],
             IDENTITY_XYZW,
-            MassSpec::Density(1.0),
+            big_mass,
         ),
         cuboid(
             "small",
@@ -406,7 +406,12 @@ fn small_box_inside_a_big_one_escapes() {
             ))),
             MassSpec::Density(1.0),
         ),
-    ];
+    ]
+}
+
+#[test]
+fn small_box_inside_a_big_one_escapes() {
+    let descs = small_inside_big(MassSpec::Density(1.0));
     check_scene_at_all_scales(&TestScene::new("small inside big", descs, 2), true);
 }
 
@@ -419,24 +424,7 @@ fn stack_with_mass_ratio_ten_thousand() {
 
 #[test]
 fn small_box_inside_a_fixed_big_one_escapes() {
-    let descs = vec![
-        cuboid(
-            "big",
-            [1.0, 1.0, 1.0],
-            [0.0, 0.0, 0.0],
-            IDENTITY_XYZW,
-            MassSpec::Fixed,
-        ),
-        cuboid(
-            "small",
-            [0.2, 0.2, 0.2],
-            [0.3, 0.1, -0.05],
-            xyzw(&UnitQuaternion::from_scaled_axis(Vector3::new(
-                0.1, 0.2, 0.0,
-            ))),
-            MassSpec::Density(1.0),
-        ),
-    ];
+    let descs = small_inside_big(MassSpec::Fixed);
     check_scene_at_all_scales(&TestScene::new("small inside fixed big", descs, 2), true);
 }
 
