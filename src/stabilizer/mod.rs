@@ -121,19 +121,7 @@ impl Stabilizer {
             .iter()
             .map(|b| b.polyhedron().clone())
             .collect();
-        let mut report = Report {
-            status: Status::NothingToDo,
-            passes: 0,
-            pass_reports: Vec::new(),
-            scale: lengths.scale,
-            tolerance: lengths.tolerance,
-            depth_before: 0.0,
-            depth_after: 0.0,
-            displacement: 0.0,
-            bodies_moved: 0,
-            stalled_islands: Vec::new(),
-            times: StageTimes::default(),
-        };
+        let mut report = Report::new(&lengths);
         loop {
             let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
             let geometry = SceneGeometry {
@@ -141,25 +129,22 @@ impl Stabilizer {
                 poses: &poses,
             };
             let detection = detect(scene, geometry, &mut self.cache, &vclip, &lengths)?;
-            report.times.broad_phase += detection.broad_phase_seconds;
-            report.times.narrow_phase += detection.narrow_phase_seconds;
-            if report.pass_reports.is_empty() {
-                report.depth_before = detection.deepest;
-            }
-            report.depth_after = detection.deepest;
+            report.record_detection(&detection);
             let mut pass = pass_report(&detection, lengths.tolerance);
-            if detection.deepest <= lengths.tolerance {
-                report.pass_reports.push(pass);
-                report.status = if report.passes == 0 {
+            let finished = if detection.deepest <= lengths.tolerance {
+                Some(if report.passes == 0 {
                     Status::NothingToDo
                 } else {
                     Status::Converged
-                };
-                return Ok(report);
-            }
-            if report.passes == self.settings.max_passes {
+                })
+            } else if report.passes == self.settings.max_passes {
+                Some(Status::PassLimit)
+            } else {
+                None
+            };
+            if let Some(status) = finished {
                 report.pass_reports.push(pass);
-                report.status = Status::PassLimit;
+                report.status = status;
                 return Ok(report);
             }
             let solutions = self.solve_pass(
@@ -171,37 +156,38 @@ impl Stabilizer {
                 &mut pass,
             )?;
             report.passes += 1;
-            let stalled: Vec<Vec<usize>> = solutions
-                .iter()
-                .filter(|s| s.report.outcome == StepOutcome::Stalled)
-                .map(|s| s.report.bodies.clone())
-                .collect();
-            let all_stalled = stalled.len() == solutions.len();
-            for solution in solutions {
-                report.times.solve += solution.solve_seconds;
-                report.times.line_search += solution.line_search_seconds;
-                solution.apply(scene, &mut self.cache)?;
-                pass.solved.push(solution.report);
-            }
-            log::debug!(
-                "pass {}: {} candidates, {} active, {} penetrating, {} islands, {} solved ({} stalled), deepest {:.3e}, {:.3} ms so far",
-                report.passes,
-                pass.candidate_pairs,
-                pass.active_pairs,
-                pass.penetrating_pairs,
-                pass.islands,
-                pass.solved.len(),
-                stalled.len(),
-                pass.deepest,
-                start.elapsed().as_secs_f64() * 1e3
-            );
+            let all_stalled = self.apply(scene, solutions, &mut report, &mut pass)?;
+            log_pass(report.passes, &pass, &report.stalled_islands, start);
             report.pass_reports.push(pass);
-            report.stalled_islands = stalled;
             if all_stalled {
                 report.status = Status::Stalled;
                 return Ok(report);
             }
         }
+    }
+
+    /// Applies the islands' corrections in island order and records them;
+    /// returns whether every island stalled.
+    fn apply(
+        &mut self,
+        scene: &mut Scene,
+        solutions: Vec<IslandSolution>,
+        report: &mut Report,
+        pass: &mut PassReport,
+    ) -> Result<bool, Error> {
+        report.stalled_islands = solutions
+            .iter()
+            .filter(|s| s.report.outcome == StepOutcome::Stalled)
+            .map(|s| s.report.bodies.clone())
+            .collect();
+        let all_stalled = report.stalled_islands.len() == solutions.len();
+        for solution in solutions {
+            report.times.solve += solution.solve_seconds;
+            report.times.line_search += solution.line_search_seconds;
+            solution.apply(scene, &mut self.cache)?;
+            pass.solved.push(solution.report);
+        }
+        Ok(all_stalled)
     }
 
     /// Forms islands from the detection and solves those that penetrate.
@@ -239,6 +225,22 @@ impl Stabilizer {
         });
         results.into_iter().collect()
     }
+}
+
+/// The debug line of a pass.
+fn log_pass(number: usize, pass: &PassReport, stalled: &[Vec<usize>], start: Instant) {
+    log::debug!(
+        "pass {number}: {} candidates, {} active, {} penetrating, {} islands, \
+         {} solved ({} stalled), deepest {:.3e}, {:.3} ms so far",
+        pass.candidate_pairs,
+        pass.active_pairs,
+        pass.penetrating_pairs,
+        pass.islands,
+        pass.solved.len(),
+        stalled.len(),
+        pass.deepest,
+        start.elapsed().as_secs_f64() * 1e3
+    );
 }
 
 fn pass_report(detection: &Detection, tolerance: f64) -> PassReport {

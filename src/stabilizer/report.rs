@@ -1,6 +1,8 @@
 //! What a stabilization call did: status, passes, islands, solvers,
 //! line-search steps, penetration before and after, displacement, times.
 
+use super::detection::Detection;
+use super::settings::ResolvedLengths;
 use crate::projector::StepOutcome;
 use crate::solver::{CrossCheck, Fallback, SolverKind};
 
@@ -134,6 +136,34 @@ pub struct Report {
 }
 
 impl Report {
+    /// The report of a call that has not detected anything yet.
+    pub fn new(lengths: &ResolvedLengths) -> Self {
+        Report {
+            status: Status::NothingToDo,
+            passes: 0,
+            pass_reports: Vec::new(),
+            scale: lengths.scale,
+            tolerance: lengths.tolerance,
+            depth_before: 0.0,
+            depth_after: 0.0,
+            displacement: 0.0,
+            bodies_moved: 0,
+            stalled_islands: Vec::new(),
+            times: StageTimes::default(),
+        }
+    }
+
+    /// Takes in a detection's times and depth (the first one is the depth
+    /// before the call, the last one the depth after).
+    pub(crate) fn record_detection(&mut self, detection: &Detection) {
+        self.times.broad_phase += detection.broad_phase_seconds;
+        self.times.narrow_phase += detection.narrow_phase_seconds;
+        if self.pass_reports.is_empty() {
+            self.depth_before = detection.deepest;
+        }
+        self.depth_after = detection.deepest;
+    }
+
     /// Total number of islands solved over all passes.
     pub fn islands_solved(&self) -> usize {
         self.pass_reports.iter().map(|p| p.solved.len()).sum()
