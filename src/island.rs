@@ -55,6 +55,14 @@ pub enum IslandError {
         /// The body.
         body: usize,
     },
+    /// An island to be solved lists a body without mass properties (a
+    /// fixed body): islands are built from dynamic bodies only, so this is
+    /// an internal inconsistency, reported rather than trusted.
+    #[error("body {body} is in an island but has no mass")]
+    MasslessBody {
+        /// The body.
+        body: usize,
+    },
 }
 
 /// Disjoint-set forest over `0..n`.

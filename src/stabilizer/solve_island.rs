@@ -4,7 +4,7 @@
 use crate::Error;
 use crate::broad_phase::BodyPair;
 use crate::contact::WarmStartCache;
-use crate::island::Island;
+use crate::island::{Island, IslandError};
 use crate::projector::{BodyInertia, BodyState, ProjectionSettings, StepOutcome, projection_step};
 use crate::scene::Scene;
 use crate::vclip::VClip;
@@ -118,9 +118,8 @@ fn island_state(
             position: pose.translation.vector.into(),
             rotation: pose.rotation,
         });
-        // Islands hold dynamic bodies only, and dynamic bodies have mass.
         let Some(mass) = body.mass() else {
-            continue;
+            return Err(IslandError::MasslessBody { body: index }.into());
         };
         inertias.push(BodyInertia {
             mass: mass.mass,
