@@ -22,6 +22,23 @@ use parry3d_f64::shape::ConvexPolyhedron as ParryPolyhedron;
 /// The identity rotation `[x, y, z, w]`.
 pub const IDENTITY_XYZW: [f64; 4] = [0.0, 0.0, 0.0, 1.0];
 
+/// A body description of `shape` placed by its shape frame.
+pub fn body(
+    name: &str,
+    shape: Shape,
+    translation: [f64; 3],
+    rotation_xyzw: [f64; 4],
+    mass: MassSpec,
+) -> BodyDesc {
+    BodyDesc {
+        name: name.into(),
+        shape,
+        translation: Vector3::from(translation),
+        rotation_xyzw,
+        mass,
+    }
+}
+
 /// A body description of a box.
 pub fn cuboid(
     name: &str,
@@ -30,15 +47,14 @@ pub fn cuboid(
     rotation_xyzw: [f64; 4],
     mass: MassSpec,
 ) -> BodyDesc {
-    BodyDesc {
-        name: name.into(),
-        shape: Shape::Cuboid {
-            half_extents: Vector3::from(half_extents),
-        },
-        translation: Vector3::from(translation),
+    let half_extents = Vector3::from(half_extents);
+    body(
+        name,
+        Shape::Cuboid { half_extents },
+        translation,
         rotation_xyzw,
         mass,
-    }
+    )
 }
 
 /// A body description of a convex hull.
@@ -49,13 +65,13 @@ pub fn hull(
     rotation_xyzw: [f64; 4],
     mass: MassSpec,
 ) -> BodyDesc {
-    BodyDesc {
-        name: name.into(),
-        shape: Shape::ConvexHull { points },
-        translation: Vector3::from(translation),
+    body(
+        name,
+        Shape::ConvexHull { points },
+        translation,
         rotation_xyzw,
         mass,
-    }
+    )
 }
 
 /// `[x, y, z, w]` of a unit quaternion.
