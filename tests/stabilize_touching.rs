@@ -14,7 +14,7 @@
 mod stabilize_support;
 
 use constraint_stabilization::body::MassSpec;
-use constraint_stabilization::contact::{self, BodyGeometry};
+use constraint_stabilization::contact::{self, BodyGeometry, PairQuery};
 use constraint_stabilization::vclip::{Outcome, VClip, VClipSettings};
 use nalgebra::{UnitQuaternion, Vector3};
 use stabilize_support::*;
@@ -24,7 +24,9 @@ use stabilize_support::*;
 const DEPTH_AGREEMENT: f64 = 1e-7;
 
 /// Our outcome for a two-body scene, parry's depth and the SAT depth.
-fn ours_and_oracles(descs: &[constraint_stabilization::body::BodyDesc; 2]) -> (Outcome, f64, f64) {
+fn ours_and_oracles(
+    descs: &[constraint_stabilization::body::BodyDesc; 2],
+) -> (PairQuery, f64, f64) {
     let scene = scene_of(descs);
     let geometry = |i: usize| BodyGeometry {
         shape: scene.bodies()[i].polyhedron(),
@@ -34,7 +36,7 @@ fn ours_and_oracles(descs: &[constraint_stabilization::body::BodyDesc; 2]) -> (O
     let vclip = VClip::new(VClipSettings::default());
     let result = contact::query(&vclip, &geometry(0), &geometry(1), None).expect("valid query");
     let parry = parry_pair_depth(&scene, &parry_shapes(&scene), 0, 1);
-    (result.outcome, parry, sat_depth(&scene, 0, 1))
+    (result, parry, sat_depth(&scene, 0, 1))
 }
 
 fn unit_box(
@@ -82,13 +84,13 @@ fn overlapping_coincident_features_are_penetrations() {
             (sat - expected).abs() <= DEPTH_AGREEMENT,
             "{label}: SAT {sat}"
         );
-        let Outcome::Penetrating(deepest) = outcome else {
+        let Some(penetration) = outcome.penetration else {
             panic!("{label}: overlapping boxes reported as {outcome:?}");
         };
         assert!(
-            (deepest.depth - expected).abs() <= DEPTH_AGREEMENT,
+            (penetration.depth() - expected).abs() <= DEPTH_AGREEMENT,
             "{label}: depth {} vs {expected}",
-            deepest.depth
+            penetration.depth()
         );
         if !label.starts_with("same pose") && !label.starts_with("shifted") {
             assert!(
@@ -136,13 +138,14 @@ fn touching_boxes_stay_separated() {
             "{label}: parry says {parry_depth}"
         );
         assert!(sat <= DEPTH_AGREEMENT, "{label}: SAT says {sat}");
-        match outcome {
-            Outcome::Separated { distance, .. } => assert!(distance.abs() <= 1e-12),
-            Outcome::Penetrating(deepest) => assert!(
-                deepest.depth <= DEPTH_AGREEMENT,
+        match (outcome.penetration, outcome.vclip.outcome) {
+            (Some(penetration), _) => assert!(
+                penetration.depth() <= DEPTH_AGREEMENT,
                 "{label}: touching boxes penetrate by {}",
-                deepest.depth
+                penetration.depth()
             ),
+            (None, Outcome::Separated { distance, .. }) => assert!(distance.abs() <= 1e-12),
+            (None, Outcome::Penetrating(_)) => panic!("{label}: a penetration without its depth"),
         }
     }
 }

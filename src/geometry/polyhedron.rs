@@ -55,6 +55,7 @@ pub struct ConvexPolyhedron {
     mass: MassProperties,
     shape_origin_offset: Vector3<f64>,
     scale: f64,
+    inradius: f64,
 }
 
 impl ConvexPolyhedron {
@@ -114,8 +115,19 @@ impl ConvexPolyhedron {
             },
             shape_origin_offset,
             scale,
+            inradius: 0.0,
         };
         polyhedron.check_convex()?;
+        let inradius = polyhedron
+            .faces
+            .iter()
+            .map(|face| -face.plane.offset)
+            .fold(f64::INFINITY, f64::min)
+            .max(0.0);
+        let polyhedron = ConvexPolyhedron {
+            inradius,
+            ..polyhedron
+        };
         Ok(polyhedron)
     }
 
@@ -254,6 +266,15 @@ impl ConvexPolyhedron {
     /// to which geometric tolerances are relative.
     pub fn scale(&self) -> f64 {
         self.scale
+    }
+
+    /// Radius of the largest ball about the centre of mass inside the solid:
+    /// the smallest distance from the centre of mass to a face plane. Every
+    /// support value satisfies `h(n) >= inradius` for unit `n`, the lower
+    /// bound that confines the exact penetration search
+    /// ([`crate::contact::penetration`]).
+    pub fn inradius(&self) -> f64 {
+        self.inradius
     }
 
     /// Number of vertices, edges and faces together.

@@ -7,9 +7,10 @@ use std::time::Instant;
 use nalgebra::Isometry3;
 
 use crate::broad_phase::{self, BodyPair};
+use crate::contact::PairQuery;
 use crate::contact::{self, BodyGeometry, WarmStartCache};
 use crate::scene::Scene;
-use crate::vclip::{VClip, VClipResult};
+use crate::vclip::VClip;
 
 use super::island_provider::{SceneGeometry, shape_pair};
 use super::settings::ResolvedLengths;
@@ -65,8 +66,12 @@ pub fn detect(
     };
     for (pair, result) in candidates.into_iter().zip(results) {
         let result = result?;
-        cache.insert(pair, shape_pair(geometry.shapes, pair), result.final_pair);
-        let value = contact::signed_value(&result.outcome);
+        cache.insert(
+            pair,
+            shape_pair(geometry.shapes, pair),
+            result.vclip.final_pair,
+        );
+        let value = result.signed_value();
         detection.deepest = detection.deepest.max(-value);
         if value < lengths.contact_margin {
             detection.active_pairs.push(pair);
@@ -82,7 +87,7 @@ fn query_pair(
     pair: BodyPair,
     vclip: &VClip,
     start: Option<crate::vclip::FeaturePair>,
-) -> Result<VClipResult, StabilizeError> {
+) -> Result<PairQuery, StabilizeError> {
     let body = |index: usize, pose: &Isometry3<f64>| BodyGeometry {
         shape: &geometry.shapes[index],
         pose: *pose,

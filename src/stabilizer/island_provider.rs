@@ -13,10 +13,11 @@ use std::sync::Arc;
 use nalgebra::Isometry3;
 
 use crate::broad_phase::BodyPair;
+use crate::contact::PairQuery;
 use crate::contact::{self, BodyGeometry, WarmStartCache, shape_identity};
 use crate::geometry::ConvexPolyhedron;
 use crate::projector::{BodyState, ConstraintProvider, ConstraintRow, Measurement};
-use crate::vclip::{FeaturePair, VClip, VClipResult};
+use crate::vclip::{FeaturePair, VClip};
 
 /// Signed value reported for a pair whose query failed (a non-finite trial
 /// pose): it makes the merit infinite, so the line search rejects the trial.
@@ -96,13 +97,13 @@ impl<'a> IslandProvider<'a> {
         &mut self,
         k: usize,
         configuration: &[BodyState],
-    ) -> Option<(VClipResult, BodyGeometry<'a>, BodyGeometry<'a>)> {
+    ) -> Option<(PairQuery, BodyGeometry<'a>, BodyGeometry<'a>)> {
         let pair = self.pairs[k];
         let a = self.geometry(pair.body_a, configuration);
         let b = self.geometry(pair.body_b, configuration);
         match contact::query(&self.vclip, &a, &b, self.warm_starts[k]) {
             Ok(result) => {
-                self.warm_starts[k] = Some(result.final_pair);
+                self.warm_starts[k] = Some(result.vclip.final_pair);
                 Some((result, a, b))
             }
             Err(error) => {
@@ -118,13 +119,24 @@ impl ConstraintProvider for IslandProvider<'_> {
         let mut rows = Vec::new();
         for k in 0..self.pairs.len() {
             if let Some((result, a, b)) = self.query(k, configuration) {
-                rows.extend(contact::contact_rows(
-                    &result,
-                    &a,
-                    &b,
-                    self.margin,
-                    self.manifold,
-                ));
+                let pair_rows =
+                    contact::contact_rows(&result, &a, &b, self.margin, self.manifold);
+                if let Some(penetration) = &result.penetration {
+                    let pair = self.pairs[k];
+                    let (exact, reference) = (&penetration.exact, &penetration.reference);
+                    log::debug!(
+                        "  pair ({}, {}): {} depth {:.3e}, normal {:.3?}; {} rows on {} {:.3e}",
+                        pair.body_a,
+                        pair.body_b,
+                        exact.features.kind(),
+                        exact.depth,
+                        exact.normal_world.as_slice(),
+                        pair_rows.len(),
+                        reference.features.kind(),
+                        reference.depth,
+                    );
+                }
+                rows.extend(pair_rows);
             }
         }
         rows
@@ -133,7 +145,7 @@ impl ConstraintProvider for IslandProvider<'_> {
     fn measure(&mut self, configuration: &[BodyState]) -> Measurement {
         let values = (0..self.pairs.len())
             .map(|k| match self.query(k, configuration) {
-                Some((result, _, _)) => contact::signed_value(&result.outcome),
+                Some((result, _, _)) => result.signed_value(),
                 None => FAILED_QUERY_VALUE,
             })
             .collect();

@@ -65,6 +65,7 @@ mod verify;
 mod vertex_states;
 mod witness;
 
+pub(crate) use deepest::descend;
 pub use query::{CYCLE_CHECK_AFTER, HISTORY, ROTATION_NORM_TOLERANCE, VClip, vclip};
 pub use settings::{
     DEFAULT_ITERATIONS_PER_FEATURE, DEFAULT_MIN_ITERATIONS, DEFAULT_TIE_TOLERANCE,

@@ -12,10 +12,11 @@
 #![allow(dead_code)]
 
 use constraint_stabilization::body::{BodyDesc, MassSpec, Shape};
+use constraint_stabilization::geometry::ConvexPolyhedron;
 use constraint_stabilization::geometry::isometry_to_parry;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::{Report, Settings, Stabilizer};
-use nalgebra::{Point3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 use parry3d_f64::query;
 use parry3d_f64::shape::ConvexPolyhedron as ParryPolyhedron;
 
@@ -213,34 +214,54 @@ pub fn penetration_residual(scene: &Scene) -> (f64, Option<(usize, usize)>) {
 /// of an edge of `a` with an edge of `b` (0 when some axis separates). For
 /// convex polyhedra this minimum is the exact penetration depth.
 pub fn sat_depth(scene: &Scene, a: usize, b: usize) -> f64 {
-    let world = |i: usize| -> Vec<Vector3<f64>> {
-        let body = &scene.bodies()[i];
-        let pose = body.com_pose();
-        body.polyhedron()
-            .vertices()
+    let (body_a, body_b) = (&scene.bodies()[a], &scene.bodies()[b]);
+    sat_overlap(
+        body_a.polyhedron(),
+        body_a.com_pose(),
+        body_b.polyhedron(),
+        body_b.com_pose(),
+    )
+    .max(0.0)
+}
+
+/// The smallest overlap of the projections of two posed polyhedra over
+/// every face normal of both and every cross product of an edge of each
+/// (brute force): the exact penetration depth when positive; when negative,
+/// some axis separates the bodies (by at least that gap).
+pub fn sat_overlap(
+    poly_a: &ConvexPolyhedron,
+    pose_a: &Isometry3<f64>,
+    poly_b: &ConvexPolyhedron,
+    pose_b: &Isometry3<f64>,
+) -> f64 {
+    sat_axis(poly_a, pose_a, poly_b, pose_b).0
+}
+
+/// [`sat_overlap`] and the axis that realizes it, oriented from B towards A
+/// (translating A by the overlap along it makes the bodies touch).
+pub fn sat_axis(
+    poly_a: &ConvexPolyhedron,
+    pose_a: &Isometry3<f64>,
+    poly_b: &ConvexPolyhedron,
+    pose_b: &Isometry3<f64>,
+) -> (f64, Vector3<f64>) {
+    let world = |poly: &ConvexPolyhedron, pose: &Isometry3<f64>| -> Vec<Vector3<f64>> {
+        poly.vertices().iter().map(|v| (pose * v).coords).collect()
+    };
+    let (points_a, points_b) = (world(poly_a, pose_a), world(poly_b, pose_b));
+    let faces = |poly: &ConvexPolyhedron, pose: &Isometry3<f64>| -> Vec<Vector3<f64>> {
+        poly.faces()
             .iter()
-            .map(|v| (pose * v).coords)
+            .map(|f| pose.rotation * f.plane.normal)
             .collect()
     };
-    let (points_a, points_b) = (world(a), world(b));
-    let directions = |i: usize| -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
-        let body = &scene.bodies()[i];
-        let rotation = body.com_pose().rotation;
-        let shape = body.polyhedron();
-        (
-            shape
-                .faces()
-                .iter()
-                .map(|f| rotation * f.plane.normal)
-                .collect(),
-            shape
-                .edges()
-                .iter()
-                .map(|e| rotation * e.direction)
-                .collect(),
-        )
+    let edges = |poly: &ConvexPolyhedron, pose: &Isometry3<f64>| -> Vec<Vector3<f64>> {
+        poly.edges()
+            .iter()
+            .map(|e| pose.rotation * e.direction)
+            .collect()
     };
-    let ((faces_a, edges_a), (faces_b, edges_b)) = (directions(a), directions(b));
+    let (edges_a, edges_b) = (edges(poly_a, pose_a), edges(poly_b, pose_b));
     let span = |points: &[Vector3<f64>], axis: &Vector3<f64>| {
         points
             .iter()
@@ -249,24 +270,34 @@ pub fn sat_depth(scene: &Scene, a: usize, b: usize) -> f64 {
                 (lo.min(h), hi.max(h))
             })
     };
+    // Moving A along +axis separates after max_b - min_a, along -axis
+    // after max_a - min_b.
     let overlap = |axis: &Vector3<f64>| {
         let (min_a, max_a) = span(&points_a, axis);
         let (min_b, max_b) = span(&points_b, axis);
-        (max_a - min_b).min(max_b - min_a)
+        let (along, against) = (max_b - min_a, max_a - min_b);
+        if along <= against {
+            (along, *axis)
+        } else {
+            (against, -axis)
+        }
     };
-    let edge_axes = edges_a.iter().flat_map(|da| {
-        edges_b
-            .iter()
-            .filter_map(move |db| da.cross(db).try_normalize(PARALLEL_SINE))
-    });
-    faces_a
+    let edge_axes: Vec<Vector3<f64>> = edges_a
         .iter()
-        .chain(&faces_b)
-        .copied()
+        .flat_map(|da| {
+            edges_b
+                .iter()
+                .filter_map(move |db| da.cross(db).try_normalize(PARALLEL_SINE))
+        })
+        .collect();
+    faces(poly_a, pose_a)
+        .into_iter()
+        .chain(faces(poly_b, pose_b))
         .chain(edge_axes)
         .map(|axis| overlap(&axis))
-        .fold(f64::INFINITY, f64::min)
-        .max(0.0)
+        .fold((f64::INFINITY, Vector3::zeros()), |best, next| {
+            if next.0 < best.0 { next } else { best }
+        })
 }
 
 /// Edge pairs closer to parallel than this sine give no axis of their own.

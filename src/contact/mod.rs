@@ -1,23 +1,31 @@
-//! Narrow phase: V-Clip over candidate body pairs, and the constraint rows
-//! of a pair's contact.
+//! Narrow phase: what two bodies do to each other, and the constraint rows
+//! that follow.
+//!
+//! A query runs V-Clip (warm-started). A separated pair keeps V-Clip's
+//! distance and closest points. A penetrating pair goes on from V-Clip's
+//! deepest vertex to the exact penetration depth and the feature pair that
+//! realizes it ([`penetration`]: vertex–face of either body, or edge–edge),
+//! and its rows come from a contact manifold built on that normal
+//! ([`manifold`]).
 //!
 //! The signed value of a pair is its distance when separated and minus the
-//! depth of the deepest vertex–face pair when penetrating (an upper bound of
-//! the penetration depth, see [`crate::vclip::DeepestVertex`]).
+//! exact penetration depth when penetrating.
 //!
-//! Rows (DESIGN.md section 3), with the normal `n` from the face's body
-//! towards the vertex's body:
-//! - penetrating, deepest vertex only: one row at the deepest vertex `p`,
-//!   `phi = -depth`, with `p_face = p + depth n` its projection on the face
-//!   plane;
-//! - penetrating, manifold: one row per vertex of the vertex's body whose
-//!   signed distance to the face plane is below the contact margin, so that
-//!   a box sunk face-down into the ground is lifted flat instead of one
-//!   corner at a time;
+//! Rows (DESIGN.md section 3), with the normal `n` from B towards A:
+//! - penetrating: one row per manifold point (at most four for a face
+//!   contact, one for an edge–edge contact), `phi` = the point's separation
+//!   along `n`; with the manifold off, the deepest point only;
 //! - separated closer than the contact margin: one row at the closest
 //!   points, `n = (p_a - p_b) / d`. When `d` is too small for that quotient,
 //!   the normal comes from the closest features (a face normal, or the cross
 //!   product of two edges), else from the centres of mass.
+//!
+//! Files: `gauss_map` (arcs on the sphere), `penetration` (exact depth),
+//! `manifold` (contact points), this file (queries, rows, warm starts).
+
+pub mod gauss_map;
+pub mod manifold;
+pub mod penetration;
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -27,7 +35,9 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use crate::broad_phase::BodyPair;
 use crate::geometry::{ConvexPolyhedron, Feature};
 use crate::projector::{ConstraintRow, ContactSide, contact_row};
-use crate::vclip::{BodyRole, DeepestVertex, FeaturePair, Outcome, VClip, VClipResult};
+use crate::vclip::{FeaturePair, Outcome, VClip, VClipResult};
+pub use manifold::{ContactPoint, Manifold};
+pub use penetration::{ContactAxis, Penetration, PenetrationFeatures, minimum_translation};
 
 /// Distance, relative to the pair's scale, below which the witness
 /// difference of a separated pair is too small to give a normal.
@@ -101,43 +111,90 @@ impl WarmStartCache {
     }
 }
 
-/// V-Clip on two bodies, `a` the pair's first body (a penetration comes
-/// back as V-Clip's refined, shallow vertex–face pair).
+/// A pair's narrow-phase answer: V-Clip's result and, when the bodies
+/// penetrate, their minimum translation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairQuery {
+    /// V-Clip's answer (the final feature pair is the next warm start).
+    pub vclip: VClipResult,
+    /// The exact penetration, when V-Clip found the bodies penetrating.
+    pub penetration: Option<Penetration>,
+}
+
+impl PairQuery {
+    /// Distance when separated, minus the exact depth when penetrating.
+    pub fn signed_value(&self) -> f64 {
+        match (&self.penetration, &self.vclip.outcome) {
+            (Some(penetration), _) => -penetration.depth(),
+            (None, Outcome::Separated { distance, .. }) => *distance,
+            // V-Clip's deepest vertex, never reached: `query` always adds
+            // the penetration of a penetrating outcome.
+            (None, Outcome::Penetrating(deepest)) => -deepest.depth,
+        }
+    }
+}
+
+/// V-Clip on two bodies, `a` the pair's first body, then, if they
+/// penetrate, the exact depth search from V-Clip's deepest vertex.
 pub fn query(
     vclip: &VClip,
     a: &BodyGeometry,
     b: &BodyGeometry,
     warm_start: Option<FeaturePair>,
-) -> Result<VClipResult, crate::vclip::VClipError> {
-    vclip.query(a.shape, &a.pose, b.shape, &b.pose, warm_start)
+) -> Result<PairQuery, crate::vclip::VClipError> {
+    let result = vclip.query(a.shape, &a.pose, b.shape, &b.pose, warm_start)?;
+    let penetration = match &result.outcome {
+        Outcome::Penetrating(deepest) => Some(minimum_translation(
+            a.shape, &a.pose, b.shape, &b.pose, deepest,
+        )),
+        Outcome::Separated { .. } => None,
+    };
+    Ok(PairQuery {
+        vclip: result,
+        penetration,
+    })
 }
 
-/// Distance when separated, minus the deepest-vertex depth when penetrating.
-pub fn signed_value(outcome: &Outcome) -> f64 {
-    match outcome {
-        Outcome::Separated { distance, .. } => *distance,
-        Outcome::Penetrating(deepest) => -deepest.depth,
-    }
-}
-
-/// The constraint rows of a pair with V-Clip result `result` (no row for a
-/// separated pair at or beyond `margin`).
+/// The constraint rows of a pair with narrow-phase answer `query` (no row
+/// for a separated pair at or beyond `margin`). `manifold = false` keeps
+/// the deepest point of a penetration only.
 pub fn contact_rows(
-    result: &VClipResult,
+    query: &PairQuery,
     a: &BodyGeometry,
     b: &BodyGeometry,
     margin: f64,
     manifold: bool,
 ) -> Vec<ConstraintRow> {
-    match &result.outcome {
-        Outcome::Penetrating(deepest) => penetration_rows(deepest, a, b, margin, manifold),
+    if let Some(penetration) = &query.penetration {
+        let contact = manifold::manifold(penetration, a, b, margin, manifold);
+        return contact
+            .points
+            .iter()
+            .map(|point| {
+                contact_row(
+                    &point.point_a_world,
+                    &point.point_b_world,
+                    &contact.normal_world,
+                    a.side(),
+                    b.side(),
+                )
+            })
+            .collect();
+    }
+    match &query.vclip.outcome {
         Outcome::Separated {
             distance,
             witness_a_world,
             witness_b_world,
         } if *distance < margin => {
-            let normal =
-                separation_normal(result, a, b, witness_a_world, witness_b_world, *distance);
+            let normal = separation_normal(
+                &query.vclip,
+                a,
+                b,
+                witness_a_world,
+                witness_b_world,
+                *distance,
+            );
             vec![contact_row(
                 witness_a_world,
                 witness_b_world,
@@ -146,38 +203,8 @@ pub fn contact_rows(
                 b.side(),
             )]
         }
-        Outcome::Separated { .. } => Vec::new(),
+        _ => Vec::new(),
     }
-}
-
-fn penetration_rows(
-    deepest: &DeepestVertex,
-    a: &BodyGeometry,
-    b: &BodyGeometry,
-    margin: f64,
-    manifold: bool,
-) -> Vec<ConstraintRow> {
-    let (vertex_body, face_body) = match deepest.vertex_body {
-        BodyRole::A => (a, b),
-        BodyRole::B => (b, a),
-    };
-    let normal = deepest.normal_world;
-    let plane_point = deepest.vertex_world + normal * deepest.depth;
-    let row_at = |p: &Point3<f64>| {
-        let on_plane = p - normal * normal.dot(&(p - plane_point));
-        contact_row(p, &on_plane, &normal, vertex_body.side(), face_body.side())
-    };
-    if !manifold {
-        return vec![row_at(&deepest.vertex_world)];
-    }
-    vertex_body
-        .shape
-        .vertices()
-        .iter()
-        .map(|v| vertex_body.pose * v)
-        .filter(|p| normal.dot(&(p - plane_point)) < margin)
-        .map(|p| row_at(&p))
-        .collect()
 }
 
 /// Unit normal from B towards A of a separated pair.

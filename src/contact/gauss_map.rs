@@ -1,0 +1,94 @@
+//! Directions on the unit sphere: the pieces of the Gauss map that the exact
+//! penetration search walks on.
+//!
+//! The Gauss map of a convex polyhedron sends each face to its outward unit
+//! normal (a point of the sphere), each edge to the minor great-circle arc
+//! between the normals of its two faces, and each vertex to the spherical
+//! polygon bounded by the arcs of its edges (the directions in which that
+//! vertex is the support point). Two facts are used:
+//!
+//! - a minor arc and a great circle: the minimum of the linear function
+//!   `x . t` over the arc is at an end, or at the point of the arc's circle
+//!   nearest to `-t` if that point lies on the arc;
+//! - two arcs cross where their circles do: at `±(p1 x p2)/|p1 x p2|`, with
+//!   `p1`, `p2` the poles of the circles, if one of those two points lies on
+//!   both arcs.
+//!
+//! All vectors are in one frame (the search uses body A's frame).
+
+use nalgebra::Vector3;
+
+/// The minor arc of a great circle from `from` to `to` (unit vectors, not
+/// antipodal: the normals of two adjacent faces of a convex polyhedron).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct GreatArc {
+    /// First end (unit).
+    pub from: Vector3<f64>,
+    /// Second end (unit).
+    pub to: Vector3<f64>,
+}
+
+impl GreatArc {
+    /// `from x to`: normal to the arc's plane, oriented so that the arc runs
+    /// counter-clockwise about it.
+    fn pole(&self) -> Vector3<f64> {
+        self.from.cross(&self.to)
+    }
+
+    /// Whether `x`, a unit vector on the arc's great circle, lies on the arc
+    /// (ends included): it must be counter-clockwise of `from` and clockwise
+    /// of `to` about the pole.
+    pub fn contains(&self, x: &Vector3<f64>) -> bool {
+        let pole = self.pole();
+        pole.dot(&self.from.cross(x)) >= 0.0 && pole.dot(&x.cross(&self.to)) >= 0.0
+    }
+
+    /// The smallest value of `x . t` over the points `x` of the arc.
+    pub fn min_dot(&self, t: &Vector3<f64>) -> f64 {
+        let at_ends = self.from.dot(t).min(self.to.dot(t));
+        let Some(pole) = self.pole().try_normalize(0.0) else {
+            return at_ends;
+        };
+        // On the circle, x . t = x . t_in_plane, least at -t_in_plane/|.|.
+        let t_in_plane = t - pole * pole.dot(t);
+        match t_in_plane.try_normalize(0.0) {
+            Some(towards) if self.contains(&-towards) => -t_in_plane.norm(),
+            _ => at_ends,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn quarter_arc() -> GreatArc {
+        GreatArc {
+            from: Vector3::x(),
+            to: Vector3::y(),
+        }
+    }
+
+    #[test]
+    fn contains_only_the_minor_arc() {
+        let arc = quarter_arc();
+        let diagonal = Vector3::new(1.0, 1.0, 0.0).normalize();
+        assert!(arc.contains(&diagonal));
+        assert!(arc.contains(&Vector3::x()) && arc.contains(&Vector3::y()));
+        assert!(!arc.contains(&-diagonal));
+        assert!(!arc.contains(&Vector3::new(1.0, -0.1, 0.0).normalize()));
+    }
+
+    #[test]
+    fn min_dot_at_an_end_or_inside() {
+        let arc = quarter_arc();
+        // Least at the interior point (1, 1)/sqrt 2 for t = -(1, 1, 5).
+        let t = Vector3::new(-1.0, -1.0, -5.0);
+        assert_relative_eq!(arc.min_dot(&t), -(2.0_f64).sqrt(), epsilon = 1e-15);
+        // Least at the end y for t = (1, -3, 0).
+        assert_relative_eq!(arc.min_dot(&Vector3::new(1.0, -3.0, 0.0)), -3.0);
+        // Perpendicular to the circle: constant 0.
+        assert_eq!(arc.min_dot(&Vector3::z()), 0.0);
+    }
+}

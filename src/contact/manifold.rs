@@ -1,0 +1,283 @@
+//! The contact manifold of a penetrating pair, built on the normal of its
+//! minimum translation ([`super::penetration`]).
+//!
+//! **Face contact** (a vertex below a reference face): the incident face is
+//! the face of the other body, among those at its support vertex, whose
+//! outward normal is most opposed to the reference face's. Its polygon is
+//! clipped (Sutherland–Hodgman) against the side planes of the reference
+//! face, the planes through the reference face's edges perpendicular to it,
+//! as box–box manifolds are built in game engines (Box2D's `b2ClipPolygons`,
+//! Bullet's `btPolyhedralContactClipping`). Every clipped point `p` with
+//! signed distance `s = n . (p - c)` to the reference plane below the
+//! contact margin is a contact: `p` on the incident body, its projection
+//! `p - s n` on the reference body, separation `s`. The support vertex lies
+//! on the incident face and inside the reference face's prism (the foot of
+//! the minimum translation lies in the facet it spans), so the deepest
+//! point is always among them.
+//!
+//! **Reduction** to at most [`MAX_POINTS`]: the deepest point, then the point
+//! farthest from it, then the one spanning the largest triangle with those
+//! two, then the one spanning the largest area on the other side of the
+//! first two (the quadrilateral of largest area that keeps the deepest).
+//! Points closer than [`MIN_SPACING_RELATIVE`] of the smaller body to a kept
+//! point are dropped first.
+//!
+//! **Edge–edge contact**: one point, the closest points of the two edges
+//! (interior points: the foot of the minimum translation lies inside the
+//! parallelogram the two edges span).
+
+use nalgebra::{Point3, Vector3};
+
+use super::BodyGeometry;
+use super::penetration::{ContactAxis, Penetration, PenetrationFeatures};
+
+/// Largest number of contact points of one pair: four span a face contact
+/// (three would do for rigid support; the fourth keeps a resting box level
+/// under small rotations).
+pub const MAX_POINTS: usize = 4;
+
+/// Two contact points of one pair closer than this fraction of the smaller
+/// body's scale are one point (the second would be a redundant row).
+pub const MIN_SPACING_RELATIVE: f64 = 1e-3;
+
+/// One contact point, world frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactPoint {
+    /// Point on body A.
+    pub point_a_world: Point3<f64>,
+    /// Point on body B.
+    pub point_b_world: Point3<f64>,
+    /// `n . (point_a - point_b)`: negative = penetration.
+    pub separation: f64,
+}
+
+/// The contact points of a penetrating pair and their common normal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Manifold {
+    /// Unit normal, world frame, from B towards A.
+    pub normal_world: Vector3<f64>,
+    /// At most [`MAX_POINTS`] points, the deepest first.
+    pub points: Vec<ContactPoint>,
+}
+
+/// The manifold of `penetration` (on its reference axis) between `a` and `b`: points with
+/// separation below `margin`; `all_points = false` keeps only the deepest.
+pub fn manifold(
+    penetration: &Penetration,
+    a: &BodyGeometry,
+    b: &BodyGeometry,
+    margin: f64,
+    all_points: bool,
+) -> Manifold {
+    let axis = &penetration.reference;
+    let normal = axis.normal_world;
+    let mut points = match axis.features {
+        PenetrationFeatures::FaceOfB { face_b } => {
+            face_contact(b, face_b, a, axis.support_a, normal, margin)
+        }
+        PenetrationFeatures::FaceOfA { face_a } => {
+            face_contact(a, face_a, b, axis.support_b, -normal, margin)
+                .into_iter()
+                .map(swap_roles)
+                .collect()
+        }
+        PenetrationFeatures::EdgeEdge { edge_a, edge_b } => {
+            vec![edge_contact(a, edge_a, b, edge_b, normal)]
+        }
+    };
+    if points.is_empty() {
+        points.push(support_contact(axis, a));
+    }
+    points.sort_by(|p, q| p.separation.total_cmp(&q.separation));
+    if !all_points {
+        points.truncate(1);
+    }
+    let spacing = MIN_SPACING_RELATIVE * a.shape.scale().min(b.shape.scale());
+    Manifold {
+        normal_world: normal,
+        points: reduce(points, &normal, spacing),
+    }
+}
+
+/// Points of the incident body below the reference face `face` of
+/// `reference` (outward normal `normal`, world): `point_a` on the incident
+/// body, `point_b` on the reference face.
+fn face_contact(
+    reference: &BodyGeometry,
+    face: usize,
+    incident: &BodyGeometry,
+    support: usize,
+    normal: Vector3<f64>,
+    margin: f64,
+) -> Vec<ContactPoint> {
+    let reference_face = &reference.shape.faces()[face];
+    let on_plane = reference.pose * reference.shape.vertices()[reference_face.vertices[0]];
+    let incident_face = incident_face(incident, support, &normal);
+    let mut polygon: Vec<Point3<f64>> = incident.shape.faces()[incident_face]
+        .vertices
+        .iter()
+        .map(|&v| incident.pose * incident.shape.vertices()[v])
+        .collect();
+    for &edge in &reference_face.edges {
+        let side = reference.shape.face_edge_plane(edge, face);
+        let inward = reference.pose.rotation * side.normal;
+        let through =
+            reference.pose * reference.shape.vertices()[reference.shape.edges()[edge].tail];
+        polygon = clip(&polygon, &inward, &through);
+    }
+    polygon
+        .into_iter()
+        .filter_map(|p| {
+            let separation = normal.dot(&(p - on_plane));
+            (separation < margin).then(|| ContactPoint {
+                point_a_world: p,
+                point_b_world: p - normal * separation,
+                separation,
+            })
+        })
+        .collect()
+}
+
+/// The face at `support` of `incident` whose normal is most opposed to
+/// `normal` (world).
+fn incident_face(incident: &BodyGeometry, support: usize, normal: &Vector3<f64>) -> usize {
+    let shape = incident.shape;
+    let opposition =
+        |face: usize| (incident.pose.rotation * shape.faces()[face].plane.normal).dot(normal);
+    shape
+        .vertex_edges(support)
+        .iter()
+        .flat_map(|&e| [shape.edges()[e].left_face, shape.edges()[e].right_face])
+        .min_by(|&f, &g| opposition(f).total_cmp(&opposition(g)).then(f.cmp(&g)))
+        // A vertex of a closed polyhedron has at least three edges.
+        .unwrap_or(0)
+}
+
+/// Sutherland–Hodgman: the part of `polygon` on the side of the plane
+/// through `through` that `inward` points to.
+fn clip(polygon: &[Point3<f64>], inward: &Vector3<f64>, through: &Point3<f64>) -> Vec<Point3<f64>> {
+    let height = |p: &Point3<f64>| inward.dot(&(p - through));
+    let mut kept = Vec::with_capacity(polygon.len() + 1);
+    for (i, p) in polygon.iter().enumerate() {
+        let q = &polygon[(i + 1) % polygon.len()];
+        let (hp, hq) = (height(p), height(q));
+        if hp >= 0.0 {
+            kept.push(*p);
+        }
+        if (hp >= 0.0) != (hq >= 0.0) {
+            kept.push(p + (q - p) * (hp / (hp - hq)));
+        }
+    }
+    kept
+}
+
+/// The contact of a face of A (computed with A as reference) with roles of
+/// the points swapped back to (A, B).
+fn swap_roles(point: ContactPoint) -> ContactPoint {
+    ContactPoint {
+        point_a_world: point.point_b_world,
+        point_b_world: point.point_a_world,
+        separation: point.separation,
+    }
+}
+
+/// Closest points of the two edges; separation along `normal`.
+fn edge_contact(
+    a: &BodyGeometry,
+    edge_a: usize,
+    b: &BodyGeometry,
+    edge_b: usize,
+    normal: Vector3<f64>,
+) -> ContactPoint {
+    let ends = |g: &BodyGeometry, e: usize| {
+        let edge = &g.shape.edges()[e];
+        (
+            g.pose * g.shape.vertices()[edge.tail],
+            g.pose * g.shape.vertices()[edge.head],
+        )
+    };
+    let (p0, p1) = ends(a, edge_a);
+    let (q0, q1) = ends(b, edge_b);
+    let (s, t) = segment_parameters(&p0, &(p1 - p0), &q0, &(q1 - q0));
+    let point_a_world = p0 + (p1 - p0) * s;
+    let point_b_world = q0 + (q1 - q0) * t;
+    ContactPoint {
+        point_a_world,
+        point_b_world,
+        separation: normal.dot(&(point_a_world - point_b_world)),
+    }
+}
+
+/// Parameters in `[0, 1]` of the closest points of segments `p + s u` and
+/// `q + t v` (not parallel: the caller's edges cross).
+fn segment_parameters(
+    p: &Point3<f64>,
+    u: &Vector3<f64>,
+    q: &Point3<f64>,
+    v: &Vector3<f64>,
+) -> (f64, f64) {
+    let w = p - q;
+    let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
+    let (uw, vw) = (u.dot(&w), v.dot(&w));
+    let det = uu * vv - uv * uv;
+    let s = if det > 0.0 {
+        ((uv * vw - vv * uw) / det).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let t = ((uv * s + vw) / vv).clamp(0.0, 1.0);
+    let s = ((uv * t - uw) / uu).clamp(0.0, 1.0);
+    (s, t)
+}
+
+/// The single contact at A's support vertex (when clipping leaves nothing,
+/// which only rounding can cause).
+fn support_contact(axis: &ContactAxis, a: &BodyGeometry) -> ContactPoint {
+    let point_a_world = a.pose * a.shape.vertices()[axis.support_a];
+    ContactPoint {
+        point_a_world,
+        point_b_world: point_a_world + axis.normal_world * axis.depth,
+        separation: -axis.depth,
+    }
+}
+
+/// At most [`MAX_POINTS`] of `points` (sorted, deepest first), none closer
+/// than `spacing` to another.
+fn reduce(points: Vec<ContactPoint>, normal: &Vector3<f64>, spacing: f64) -> Vec<ContactPoint> {
+    let mut distinct: Vec<ContactPoint> = Vec::with_capacity(points.len());
+    for point in points {
+        let far =
+            |kept: &ContactPoint| (kept.point_a_world - point.point_a_world).norm() >= spacing;
+        if distinct.iter().all(far) {
+            distinct.push(point);
+        }
+    }
+    if distinct.len() <= MAX_POINTS {
+        return distinct;
+    }
+    let at = |i: usize| distinct[i].point_a_world;
+    let area = |i: usize, j: usize, k: usize| (at(j) - at(i)).cross(&(at(k) - at(i))).dot(normal);
+    let first = 0;
+    let second = argmax(distinct.len(), |k| (at(k) - at(first)).norm_squared());
+    let third = argmax(distinct.len(), |k| area(first, second, k).abs());
+    let side = area(first, second, third).signum();
+    let fourth = argmax(distinct.len(), |k| -side * area(first, second, k));
+    let mut chosen = vec![first, second, third];
+    if -side * area(first, second, fourth) > 0.0 {
+        chosen.push(fourth);
+    } else {
+        let beyond_third = argmax(distinct.len(), |k| {
+            (side * area(second, third, k)).min(0.0).abs()
+                + (side * area(third, first, k)).min(0.0).abs()
+        });
+        chosen.push(beyond_third);
+    }
+    chosen.sort_unstable();
+    chosen.dedup();
+    chosen.into_iter().map(|i| distinct[i]).collect()
+}
+
+/// The index in `0..count` with the largest `value` (the first on ties).
+fn argmax(count: usize, value: impl Fn(usize) -> f64) -> usize {
+    (0..count).fold(0, |best, k| if value(k) > value(best) { k } else { best })
+}

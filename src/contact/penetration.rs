@@ -1,0 +1,483 @@
+//! The exact penetration depth of two convex polyhedra and the feature pair
+//! that realizes it (the minimum translation), found by a local search from
+//! V-Clip's deepest vertex.
+//!
+//! # The quantity
+//! Translating A by `t n` (unit `n`) separates it from B once
+//! `t >= d(n) = h_B(n) + h_A(-n)`, with `h_X(n) = max_{x in X} n . x` the
+//! support function. `d` is the support function of the Minkowski difference
+//! `D = B - A`, which contains the origin when the bodies overlap, and the
+//! penetration depth is `min_n d(n)`: the distance from the origin to the
+//! boundary of `D`. That minimum is attained at the normal of a facet of `D`
+//! (the facet whose plane is nearest the origin contains its foot point), and
+//! the facets of `D` are exactly (the separating-axis theorem for polytopes):
+//! - a face of B with the vertex of A deepest below it (`n` = the face's
+//!   outward normal),
+//! - a face of A with the vertex of B deepest below it (`n` = minus the
+//!   face's outward normal), and
+//! - an edge of A and an edge of B whose Gauss-map arcs cross (`n` along
+//!   `e_a x e_b`, where the arc of B's edge meets the mirrored arc of A's).
+//!
+//! # The search
+//! 1. **Seed.** V-Clip's deepest vertex–face pair (with its face
+//!    refinement) gives an axis and a depth `d*`, an upper bound.
+//! 2. **A cap that must hold the answer.** A contains the ball of radius
+//!    `r_a` (its inradius) about its centre of mass, B the ball `r_b` about
+//!    its own, at `c` in A's frame (A's centre at the origin). Hence
+//!    `d(n) >= r_a + r_b + n . c` for every unit `n`, and an axis can only
+//!    beat `d*` inside the spherical cap `n . c <= d* - r_a - r_b`.
+//! 3. **Walk the Gauss maps inside the cap.** From the arcs at the seed's
+//!    features (the edges of its face, the edges at the support vertices),
+//!    a breadth-first walk visits the arcs of each body that meet the cap,
+//!    moving to arcs that share a face (an end) or a vertex (a cell). Every
+//!    face whose normal lies in the cap and every crossing pair of visited
+//!    arcs is evaluated, `d(n)` by hill-climbing the two supports (warm from
+//!    the last support vertex), and the least is kept.
+//!
+//! **It terminates**: each arc is visited once, each candidate evaluated
+//! once, and each support climb strictly increases its objective.
+//! **Its answer is the minimum**: every facet normal with `d(n) < d*` lies in
+//! the cap (step 2). The arcs of one body that meet a convex cap form a
+//! connected graph under "shares a face or a vertex": a path inside the cap
+//! between two of them crosses a sequence of vertex cells, and consecutive
+//! crossings are arcs of one cell (one vertex) or meet at a face normal. The
+//! walk starts from arcs that meet the cap: the seed axis `n*` is in the
+//! (closed) cap because `d(n*) = d* >= r_a + r_b + n* . c`; it ends the arcs
+//! of the seed face and lies in the cell of each support vertex, and a
+//! convex cap that holds a point of a cell and meets any arc meets an arc of
+//! that cell. So every facet of `D` that could be shallower is evaluated.
+//! **Ties**: a candidate replaces the best only if it is shallower by more
+//! than [`DEPTH_TIE_RELATIVE`] of the pair's scale, or within that and
+//! earlier in a fixed order (faces of B, faces of A, edge pairs; then by
+//! index), so that a face contact is not replaced by an edge pair of the
+//! same depth (a box resting on another), and so that the choice among
+//! equally deep axes does not depend on where the walk started, except for
+//! depths within rounding of one another (see [`DEPTH_TIE_RELATIVE`]).
+//!
+//! The cap is only as tight as the balls are round: for flat or long bodies
+//! it is wide and the walk visits more arcs. Its cost is measured in
+//! `benchmarks/contact_depth.rs`.
+//!
+//! Nearly parallel edges (the sine of their angle below
+//! [`EDGE_PARALLEL_SINE`]) are skipped: their cross product is too short to
+//! give a direction, and the facet they span is a sliver between the facets
+//! of the neighbouring faces, which are evaluated.
+
+use nalgebra::{Isometry3, Matrix3, Vector3};
+
+use super::gauss_map::GreatArc;
+use crate::geometry::{ConvexPolyhedron, Plane};
+use crate::vclip::{BodyRole, DeepestVertex, descend};
+
+/// Edge pairs whose directions make an angle with sine below this are not
+/// candidate axes (their facet of `B - A` is a sliver; the neighbouring face
+/// axes stand for it). Dimensionless: the error of the normalized cross
+/// product is about `f64::EPSILON / sine`, 2e-9 at this threshold.
+pub const EDGE_PARALLEL_SINE: f64 = 1e-7;
+
+/// Two candidate depths closer than this fraction of the pair's scale (the
+/// smaller circumradius) are a tie, broken by a fixed order of the features.
+/// Rounding in a depth is about 1e-16 of the distances involved.
+pub const DEPTH_TIE_RELATIVE: f64 = 1e-12;
+
+/// An edge–edge minimum translation is built into a manifold on the best
+/// face axis instead when that face's depth is within this fraction of the
+/// exact depth (plus [`FACE_PREFERENCE_ABSOLUTE_RELATIVE`] of the scale):
+/// two nearly parallel faces pressed together (a box resting on a box with
+/// a small relative tilt) have an edge–edge axis a hair shallower than the
+/// face axis, and a single edge–edge row then tilts the box, pass after
+/// pass, where the face manifold lifts it flat (measured on the demo scene:
+/// 35 passes and a stall with the edge–edge row, see the README). The
+/// depth reported stays the exact one; the correction is at most this
+/// fraction larger than the minimum. Game engines prefer faces the same way
+/// (D. Gregorius, "Robust contact creation for physics simulations", GDC
+/// 2015: face contacts unless an edge axis is clearly better).
+pub const FACE_PREFERENCE_RELATIVE: f64 = 0.05;
+
+/// The absolute part of the face preference, relative to the pair's scale
+/// (the smaller circumradius).
+pub const FACE_PREFERENCE_ABSOLUTE_RELATIVE: f64 = 1e-6;
+
+/// Which features realize the minimum translation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum PenetrationFeatures {
+    /// A face of B (the reference face) with A's deepest vertex below it.
+    FaceOfB {
+        /// Face index in B.
+        face_b: usize,
+    },
+    /// A face of A (the reference face) with B's deepest vertex below it.
+    FaceOfA {
+        /// Face index in A.
+        face_a: usize,
+    },
+    /// An edge of A crossing an edge of B.
+    EdgeEdge {
+        /// Edge index in A.
+        edge_a: usize,
+        /// Edge index in B.
+        edge_b: usize,
+    },
+}
+
+impl PenetrationFeatures {
+    /// A short name for logs and reports.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            PenetrationFeatures::FaceOfB { .. } => "vertex-face(B)",
+            PenetrationFeatures::FaceOfA { .. } => "face(A)-vertex",
+            PenetrationFeatures::EdgeEdge { .. } => "edge-edge",
+        }
+    }
+}
+
+/// An axis of the separating-axis test, evaluated: its features, the
+/// overlap along it, and the support vertices.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactAxis {
+    /// The features that span the axis.
+    pub features: PenetrationFeatures,
+    /// Overlap along the axis (length, `>= 0`): translating A by
+    /// `depth * normal_world` makes the bodies touch.
+    pub depth: f64,
+    /// Unit direction, world frame, from B towards A.
+    pub normal_world: Vector3<f64>,
+    /// Vertex of A deepest along `-normal_world` (A's support in that
+    /// direction).
+    pub support_a: usize,
+    /// Vertex of B deepest along `normal_world`.
+    pub support_b: usize,
+}
+
+/// The minimum translation of a penetrating pair, and the axis its contact
+/// manifold is built on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Penetration {
+    /// The minimum translation: `exact.depth` is the penetration depth.
+    pub exact: ContactAxis,
+    /// The axis of the contact manifold: `exact`, or a face axis nearly as
+    /// shallow when `exact` is edge–edge (see [`FACE_PREFERENCE_RELATIVE`]).
+    pub reference: ContactAxis,
+    /// Candidate axes evaluated (cost indicator).
+    pub candidates: usize,
+}
+
+impl Penetration {
+    /// The penetration depth.
+    pub fn depth(&self) -> f64 {
+        self.exact.depth
+    }
+
+    /// The direction of the minimum translation (world, from B to A).
+    pub fn normal_world(&self) -> Vector3<f64> {
+        self.exact.normal_world
+    }
+
+    /// The features of the minimum translation.
+    pub fn features(&self) -> PenetrationFeatures {
+        self.exact.features
+    }
+}
+
+/// One body seen from A's frame. `sign` is +1 for B (its Gauss map) and -1
+/// for A (the mirrored map, so that both maps hold the axis `n` itself).
+struct View<'a> {
+    poly: &'a ConvexPolyhedron,
+    rotation: Matrix3<f64>,
+    translation: Vector3<f64>,
+    sign: f64,
+}
+
+impl View<'_> {
+    fn image(&self, face: usize) -> Vector3<f64> {
+        self.rotation * self.poly.faces()[face].plane.normal * self.sign
+    }
+
+    fn arc(&self, edge: usize) -> GreatArc {
+        let e = &self.poly.edges()[edge];
+        GreatArc {
+            from: self.image(e.left_face),
+            to: self.image(e.right_face),
+        }
+    }
+
+    fn direction(&self, edge: usize) -> Vector3<f64> {
+        self.rotation * self.poly.edges()[edge].direction
+    }
+
+    /// `max_v dir . v` over the body's vertices (A's frame), by hill
+    /// climbing from `start`.
+    fn support(&self, dir: &Vector3<f64>, start: usize) -> (usize, f64) {
+        let plane = Plane {
+            normal: -self.rotation.tr_mul(dir),
+            offset: 0.0,
+        };
+        let (vertex, height) = descend(self.poly, &plane, start);
+        (vertex, dir.dot(&self.translation) - height)
+    }
+
+    /// The edges around vertex `v` and, for a face, its boundary.
+    fn edges_at_vertex(&self, v: usize) -> &[usize] {
+        self.poly.vertex_edges(v)
+    }
+}
+
+/// A candidate axis, evaluated.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    features: PenetrationFeatures,
+    depth: f64,
+    /// Unit, A's frame, from B towards A.
+    normal: Vector3<f64>,
+    supports: [usize; 2],
+}
+
+struct Search<'a> {
+    views: [View<'a>; 2],
+    /// B's centre of mass in A's frame.
+    centre_b: Vector3<f64>,
+    /// `r_a + r_b`.
+    radii: f64,
+    tie: f64,
+    best: Candidate,
+    /// The shallowest face axis (for the manifold's face preference).
+    best_face: Candidate,
+    /// Last support vertex of each body: the start of the next climb.
+    hints: [usize; 2],
+    evaluated: usize,
+}
+
+/// The minimum translation of A out of B, from V-Clip's deepest vertex
+/// `seed` of the same poses.
+pub fn minimum_translation(
+    poly_a: &ConvexPolyhedron,
+    pose_a: &Isometry3<f64>,
+    poly_b: &ConvexPolyhedron,
+    pose_b: &Isometry3<f64>,
+    seed: &DeepestVertex,
+) -> Penetration {
+    let b_in_a = pose_a.inv_mul(pose_b);
+    let views = [
+        View {
+            poly: poly_a,
+            rotation: Matrix3::identity(),
+            translation: Vector3::zeros(),
+            sign: -1.0,
+        },
+        View {
+            poly: poly_b,
+            rotation: b_in_a.rotation.to_rotation_matrix().into_inner(),
+            translation: b_in_a.translation.vector,
+            sign: 1.0,
+        },
+    ];
+    let (face_body, vertex_body) = match seed.vertex_body {
+        BodyRole::A => (1, 0),
+        BodyRole::B => (0, 1),
+    };
+    let mut hints = [0, 0];
+    hints[vertex_body] = seed.vertex;
+    hints[face_body] = poly_of(&views, face_body).faces()[seed.face].vertices[0];
+    let seed_features = face_features(face_body, seed.face);
+    let unevaluated = Candidate {
+        features: seed_features,
+        depth: f64::INFINITY,
+        normal: Vector3::zeros(),
+        supports: [0, 0],
+    };
+    let mut search = Search {
+        centre_b: views[1].translation,
+        radii: poly_a.inradius() + poly_b.inradius(),
+        tie: DEPTH_TIE_RELATIVE * poly_a.scale().min(poly_b.scale()),
+        views,
+        best: unevaluated,
+        best_face: unevaluated,
+        hints,
+        evaluated: 0,
+    };
+    let seed_axis = search.face_axis(face_body, seed.face);
+    search.best = search.evaluate(seed_features, seed_axis);
+    search.best_face = search.best;
+    search.walk_cap(face_body, seed.face);
+    let scale = poly_a.scale().min(poly_b.scale());
+    let exact = search.best;
+    let face_close = search.best_face.depth
+        <= exact.depth * (1.0 + FACE_PREFERENCE_RELATIVE) + FACE_PREFERENCE_ABSOLUTE_RELATIVE * scale;
+    let is_edge = matches!(exact.features, PenetrationFeatures::EdgeEdge { .. });
+    let reference = if is_edge && face_close {
+        search.best_face
+    } else {
+        exact
+    };
+    let axis = |candidate: Candidate| ContactAxis {
+        features: candidate.features,
+        depth: candidate.depth.max(0.0),
+        normal_world: pose_a.rotation * candidate.normal,
+        support_a: candidate.supports[0],
+        support_b: candidate.supports[1],
+    };
+    Penetration {
+        exact: axis(exact),
+        reference: axis(reference),
+        candidates: search.evaluated,
+    }
+}
+
+fn poly_of<'a>(views: &[View<'a>; 2], body: usize) -> &'a ConvexPolyhedron {
+    views[body].poly
+}
+
+fn face_features(body: usize, face: usize) -> PenetrationFeatures {
+    if body == 0 {
+        PenetrationFeatures::FaceOfA { face_a: face }
+    } else {
+        PenetrationFeatures::FaceOfB { face_b: face }
+    }
+}
+
+impl Search<'_> {
+    fn face_axis(&self, body: usize, face: usize) -> Vector3<f64> {
+        self.views[body].image(face)
+    }
+
+    /// `d(n)` and the support vertices, climbing from the hints.
+    fn evaluate(&mut self, features: PenetrationFeatures, normal: Vector3<f64>) -> Candidate {
+        self.evaluated += 1;
+        let (vertex_b, h_b) = self.views[1].support(&normal, self.hints[1]);
+        let (vertex_a, h_a) = self.views[0].support(&-normal, self.hints[0]);
+        self.hints = [vertex_a, vertex_b];
+        Candidate {
+            features,
+            depth: h_b + h_a,
+            normal,
+            supports: [vertex_a, vertex_b],
+        }
+    }
+
+    /// Whether an axis could beat a candidate of depth `depth` (the cap
+    /// test, strict up to the tie).
+    fn may_beat(&self, normal: &Vector3<f64>, depth: f64) -> bool {
+        normal.dot(&self.centre_b) < depth - self.radii + self.tie
+    }
+
+    /// Whether `candidate` replaces `best` (shallower, or tied and first in
+    /// the fixed order).
+    fn replaces(&self, candidate: &Candidate, best: &Candidate) -> bool {
+        let shallower = candidate.depth < best.depth - self.tie;
+        let tied_first =
+            candidate.depth <= best.depth + self.tie && candidate.features < best.features;
+        shallower || tied_first
+    }
+
+    fn consider(&mut self, features: PenetrationFeatures, normal: Vector3<f64>) {
+        let is_face = !matches!(features, PenetrationFeatures::EdgeEdge { .. });
+        let bound = if is_face {
+            self.best_face.depth
+        } else {
+            self.best.depth
+        };
+        if !self.may_beat(&normal, bound) {
+            return;
+        }
+        let candidate = self.evaluate(features, normal);
+        if self.replaces(&candidate, &self.best) {
+            self.best = candidate;
+        }
+        if is_face && self.replaces(&candidate, &self.best_face) {
+            self.best_face = candidate;
+        }
+    }
+
+    /// Step 3 of the module docs: every face and crossing edge pair whose
+    /// Gauss image meets the cap of the current best, from the seed face
+    /// `face` of body `face_body`.
+    fn walk_cap(&mut self, face_body: usize, face: usize) {
+        let limit = self.best.depth - self.radii;
+        let arcs: [Vec<usize>; 2] = std::array::from_fn(|body| {
+            let view = &self.views[body];
+            let mut starts: Vec<usize> = view.edges_at_vertex(self.best.supports[body]).to_vec();
+            if body == face_body {
+                starts.extend_from_slice(&view.poly.faces()[face].edges);
+            }
+            arcs_in_cap(view, &self.centre_b, limit, &starts)
+        });
+        for (body, body_arcs) in arcs.iter().enumerate() {
+            for face in faces_in_cap(&self.views[body], body_arcs, &self.centre_b, limit) {
+                self.consider(face_features(body, face), self.face_axis(body, face));
+            }
+        }
+        let [arcs_a, arcs_b] = arcs;
+        for &edge_a in &arcs_a {
+            for &edge_b in &arcs_b {
+                if let Some(normal) = self.crossing(edge_a, edge_b) {
+                    self.consider(PenetrationFeatures::EdgeEdge { edge_a, edge_b }, normal);
+                }
+            }
+        }
+    }
+
+    /// The axis where the arcs of `edge_a` (mirrored) and `edge_b` cross.
+    fn crossing(&self, edge_a: usize, edge_b: usize) -> Option<Vector3<f64>> {
+        let cross = self.views[0]
+            .direction(edge_a)
+            .cross(&self.views[1].direction(edge_b));
+        let sine = cross.norm();
+        if sine < EDGE_PARALLEL_SINE {
+            return None;
+        }
+        let axis = cross / sine;
+        let (arc_a, arc_b) = (self.views[0].arc(edge_a), self.views[1].arc(edge_b));
+        [axis, -axis]
+            .into_iter()
+            .find(|n| arc_a.contains(n) && arc_b.contains(n))
+    }
+}
+
+/// The arcs of `view` that meet the cap `n . centre <= limit`, reachable
+/// from `starts` through arcs that meet it (breadth first).
+fn arcs_in_cap(view: &View, centre: &Vector3<f64>, limit: f64, starts: &[usize]) -> Vec<usize> {
+    let poly = view.poly;
+    let meets = |edge: usize| view.arc(edge).min_dot(centre) <= limit;
+    let mut visited = vec![false; poly.edges().len()];
+    let mut found = Vec::new();
+    let mut queue = std::collections::VecDeque::new();
+    for &edge in starts {
+        if !visited[edge] && meets(edge) {
+            visited[edge] = true;
+            queue.push_back(edge);
+        }
+    }
+    while let Some(edge) = queue.pop_front() {
+        found.push(edge);
+        let e = &poly.edges()[edge];
+        let neighbours = poly.faces()[e.left_face]
+            .edges
+            .iter()
+            .chain(&poly.faces()[e.right_face].edges)
+            .chain(poly.vertex_edges(e.tail))
+            .chain(poly.vertex_edges(e.head));
+        for &next in neighbours {
+            if !visited[next] && meets(next) {
+                visited[next] = true;
+                queue.push_back(next);
+            }
+        }
+    }
+    found.sort_unstable();
+    found
+}
+
+/// The faces at the ends of `arcs` whose axis lies in the cap, ascending.
+fn faces_in_cap(view: &View, arcs: &[usize], centre: &Vector3<f64>, limit: f64) -> Vec<usize> {
+    let mut faces: Vec<usize> = arcs
+        .iter()
+        .flat_map(|&edge| {
+            let e = &view.poly.edges()[edge];
+            [e.left_face, e.right_face]
+        })
+        .filter(|&face| view.image(face).dot(centre) <= limit)
+        .collect();
+    faces.sort_unstable();
+    faces.dedup();
+    faces
+}
