@@ -135,7 +135,8 @@ fn check_pair(
         penetration.depth(),
         penetration.features()
     );
-    let push = penetration.normal_world() * (penetration.depth() + SEPARATION_SLACK_RELATIVE * scale);
+    let push =
+        penetration.normal_world() * (penetration.depth() + SEPARATION_SLACK_RELATIVE * scale);
     let moved = Translation3::from(push) * pose_a;
     let (after, _) = sat_axis(a, &moved, b, pose_b);
     assert!(
@@ -144,7 +145,8 @@ fn check_pair(
     );
     // parry's `intersection_test` counts gaps below its GJK tolerance as
     // contact; its distance resolves the slack.
-    let parry_push = penetration.normal_world() * (penetration.depth() + PARRY_SLACK_RELATIVE * scale);
+    let parry_push =
+        penetration.normal_world() * (penetration.depth() + PARRY_SLACK_RELATIVE * scale);
     let parry_moved = Translation3::from(parry_push) * pose_a;
     let parry_gap = parry3d_f64::query::distance(
         &isometry_to_parry(&parry_moved),

@@ -37,7 +37,9 @@ use crate::geometry::{ConvexPolyhedron, Feature};
 use crate::projector::{ConstraintRow, ContactSide, contact_row};
 use crate::vclip::{FeaturePair, Outcome, VClip, VClipResult};
 pub use manifold::{ContactPoint, Manifold};
-pub use penetration::{ContactAxis, Penetration, PenetrationFeatures, minimum_translation};
+pub use penetration::{
+    ContactAxis, Penetration, PenetrationFeatures, minimum_translation, widest_separation,
+};
 
 /// Distance, relative to the pair's scale, below which the witness
 /// difference of a separated pair is too small to give a normal.
@@ -165,8 +167,21 @@ pub fn contact_rows(
     margin: f64,
     manifold: bool,
 ) -> Vec<ConstraintRow> {
-    if let Some(penetration) = &query.penetration {
-        let contact = manifold::manifold(penetration, a, b, margin, manifold);
+    let near = match (&query.penetration, &query.vclip.outcome) {
+        (Some(penetration), _) => Some(*penetration),
+        (None, Outcome::Separated { distance, .. }) if *distance < margin && manifold => {
+            Some(widest_separation(
+                a.shape,
+                &a.pose,
+                b.shape,
+                &b.pose,
+                query.vclip.final_pair.to_array(),
+            ))
+        }
+        _ => None,
+    };
+    if let Some(penetration) = near {
+        let contact = manifold::manifold(&penetration, a, b, margin, manifold);
         return contact
             .points
             .iter()

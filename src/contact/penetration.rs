@@ -66,7 +66,7 @@
 use nalgebra::{Isometry3, Matrix3, Vector3};
 
 use super::gauss_map::GreatArc;
-use crate::geometry::{ConvexPolyhedron, Plane};
+use crate::geometry::{ConvexPolyhedron, Feature, Plane};
 use crate::vclip::{BodyRole, DeepestVertex, descend};
 
 /// Edge pairs whose directions make an angle with sine below this are not
@@ -256,6 +256,69 @@ pub fn minimum_translation(
     pose_b: &Isometry3<f64>,
     seed: &DeepestVertex,
 ) -> Penetration {
+    let (face_body, vertex_body) = match seed.vertex_body {
+        BodyRole::A => (1, 0),
+        BodyRole::B => (0, 1),
+    };
+    let poly = |body: usize| if body == 0 { poly_a } else { poly_b };
+    let mut hints = [0, 0];
+    hints[vertex_body] = seed.vertex;
+    hints[face_body] = poly(face_body).faces()[seed.face].vertices[0];
+    search_from(
+        poly_a,
+        pose_a,
+        poly_b,
+        pose_b,
+        (face_body, seed.face),
+        hints,
+    )
+}
+
+/// The separating axis of two separated (or touching) bodies with the
+/// largest gap, by the same search (the cap bound holds for any sign of
+/// `d`), from the closest features `features` of V-Clip: `-depth` of the
+/// answer is the gap along its axis, at most the distance. The contact
+/// manifold of a near pair is built on it.
+pub fn widest_separation(
+    poly_a: &ConvexPolyhedron,
+    pose_a: &Isometry3<f64>,
+    poly_b: &ConvexPolyhedron,
+    pose_b: &Isometry3<f64>,
+    features: [Feature; 2],
+) -> Penetration {
+    let polys = [poly_a, poly_b];
+    let (face_body, face) = match features {
+        [_, Feature::Face(f)] => (1, f),
+        [Feature::Face(f), _] => (0, f),
+        [_, Feature::Edge(e)] => (1, poly_b.edges()[e].left_face),
+        [Feature::Edge(e), _] => (0, poly_a.edges()[e].left_face),
+        [_, Feature::Vertex(v)] => (1, poly_b.edges()[poly_b.vertex_edges(v)[0]].left_face),
+    };
+    let hint = |body: usize| match features[body] {
+        Feature::Vertex(v) => v,
+        Feature::Edge(e) => polys[body].edges()[e].tail,
+        Feature::Face(f) => polys[body].faces()[f].vertices[0],
+    };
+    search_from(
+        poly_a,
+        pose_a,
+        poly_b,
+        pose_b,
+        (face_body, face),
+        [hint(0), hint(1)],
+    )
+}
+
+/// The search of the module docs from the face axis `seed` (body, face),
+/// with support climbs starting at `hints`.
+fn search_from(
+    poly_a: &ConvexPolyhedron,
+    pose_a: &Isometry3<f64>,
+    poly_b: &ConvexPolyhedron,
+    pose_b: &Isometry3<f64>,
+    seed: (usize, usize),
+    hints: [usize; 2],
+) -> Penetration {
     let b_in_a = pose_a.inv_mul(pose_b);
     let views = [
         View {
@@ -271,14 +334,8 @@ pub fn minimum_translation(
             sign: 1.0,
         },
     ];
-    let (face_body, vertex_body) = match seed.vertex_body {
-        BodyRole::A => (1, 0),
-        BodyRole::B => (0, 1),
-    };
-    let mut hints = [0, 0];
-    hints[vertex_body] = seed.vertex;
-    hints[face_body] = poly_of(&views, face_body).faces()[seed.face].vertices[0];
-    let seed_features = face_features(face_body, seed.face);
+    let (face_body, seed_face) = seed;
+    let seed_features = face_features(face_body, seed_face);
     let unevaluated = Candidate {
         features: seed_features,
         depth: f64::INFINITY,
@@ -295,14 +352,15 @@ pub fn minimum_translation(
         hints,
         evaluated: 0,
     };
-    let seed_axis = search.face_axis(face_body, seed.face);
+    let seed_axis = search.face_axis(face_body, seed_face);
     search.best = search.evaluate(seed_features, seed_axis);
     search.best_face = search.best;
-    search.walk_cap(face_body, seed.face);
+    search.walk_cap(face_body, seed_face);
     let scale = poly_a.scale().min(poly_b.scale());
     let exact = search.best;
     let face_close = search.best_face.depth
-        <= exact.depth * (1.0 + FACE_PREFERENCE_RELATIVE) + FACE_PREFERENCE_ABSOLUTE_RELATIVE * scale;
+        <= exact.depth * (1.0 + FACE_PREFERENCE_RELATIVE)
+            + FACE_PREFERENCE_ABSOLUTE_RELATIVE * scale;
     let is_edge = matches!(exact.features, PenetrationFeatures::EdgeEdge { .. });
     let reference = if is_edge && face_close {
         search.best_face
@@ -311,7 +369,7 @@ pub fn minimum_translation(
     };
     let axis = |candidate: Candidate| ContactAxis {
         features: candidate.features,
-        depth: candidate.depth.max(0.0),
+        depth: candidate.depth,
         normal_world: pose_a.rotation * candidate.normal,
         support_a: candidate.supports[0],
         support_b: candidate.supports[1],
@@ -321,10 +379,6 @@ pub fn minimum_translation(
         reference: axis(reference),
         candidates: search.evaluated,
     }
-}
-
-fn poly_of<'a>(views: &[View<'a>; 2], body: usize) -> &'a ConvexPolyhedron {
-    views[body].poly
 }
 
 fn face_features(body: usize, face: usize) -> PenetrationFeatures {

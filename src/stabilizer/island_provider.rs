@@ -119,8 +119,7 @@ impl ConstraintProvider for IslandProvider<'_> {
         let mut rows = Vec::new();
         for k in 0..self.pairs.len() {
             if let Some((result, a, b)) = self.query(k, configuration) {
-                let pair_rows =
-                    contact::contact_rows(&result, &a, &b, self.margin, self.manifold);
+                let pair_rows = contact::contact_rows(&result, &a, &b, self.margin, self.manifold);
                 if let Some(penetration) = &result.penetration {
                     let pair = self.pairs[k];
                     let (exact, reference) = (&penetration.exact, &penetration.reference);

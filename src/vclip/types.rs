@@ -60,7 +60,8 @@ impl FeaturePair {
         }
     }
 
-    pub(crate) fn to_array(self) -> [Feature; 2] {
+    /// `[a, b]`.
+    pub fn to_array(self) -> [Feature; 2] {
         [self.a, self.b]
     }
 }
