@@ -7,7 +7,7 @@ use constraint_stabilization::io::read_lcp_file;
 use nalgebra::DVector;
 use serde_json::Value;
 
-const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/lcp-data");
+const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/siconos");
 
 fn run(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_stabilize"))

@@ -1,7 +1,7 @@
 //! Lemke, PGS and clarabel (dual QP form) on the Siconos LCP test problems
-//! of `../shared/lcp-data`. The oracle is the README of that folder: which
-//! problems are PSD, and their solutions (found there by enumerating
-//! complementary bases). Residuals are recomputed here from the file's
+//! of `tests/data/siconos` (copied there from the Siconos test suite). The
+//! oracle is the README of that folder: which problems are PSD, and their
+//! solutions (found there by enumerating complementary bases). Residuals are recomputed here from the file's
 //! `M` and `q`, independently of the library's residual code.
 
 use constraint_stabilization::io::read_lcp_file;
@@ -12,7 +12,7 @@ use constraint_stabilization::solver::outcome::FailureReason;
 use constraint_stabilization::solver::pgs::{self, PgsSettings, PgsStatus};
 use nalgebra::{DMatrix, DVector};
 
-const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/lcp-data");
+const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/siconos");
 
 /// The README's acceptance threshold.
 const TOL: f64 = 1e-9;
