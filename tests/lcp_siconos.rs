@@ -1,8 +1,9 @@
 //! Lemke, PGS and clarabel (dual QP form) on the Siconos LCP test problems
 //! of `tests/data/siconos` (copied there from the Siconos test suite). The
 //! oracle is the README of that folder: which problems are PSD, and their
-//! solutions (found there by enumerating complementary bases). Residuals are recomputed here from the file's
-//! `M` and `q`, independently of the library's residual code.
+//! solutions (found there by enumerating complementary bases). Residuals
+//! are recomputed here from the file's `M` and `q`, independently of the
+//! library's residual code.
 
 use constraint_stabilization::io::read_lcp_file;
 use constraint_stabilization::solver::Lcp;
