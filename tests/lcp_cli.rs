@@ -17,8 +17,9 @@ use solver_support::siconos::{DATA, assert_close, known_solution};
 /// Distance of an iterative solver's `z` (PGS, clarabel: stopped at a
 /// natural-map residual of `LCP_TOL`) from the exact solution, relative to
 /// its size: the residual amplified by the conditioning of the positive
-/// definite `M` of the files used (deudeu, trivial, mmc).
-const ITERATIVE_Z_TOL: f64 = 1e-7;
+/// definite `M` of the files used (deudeu, trivial, mmc). Measured worst:
+/// 1.2e-10 (clarabel on deudeu).
+const ITERATIVE_Z_TOL: f64 = 1e-8;
 
 fn run(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_stabilize"))
