@@ -1,5 +1,7 @@
 //! The `stabilize scene` and `stabilize demo` commands: exit codes, output
-//! files, and that a corrected scene fed back in is a no-op.
+//! files, and that a corrected scene fed back in is a no-op. Needs the
+//! `stabilize` binary (feature `cli`).
+#![cfg(feature = "cli")]
 
 use std::path::PathBuf;
 use std::process::Command;

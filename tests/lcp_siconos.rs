@@ -1,8 +1,11 @@
 //! Lemke, PGS and clarabel (dual QP form) on the Siconos LCP test problems
-//! of `../shared/lcp-data`. The oracle is the README of that folder: which
-//! problems are PSD, and their solutions (found there by enumerating
-//! complementary bases). Residuals are recomputed here from the file's
-//! `M` and `q`, independently of the library's residual code.
+//! of `tests/data/siconos` (copied there from the Siconos test suite). The
+//! oracle is the README of that folder: which problems are PSD, and their
+//! solutions (found there by enumerating complementary bases). Residuals
+//! are recomputed here from the file's `M` and `q`, independently of the
+//! library's residual code.
+
+mod solver_support;
 
 use constraint_stabilization::io::read_lcp_file;
 use constraint_stabilization::solver::Lcp;
@@ -11,23 +14,17 @@ use constraint_stabilization::solver::lemke::{self, LemkeSettings, LemkeStatus};
 use constraint_stabilization::solver::outcome::FailureReason;
 use constraint_stabilization::solver::pgs::{self, PgsSettings, PgsStatus};
 use nalgebra::{DMatrix, DVector};
-
-const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/lcp-data");
-
-/// The README's acceptance threshold.
-const TOL: f64 = 1e-9;
+use solver_support::oracle::{LCP_TOL as TOL, lcp_residuals};
+use solver_support::siconos::{self, known_solution};
 
 fn load(name: &str) -> Lcp {
-    read_lcp_file(format!("{DATA}/{name}")).unwrap_or_else(|e| panic!("{name}: {e}"))
+    read_lcp_file(siconos::path(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-/// `||min(z, Mz + q)||_inf / max(1, ||q||_inf)`, written out here.
+/// The README's natural map, `z >= 0`, `w >= 0` and `z . w`, all from the
+/// file's `M` and `q` (the worst, relative to `max(1, ||q||_inf)`).
 fn residual(lcp: &Lcp, z: &DVector<f64>) -> f64 {
-    let w = lcp.m() * z + lcp.q();
-    let worst = (0..z.len())
-        .map(|i| z[i].min(w[i]).abs())
-        .fold(0.0, f64::max);
-    worst / lcp.q().amax().max(1.0)
+    lcp_residuals(lcp.m(), lcp.q(), z).worst()
 }
 
 fn lemke_solve(name: &str) -> lemke::LemkeSolution {
@@ -41,13 +38,7 @@ fn lemke_solve(name: &str) -> lemke::LemkeSolution {
 }
 
 fn assert_close(name: &str, z: &DVector<f64>, expected: &[f64]) {
-    let scale = expected.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
-    for (i, (a, b)) in z.iter().zip(expected).enumerate() {
-        assert!(
-            (a - b).abs() <= TOL * scale,
-            "{name}: z[{i}] = {a}, expected {b}"
-        );
-    }
+    siconos::assert_close(name, z.as_slice(), expected, TOL);
 }
 
 #[test]
@@ -61,34 +52,22 @@ fn cps_2_reads_column_major() {
 /// Every PSD problem of the README with a known unique solution.
 #[test]
 fn lemke_solves_psd_problems_with_known_solutions() {
-    let known: [(&str, &[f64]); 9] = [
-        ("lcp_CPS_4.dat", &[2.0, 2.0, 2.0, 92.0]),
-        ("lcp_CPS_4bis.dat", &[3.0, 3.0, 0.0, 83.0]),
-        ("lcp_CPS_5.dat", &[0.0, 1.0]),
-        ("lcp_deudeu.dat", &[4.0 / 3.0, 7.0 / 3.0]),
-        ("lcp_exp_murty.dat", &[0.0, 0.0, 0.0, 0.0, 0.0, 1.0]),
-        ("lcp_exp_murty2.dat", &[0.0, 0.0, 0.0, 0.0, 0.0, 64.0]),
-        ("lcp_inf_sol_perturbed.dat", &[1.0, 0.0, 1e-4]),
-        ("lcp_ortiz.dat", &[2.0 / 3.0, 0.0, 1.0 / 3.0, 0.0]),
-        (
-            "lcp_trivial.dat",
-            &[
-                1.0,
-                0.5,
-                1.0 / 3.0,
-                0.25,
-                0.2,
-                1.0 / 6.0,
-                1.0 / 7.0,
-                0.125,
-                1.0 / 9.0,
-            ],
-        ),
+    let known = [
+        "lcp_CPS_4.dat",
+        "lcp_CPS_4bis.dat",
+        "lcp_CPS_5.dat",
+        "lcp_deudeu.dat",
+        "lcp_exp_murty.dat",
+        "lcp_exp_murty2.dat",
+        "lcp_inf_sol_perturbed.dat",
+        "lcp_ortiz.dat",
+        "lcp_trivial.dat",
     ];
-    for (name, expected) in known {
+    for name in known {
         assert!(load(name).is_psd(), "{name} is PSD per the README");
         let sol = lemke_solve(name);
-        assert_close(name, &sol.z, expected);
+        let expected = known_solution(name).expect("listed in the README");
+        assert_close(name, &sol.z, &expected);
         assert_eq!(sol.regularization, None, "{name}");
     }
 }

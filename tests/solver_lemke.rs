@@ -1,10 +1,27 @@
 //! Lemke's method on small cases and against brute-force enumeration of
-//! complementary bases.
+//! complementary bases. Every `z` is judged by `w = M z + q`, `z >= 0`,
+//! `w >= 0`, `z . w = 0` recomputed here from `M` and `q`
+//! (`solver_support::oracle`), never by the solver's own residual.
+
+mod solver_support;
 
 use constraint_stabilization::solver::Lcp;
 use constraint_stabilization::solver::lemke::{self, LemkeSettings, LemkeStatus};
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
+use solver_support::oracle::{LCP_TOL, assert_lcp_solved, lcp_residuals};
+
+/// Residual allowed on the small hand-made problems (entries of order one,
+/// a few pivots): a few roundings.
+const SMALL_PROBLEM_TOL: f64 = 1e-14;
+/// The enumeration keeps a basis whose system is solved to this, and whose
+/// `z`, `w` are nonnegative to this; Lemke's `z` must match it as closely
+/// (entries of order one: `M` has eigenvalues >= 0.1, `|q| <= 1`).
+const ENUMERATION_TOL: f64 = 1e-9;
+/// Agreement of Lemke's `w` with the enumerated one on singular problems,
+/// where `z` is not unique (only `w` is): `M z` recomputed from two
+/// different `z`, each to `ENUMERATION_TOL`.
+const W_AGREEMENT_TOL: f64 = 1e-8;
 
 fn lcp(n: usize, m: &[f64], q: &[f64]) -> Lcp {
     Lcp::new(DMatrix::from_row_slice(n, n, m), DVector::from_row_slice(q)).unwrap()
@@ -13,7 +30,7 @@ fn lcp(n: usize, m: &[f64], q: &[f64]) -> Lcp {
 #[test]
 fn one_by_one() {
     let sol = lemke::solve(&lcp(1, &[2.0], &[-3.0]), &LemkeSettings::default()).unwrap();
-    assert!((sol.z[0] - 1.5).abs() < 1e-15);
+    assert!((sol.z[0] - 1.5).abs() < SMALL_PROBLEM_TOL);
     // z0 enters (w leaves), then z enters (z0 leaves).
     assert_eq!(sol.pivots, 2);
     // M = 0, q < 0: z0 can never leave; no solution.
@@ -38,20 +55,15 @@ fn nonnegative_q_is_solved_without_pivots() {
 #[test]
 fn degenerate_start_with_zero_entries_in_q() {
     let m = [2.0, 1.0, 0.0, 1.0, 2.0, 1.0, 0.0, 1.0, 2.0];
-    let sol = lemke::solve(&lcp(3, &m, &[0.0, -2.0, 0.0]), &LemkeSettings::default()).unwrap();
-    let w = DMatrix::from_row_slice(3, 3, &m) * &sol.z + DVector::from_row_slice(&[0.0, -2.0, 0.0]);
-    assert!(
-        sol.z
-            .iter()
-            .zip(w.iter())
-            .all(|(z, w)| z.min(*w).abs() < 1e-14),
-        "z {} w {}",
-        sol.z,
-        w
-    );
+    let m_dense = DMatrix::from_row_slice(3, 3, &m);
+    let q = DVector::from_row_slice(&[0.0, -2.0, 0.0]);
+    let sol = lemke::solve(&lcp(3, &m, q.as_slice()), &LemkeSettings::default()).unwrap();
+    assert_lcp_solved(&m_dense, &q, &sol.z, SMALL_PROBLEM_TOL, "zeros in q");
+    assert!((&sol.z - DVector::from_row_slice(&[0.0, 1.0, 0.0])).amax() < SMALL_PROBLEM_TOL);
     // Several equal negative entries: a tie in the first step.
-    let sol = lemke::solve(&lcp(3, &m, &[-1.0, -1.0, -1.0]), &LemkeSettings::default()).unwrap();
-    assert!(sol.residual < 1e-14);
+    let q = DVector::from_row_slice(&[-1.0, -1.0, -1.0]);
+    let sol = lemke::solve(&lcp(3, &m, q.as_slice()), &LemkeSettings::default()).unwrap();
+    assert_lcp_solved(&m_dense, &q, &sol.z, SMALL_PROBLEM_TOL, "tie");
 }
 
 /// Refactorizing the tableau from the data every pivot follows the same
@@ -73,7 +85,15 @@ fn refactorizing_every_pivot_changes_nothing_on_a_well_posed_problem() {
     )
     .unwrap();
     assert_eq!(a.pivots, b.pivots);
-    assert!((a.z - b.z).amax() < 1e-14);
+    assert_lcp_solved(lcp.m(), lcp.q(), &a.z, SMALL_PROBLEM_TOL, "updated tableau");
+    assert_lcp_solved(
+        lcp.m(),
+        lcp.q(),
+        &b.z,
+        SMALL_PROBLEM_TOL,
+        "refactorized tableau",
+    );
+    assert!((a.z - b.z).amax() < SMALL_PROBLEM_TOL);
 }
 
 /// All solutions of a small LCP by enumerating the `2^n` complementary
@@ -100,7 +120,7 @@ fn enumerate(m: &DMatrix<f64>, q: &DVector<f64>) -> Vec<DVector<f64>> {
         // Rounding in M_SS z_S, of size u |M_SS| |z_S|, must stay below the
         // tolerance too, or a lucky cancellation certifies garbage.
         let rounding = (m_ss.abs() * z_s.abs()).amax() * f64::EPSILON * n as f64;
-        if (&m_ss * &z_s - &q_s).amax() > 1e-9 || rounding > 1e-9 {
+        if (&m_ss * &z_s - &q_s).amax() > ENUMERATION_TOL || rounding > ENUMERATION_TOL {
             continue;
         }
         let mut z = DVector::zeros(n);
@@ -108,7 +128,7 @@ fn enumerate(m: &DMatrix<f64>, q: &DVector<f64>) -> Vec<DVector<f64>> {
             z[i] = z_s[a];
         }
         let w = m * &z + q;
-        if z.iter().chain(w.iter()).all(|&x| x >= -1e-9) {
+        if z.iter().chain(w.iter()).all(|&x| x >= -ENUMERATION_TOL) {
             solutions.push(z);
         }
     }
@@ -139,10 +159,11 @@ proptest! {
     fn lemke_matches_enumeration((m, q) in pd_lcp()) {
         let solutions = enumerate(&m, &q);
         prop_assert_eq!(solutions.len(), 1);
-        let lcp = Lcp::new(m, q).unwrap();
+        let lcp = Lcp::new(m.clone(), q.clone()).unwrap();
         let sol = lemke::solve(&lcp, &LemkeSettings::default()).unwrap();
-        prop_assert!((&sol.z - &solutions[0]).amax() < 1e-9, "lemke {} enum {}", sol.z, solutions[0]);
-        prop_assert!(sol.residual < 1e-12);
+        prop_assert!((&sol.z - &solutions[0]).amax() < ENUMERATION_TOL, "lemke {} enum {}", sol.z, solutions[0]);
+        let r = lcp_residuals(&m, &q, &sol.z);
+        prop_assert!(r.worst() <= LCP_TOL, "{:?}", r);
     }
 }
 
@@ -180,8 +201,11 @@ proptest! {
         match lemke::solve(&lcp, &LemkeSettings::default()) {
             Ok(sol) => {
                 prop_assert!(!solutions.is_empty(), "lemke found {} where enumeration found none", sol.z);
+                let r = lcp_residuals(&m, &q, &sol.z);
+                prop_assert!(r.worst() <= LCP_TOL, "{:?}", r);
+                let w = &m * &sol.z + &q;
                 let w_enum = &m * &solutions[0] + &q;
-                prop_assert!((&sol.w - &w_enum).amax() < 1e-8, "w {} vs {}", sol.w, w_enum);
+                prop_assert!((&w - &w_enum).amax() < W_AGREEMENT_TOL, "w {} vs {}", w, w_enum);
             }
             Err(f) => {
                 prop_assert!(solutions.is_empty(), "lemke {:?} but enumeration found {}", f.status, solutions[0]);
@@ -213,4 +237,18 @@ fn regularized_retry_never_returns_a_huge_z() {
     let failure = lemke::solve(&Lcp::new(m, q).unwrap(), &LemkeSettings::default()).unwrap_err();
     assert_eq!(failure.status, LemkeStatus::Ray);
     assert!(failure.attempts.iter().all(|a| a.failure.is_some()));
+}
+
+/// The LCP oracle can fail: a solution passes; a negative `z`, a negative
+/// `w` and a complementary pair both positive are each caught.
+#[test]
+fn lcp_oracle_rejects_wrong_answers() {
+    let m = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
+    let q = DVector::from_row_slice(&[-3.0, 1.0]);
+    // w = (0, 2.5) at z = (1.5, 0).
+    let check = |z: &[f64]| lcp_residuals(&m, &q, &DVector::from_row_slice(z));
+    assert!(check(&[1.5, 0.0]).worst() <= SMALL_PROBLEM_TOL);
+    assert!(check(&[1.5, -0.1]).infeasibility > LCP_TOL);
+    assert!(check(&[1.4, 0.0]).infeasibility > LCP_TOL);
+    assert!(check(&[1.5, 0.1]).complementarity > LCP_TOL);
 }

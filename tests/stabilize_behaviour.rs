@@ -10,9 +10,11 @@
 
 mod stabilize_support;
 
+#[cfg(feature = "demo")]
 use std::collections::BTreeSet;
 
 use constraint_stabilization::body::{BodyDesc, MassSpec};
+#[cfg(feature = "demo")]
 use constraint_stabilization::demo::demo_scene;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::{CrossCheckOutcome, SolverChoice};
@@ -21,6 +23,7 @@ use nalgebra::{Point3, UnitQuaternion, Vector3};
 use stabilize_support::*;
 
 /// Seed of the demo scenes used here.
+#[cfg(feature = "demo")]
 const DEMO_SEED: u64 = 2026;
 
 fn ground() -> BodyDesc {
@@ -118,6 +121,7 @@ fn a_stabilized_scene_is_left_alone_on_the_next_call() {
 }
 
 /// The bodies of every island solved in some pass.
+#[cfg(feature = "demo")]
 fn solved_bodies(report: &constraint_stabilization::Report) -> BTreeSet<usize> {
     report
         .pass_reports
@@ -128,6 +132,7 @@ fn solved_bodies(report: &constraint_stabilization::Report) -> BTreeSet<usize> {
 }
 
 #[test]
+#[cfg(feature = "demo")]
 fn bodies_outside_solved_islands_keep_their_poses() {
     let mut scene = demo_scene(100, DEMO_SEED);
     let first_extra = scene.len();
@@ -150,6 +155,7 @@ fn bodies_outside_solved_islands_keep_their_poses() {
 }
 
 /// FNV-1a over the bits of every user pose.
+#[cfg(all(feature = "demo", feature = "parallel"))]
 fn pose_hash(scene: &Scene) -> u64 {
     pose_bits(scene)
         .iter()
@@ -159,7 +165,9 @@ fn pose_hash(scene: &Scene) -> u64 {
         })
 }
 
+/// Needs the demo scene, and rayon's thread pools (feature `parallel`).
 #[test]
+#[cfg(all(feature = "demo", feature = "parallel"))]
 fn result_is_bit_identical_for_one_two_and_four_threads() {
     let reference = demo_scene(300, DEMO_SEED);
     let mut outcomes = Vec::new();
@@ -182,6 +190,7 @@ fn result_is_bit_identical_for_one_two_and_four_threads() {
 }
 
 #[test]
+#[cfg(feature = "demo")]
 fn demo_scenes_converge_within_the_tolerance() {
     for (count, max_passes) in [(10, 10), (100, 10), (300, 10)] {
         let mut scene = demo_scene(count, DEMO_SEED);
@@ -206,6 +215,7 @@ fn demo_scenes_converge_within_the_tolerance() {
 /// settings are not tuned to one seed. Measured: 4 to 11 passes, residual
 /// at most 0.85 of the tolerance.
 #[test]
+#[cfg(feature = "demo")]
 fn demo_scenes_of_many_seeds_converge() {
     for seed in 0..20 {
         let mut scene = demo_scene(60, seed);

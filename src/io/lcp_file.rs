@@ -1,5 +1,5 @@
 //! The dense LCP file format of the Siconos numerics test suite
-//! (`../shared/lcp-data/README.md`).
+//! (`tests/data/siconos/README.md`).
 //!
 //! Whitespace-separated numbers:
 //!

@@ -3,7 +3,7 @@
 //! LCP `(M, q)`, candidate `z`, `w = M z + q`:
 //! - natural map: `||min(z, w)||_inf`, zero exactly at solutions. For the
 //!   Siconos files it is divided by `max(1, ||q||_inf)` ([`lcp_natural_map`],
-//!   the measure of `../shared/lcp-data/README.md`).
+//!   the measure of `tests/data/siconos/README.md`).
 //! - complementarity: `max_i |z_i w_i|`.
 //!
 //! Projection QP (see [`super::projection`]), with `b = phi - target`,

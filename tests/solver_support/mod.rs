@@ -1,5 +1,7 @@
 //! Random contact-like projection QPs, shared by the solver tests and
-//! `benchmarks/solvers.rs` (included there with `#[path]`).
+//! `benchmarks/solvers.rs` (included there with `#[path]`); the oracles
+//! the tests judge answers by ([`oracle`]); the Siconos LCP files and their
+//! README's solutions ([`siconos`]).
 //!
 //! A grid of stacks of boxes on a fixed ground: every box rests face-down on
 //! the box below (or the ground) through its four bottom corners, so four
@@ -10,6 +12,9 @@
 //! Masses are log-uniform over four decades around `mass_scale`; all lengths
 //! (sizes, positions, `phi`, `target`) are multiplied by `length_scale`.
 #![allow(dead_code)]
+
+pub mod oracle;
+pub mod siconos;
 
 use constraint_stabilization::solver::{BodyMetric, JacobianRow, ProjectionQp};
 use nalgebra::{Matrix3, Rotation3, Vector3, Vector6};

@@ -29,7 +29,7 @@ use constraint_stabilization::solver::residuals::lcp_natural_map;
 use nalgebra::DVector;
 use serde_json::{Value, json};
 
-/// The acceptance threshold of `../shared/lcp-data/README.md`.
+/// The acceptance threshold of `tests/data/siconos/README.md`.
 pub const LCP_FILE_TOL: f64 = 1e-9;
 
 /// Arguments of `stabilize lcp`.
