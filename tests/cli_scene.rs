@@ -71,20 +71,10 @@ fn scene_is_corrected_and_output_fed_back_is_a_no_op() {
 
 #[test]
 fn bad_scene_exits_2_and_writes_nothing() {
-    let input = scratch("bad.json");
-    let output = scratch("bad-out.json");
     let no_mass = DESIGN_EXAMPLE.replace("\"mass\": 2.5", "\"mas\": 2.5");
-    std::fs::write(&input, no_mass).unwrap();
-    let result = binary()
-        .args(["scene"])
-        .arg(&input)
-        .arg("-o")
-        .arg(&output)
-        .output()
-        .unwrap();
-    assert_eq!(result.status.code(), Some(2));
+    let (code, message, output) = run_scene("bad", &no_mass);
+    assert_eq!(code, Some(2));
     assert!(!output.exists());
-    let message = String::from_utf8_lossy(&result.stderr);
     assert!(
         message.contains("rock") && message.contains("mas"),
         "{message}"
@@ -110,4 +100,82 @@ fn demo_rejects_an_unknown_solver() {
         .output()
         .unwrap();
     assert_eq!(result.status.code(), Some(2));
+}
+
+/// 1% of the wedged cube's lift (0.05).
+const WEDGE_LIFT_AGREEMENT: f64 = 5e-4;
+
+/// A unit cube sunk 0.05 into a fixed floor under a fixed ceiling 0.02
+/// above its top face (more than the contact margin, 0.0087): the first
+/// pass lifts the cube into the ceiling, and the second has no solution
+/// (the room, 0.97, is lower than the cube).
+fn wedged_cube(settings: &str) -> String {
+    format!(
+        r#"{{
+  "bodies": [
+    {{ "name": "floor", "shape": {{ "cuboid": [10.0, 0.5, 10.0] }},
+      "translation": [0.0, -0.5, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0],
+      "fixed": true }},
+    {{ "name": "ceiling", "shape": {{ "cuboid": [10.0, 0.5, 10.0] }},
+      "translation": [0.0, 1.47, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0],
+      "fixed": true }},
+    {{ "name": "cube", "shape": {{ "cuboid": [0.5, 0.5, 0.5] }},
+      "translation": [0.0, 0.45, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0],
+      "mass": 1.0 }}
+  ]{settings}
+}}"#
+    )
+}
+
+/// Runs `stabilize scene` on `text`; returns the exit code, stderr, and
+/// the output path (removed beforehand, so that its existence afterwards
+/// means this run wrote it).
+fn run_scene(name: &str, text: &str) -> (Option<i32>, String, PathBuf) {
+    let input = scratch(&format!("{name}.json"));
+    let output = scratch(&format!("{name}-out.json"));
+    std::fs::write(&input, text).unwrap();
+    let _ = std::fs::remove_file(&output);
+    let result = binary()
+        .args(["scene"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&output)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr).into_owned();
+    (result.status.code(), stderr, output)
+}
+
+/// A scene that no correction can solve: exit 1, no output file (the call
+/// failed, the scene was not corrected), and a message that says no solver
+/// succeeded.
+#[test]
+fn unsolvable_scene_exits_1_writes_nothing_and_says_why() {
+    let (code, stderr, output) = run_scene("wedged", &wedged_cube(""));
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(!output.exists(), "no output for a failed call");
+    assert!(
+        stderr.contains("not solved") && stderr.contains("no solver succeeded"),
+        "{stderr}"
+    );
+}
+
+/// The pass limit reached with a penetration left: exit 1, the output
+/// file written with the progress made and a report that says
+/// `pass_limit`, and the same on stderr.
+#[test]
+fn pass_limit_exits_1_and_writes_the_partial_result() {
+    let text = wedged_cube(r#", "settings": { "max_passes": 1 }"#);
+    let (code, stderr, output) = run_scene("wedged-limit", &text);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("pass_limit"), "{stderr}");
+    let written = read_json(&output);
+    assert_eq!(written["report"]["status"], "pass_limit");
+    assert_eq!(written["report"]["passes"], 1);
+    // The one pass lifted the cube out of the floor (by the depth, 0.05).
+    let cube_y = written["bodies"][2]["translation"][1].as_f64().unwrap();
+    assert!(
+        (cube_y - 0.5).abs() <= WEDGE_LIFT_AGREEMENT,
+        "cube at y = {cube_y}"
+    );
 }

@@ -17,7 +17,7 @@ use constraint_stabilization::body::{BodyDesc, MassSpec};
 #[cfg(feature = "demo")]
 use constraint_stabilization::demo::demo_scene;
 use constraint_stabilization::scene::Scene;
-use constraint_stabilization::solver::{CrossCheckOutcome, SolverChoice};
+use constraint_stabilization::solver::{CrossCheckOutcome, SolverChoice, SolverKind};
 use constraint_stabilization::{Error, Settings, Stabilizer, Status};
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 use stabilize_support::*;
@@ -25,16 +25,6 @@ use stabilize_support::*;
 /// Seed of the demo scenes used here.
 #[cfg(feature = "demo")]
 const DEMO_SEED: u64 = 2026;
-
-fn ground() -> BodyDesc {
-    cuboid(
-        "ground",
-        [20.0, 0.5, 20.0],
-        [0.0, -0.5, 0.0],
-        IDENTITY_XYZW,
-        MassSpec::Fixed,
-    )
-}
 
 /// A small scene with redundant and rotational contacts: a box sunk into
 /// the ground, a box tilted and sunk on it, and a hull sunk into the side
@@ -245,6 +235,7 @@ fn every_solver_choice_converges_to_the_same_poses() {
         assert_eq!(report.status, Status::Converged, "{choice:?}");
         assert!(residual <= report.tolerance, "{choice:?}: {residual:e}");
         assert!(report.passes <= 10, "{choice:?}: {} passes", report.passes);
+        assert_every_island_solved_by(&report, choice);
         results.push((choice, scene));
     }
     // Each step's projection has a unique minimizer, so solvers that meet
@@ -267,6 +258,40 @@ fn every_solver_choice_converges_to_the_same_poses() {
     }
 }
 
+/// The solver that must answer an island of `rows` rows under `choice`
+/// with no fallback: the named one, or under `Auto` the closed form for one
+/// row and Lemke up to `auto_lemke_max_rows` (the islands here are smaller).
+fn expected_solver(choice: SolverChoice, rows: usize) -> SolverKind {
+    match choice {
+        SolverChoice::Auto if rows == 1 => SolverKind::ClosedForm,
+        SolverChoice::Auto => SolverKind::Lemke,
+        SolverChoice::Clarabel => SolverKind::Clarabel,
+        SolverChoice::ClarabelDual => SolverKind::ClarabelDual,
+        SolverChoice::Lemke => SolverKind::Lemke,
+        SolverChoice::Pgs => SolverKind::Pgs,
+    }
+}
+
+/// Every island of every pass was answered by the solver `choice` names,
+/// with no fallback: otherwise a comparison of solvers would compare a
+/// fallback with itself.
+fn assert_every_island_solved_by(report: &constraint_stabilization::Report, choice: SolverChoice) {
+    let islands: Vec<_> = report.pass_reports.iter().flat_map(|p| &p.solved).collect();
+    assert!(!islands.is_empty(), "{choice:?}: nothing was solved");
+    for island in islands {
+        let expected = expected_solver(choice, island.constraints);
+        assert_eq!(
+            (island.solver, island.fallbacks.len()),
+            (Some(expected), 0),
+            "{choice:?}: island {:?} ({} rows) answered by {:?} after {:?}",
+            island.bodies,
+            island.constraints,
+            island.solver,
+            island.fallbacks
+        );
+    }
+}
+
 #[test]
 fn cross_check_reports_a_small_difference() {
     let mut settings = Settings::default();
@@ -278,6 +303,7 @@ fn cross_check_reports_a_small_difference() {
     assert!(residual <= report.tolerance);
     let islands: Vec<_> = report.pass_reports.iter().flat_map(|p| &p.solved).collect();
     assert!(!islands.is_empty());
+    assert_every_island_solved_by(&report, SolverChoice::Clarabel);
     for island in islands {
         let check = island
             .cross_check
@@ -289,6 +315,7 @@ fn cross_check_reports_a_small_difference() {
                     "island {:?}: {:?} vs {:?}, dq_rel {:.2e}",
                     island.bodies, island.solver, check.reference, differences.dq_rel
                 );
+                assert_eq!(check.reference, SolverKind::Lemke, "the other solver");
                 assert!(differences.dq_rel <= 1e-6, "{differences:?}");
             }
             CrossCheckOutcome::ReferenceFailed(reason) => {
@@ -304,16 +331,7 @@ fn box_face_down_with(
     manifold: bool,
     depth: f64,
 ) -> (constraint_stabilization::Report, Scene, Vec<PoseBits>) {
-    let mut scene = scene_of(&[
-        ground(),
-        cuboid(
-            "box",
-            [0.5, 0.5, 0.5],
-            [0.0, 0.5 - depth, 0.0],
-            IDENTITY_XYZW,
-            MassSpec::Mass(1.0),
-        ),
-    ]);
+    let mut scene = scene_of(&[ground(), unit_cube_sunk("box", depth)]);
     let before = pose_bits(&scene);
     let settings = Settings {
         contact_manifold: manifold,
@@ -408,9 +426,10 @@ fn invalid_settings_are_rejected() {
 }
 
 /// A solver setting that makes every solver fail (a residual tolerance no
-/// solution can meet) surfaces as an error, and the scene is left as it was.
+/// solution can meet) surfaces as an error in the first pass, before
+/// anything moved, and the scene is left as it was.
 #[test]
-fn a_failing_call_leaves_the_scene_untouched() {
+fn an_unreachable_solver_tolerance_is_an_error() {
     let mut settings = Settings::default();
     settings.solver.tol_residual = f64::MIN_POSITIVE;
     let mut scene = scene_of(&small_scene());
@@ -423,4 +442,133 @@ fn a_failing_call_leaves_the_scene_untouched() {
         "no solver can meet the tolerance"
     );
     assert_eq!(pose_bits(&scene), before);
+}
+
+/// Depth by which the wedged cube's bottom face is sunk into the floor.
+const WEDGE_DEPTH: f64 = 0.05;
+
+/// Gap between the wedged cube's top face and the ceiling: more than the
+/// default contact margin (1e-2 of the cube's circumradius, 0.0087), so the
+/// ceiling is in neither the first pass's broad phase nor its island, and
+/// less than `WEDGE_DEPTH`, so lifting the cube out of the floor pushes it
+/// `WEDGE_DEPTH - WEDGE_GAP` into the ceiling.
+const WEDGE_GAP: f64 = 0.02;
+
+/// Index of the wedged cube in [`wedged_cube`].
+const WEDGED: usize = 2;
+
+/// A unit cube face down on a fixed floor, sunk by `WEDGE_DEPTH`, under a
+/// fixed ceiling `WEDGE_GAP` above its top face. The room between floor and
+/// ceiling (`1 - WEDGE_DEPTH + WEDGE_GAP`) is lower than the cube: once the
+/// first pass has lifted the cube out of the floor (its island holds the
+/// floor only), no correction at all can remove both penetrations.
+fn wedged_cube() -> Vec<BodyDesc> {
+    let ceiling_bottom = 1.0 - WEDGE_DEPTH + WEDGE_GAP;
+    vec![
+        ground(),
+        cuboid(
+            "ceiling",
+            [20.0, 0.5, 20.0],
+            [0.0, ceiling_bottom + 0.5, 0.0],
+            IDENTITY_XYZW,
+            MassSpec::Fixed,
+        ),
+        unit_cube_sunk("cube", WEDGE_DEPTH),
+    ]
+}
+
+/// The failure comes after an island has been applied: the first pass
+/// lifts the wedged cube out of the floor (shown by a call limited to one
+/// pass, which returns with the cube moved and pushed into the ceiling),
+/// the second pass has no solution. The failing call must put back every
+/// pose bit for bit, including the cube's, which the first pass moved.
+#[test]
+fn a_failing_call_leaves_the_scene_untouched() {
+    let reference = scene_of(&wedged_cube());
+    let before = pose_bits(&reference);
+
+    let mut one_pass = reference.clone();
+    let settings = Settings {
+        max_passes: 1,
+        ..Settings::default()
+    };
+    let (report, _) = stabilize_with(&mut one_pass, settings);
+    println!("{}", describe("wedged cube, one pass", &report, 0.0));
+    assert_eq!((report.status, report.passes), (Status::PassLimit, 1));
+    let moved = pose_bits(&one_pass);
+    assert_ne!(
+        moved[WEDGED], before[WEDGED],
+        "the first pass moves the cube"
+    );
+    let lift = one_pass.bodies()[WEDGED].translation_user().y - (0.5 - WEDGE_DEPTH);
+    assert!(
+        (lift - WEDGE_DEPTH).abs() <= WEDGE_DEPTH * RELATIVE_MOTION,
+        "the first pass lifts the cube by the depth: {lift:e}"
+    );
+    let into_ceiling = sat_depth(&one_pass, WEDGED, 1);
+    assert!(
+        (into_ceiling - (WEDGE_DEPTH - WEDGE_GAP)).abs() <= WEDGE_DEPTH * RELATIVE_MOTION,
+        "after the first pass the cube is {into_ceiling:e} deep in the ceiling"
+    );
+
+    let mut scene = reference.clone();
+    let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
+    let outcome = stabilizer.stabilize(&mut scene);
+    println!("wedged cube: {outcome:?}");
+    assert!(
+        matches!(outcome, Err(Error::Solver(_))),
+        "the second pass has no solution: {outcome:?}"
+    );
+    assert_eq!(pose_bits(&scene), before, "every pose restored bit for bit");
+}
+
+/// A motion checked against its expected value agrees to this fraction of
+/// the expected motion.
+const RELATIVE_MOTION: f64 = 0.01;
+
+/// A call that reaches `max_passes` with a penetration left says so: status
+/// `PassLimit`, exactly `max_passes` passes, a reported depth after the call
+/// above the tolerance, and a residual measured here (parry, SAT) above the
+/// tolerance but below the depth before (the passes made are kept). The same scene converges
+/// when allowed more passes, so the limit is what stopped it.
+#[test]
+fn the_pass_limit_is_reported() {
+    let mut converged = demo_scene(100, DEMO_SEED);
+    let (full, _) = stabilize_default(&mut converged);
+    assert_eq!(full.status, Status::Converged);
+    assert!(full.passes > 1, "the scene must need several passes");
+
+    let mut scene = demo_scene(100, DEMO_SEED);
+    let (depth_before, _) = penetration_residual(&scene);
+    let max_passes = full.passes - 1;
+    let settings = Settings {
+        max_passes,
+        ..Settings::default()
+    };
+    let (report, residual) = stabilize_with(&mut scene, settings);
+    println!("{}", describe("demo 100, pass limit", &report, residual));
+    assert_eq!(report.status, Status::PassLimit);
+    assert!(!report.status.is_resolved());
+    assert_eq!(report.passes, max_passes);
+    assert!(residual > report.tolerance, "residual {residual:e}");
+    assert!(residual < depth_before, "{residual:e} vs {depth_before:e}");
+    assert!(
+        report.depth_after > report.tolerance,
+        "reported depth {:e}",
+        report.depth_after
+    );
+    assert!(report.bodies_moved > 0);
+}
+
+/// Regression of fb8f5a8: the deepest-vertex face refinement started from
+/// the witness face alone, and the 1,000-body demo of seed 1 stalled (a
+/// local search stopped at a face far from the contact, the line search
+/// found no step); it starts from two faces since and converges.
+#[test]
+fn demo_of_1000_bodies_seed_1_converges_with_two_refinement_starts() {
+    let mut scene = demo_scene(1000, 1);
+    let (report, residual) = stabilize_default(&mut scene);
+    println!("{}", describe("demo 1000 seed 1", &report, residual));
+    assert_eq!(report.status, Status::Converged);
+    assert!(residual <= report.tolerance, "residual {residual:e}");
 }

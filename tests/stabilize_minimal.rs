@@ -11,7 +11,18 @@
 //! - two free boxes of masses `m1`, `m2` overlapping by `d` face to face
 //!   along a face normal `n`: minimize `m1 a^2 + m2 b^2` with `a + b = d`:
 //!   `a = d m2 / (m1 + m2)`, `b = d m1 / (m1 + m2)`, displacement
-//!   `d sqrt(m1 m2 / (m1 + m2))`, each body moving along `-n` / `+n`.
+//!   `d sqrt(m1 m2 / (m1 + m2))`, each body moving along `-n` / `+n`
+//!   without turning. Each body's motion is checked against its own closed
+//!   form (to 1% of that motion: at mass ratio 1e4 the heavy body moves
+//!   1e-4 of the light one, so a bound relative to the gap would let a
+//!   heavy body that does not move at all pass), and its rotation against
+//!   [`rotation_allowance`];
+//! - a body sunk on one vertex into a fixed ground (a box on one corner, a
+//!   rod at one end): one row, `dq = M^-1 J^T lambda` with `lambda =
+//!   (target - phi) / (J M^-1 J^T)`, the inertia in closed form; the
+//!   stabilizer's answer agrees to first order, within a tolerance derived
+//!   from the second-order remainder (`stabilize_support`), and the exact
+//!   depth after the call (separating axes) is within the tolerance.
 
 mod stabilize_support;
 
@@ -37,6 +48,14 @@ fn tight(choice: SolverChoice) -> Settings {
     settings
 }
 
+/// The largest rotation accepted where the minimal correction is a pure
+/// translation of length `motion`: the angle that moves the body's farthest
+/// point (at `radius`, its circumradius) by `RELATIVE_AGREEMENT` of that
+/// motion, so that a rotation is held to the same bound as the translation.
+fn rotation_allowance(motion: f64, radius: f64) -> f64 {
+    RELATIVE_AGREEMENT * motion / radius
+}
+
 fn assert_close(label: &str, measured: f64, expected: f64) {
     println!("{label}: displacement {measured:.9e}, minimal {expected:.9e}");
     assert!(
@@ -50,13 +69,7 @@ fn box_sunk_into_fixed_ground_is_lifted_by_the_depth() {
     let (mass, depth) = (2.5, 0.02);
     for choice in [SolverChoice::Clarabel, SolverChoice::Auto] {
         let mut scene = scene_of(&[
-            cuboid(
-                "ground",
-                [10.0, 0.5, 10.0],
-                [0.0, -0.5, 0.0],
-                IDENTITY_XYZW,
-                MassSpec::Fixed,
-            ),
+            ground(),
             cuboid(
                 "box",
                 [0.4, 0.3, 0.6],
@@ -75,8 +88,16 @@ fn box_sunk_into_fixed_ground_is_lifted_by_the_depth() {
             report.displacement,
             mass.sqrt() * (depth + margin),
         );
-        let lift = scene.bodies()[1].translation_user().y - (0.3 - depth);
-        assert!((lift - depth).abs() <= RELATIVE_AGREEMENT * depth);
+        let body = &scene.bodies()[1];
+        let moved = body.translation_user() - Vector3::new(0.1, 0.3 - depth, -0.2);
+        let expected = Vector3::y() * (depth + margin);
+        assert!(
+            (moved - expected).norm() <= RELATIVE_AGREEMENT * expected.norm(),
+            "{choice:?}: moved {moved:?}, expected {expected:?}"
+        );
+        let turned = body.user_pose().rotation.angle();
+        let allowed = rotation_allowance(expected.norm(), body.polyhedron().scale());
+        assert!(turned <= allowed, "{choice:?}: turned by {turned:e} rad");
     }
 }
 
@@ -129,12 +150,131 @@ fn two_free_boxes(m1: f64, m2: f64) {
                 gap * (m1 * m2 / (m1 + m2)).sqrt(),
             );
             let normal = frame * Vector3::x();
-            let moved_a = scene.bodies()[0].translation_user() - centre_a;
-            let moved_b = scene.bodies()[1].translation_user() - centre_b;
+            let label = format!("{choice:?}, m1 {m1:e}, m2 {m2:e}, frame {frame:?}");
             let expected_a = -normal * gap * m2 / (m1 + m2);
             let expected_b = normal * gap * m1 / (m1 + m2);
-            assert!((moved_a - expected_a).norm() <= RELATIVE_AGREEMENT * gap);
-            assert!((moved_b - expected_b).norm() <= RELATIVE_AGREEMENT * gap);
+            for (index, centre, expected) in [(0, centre_a, expected_a), (1, centre_b, expected_b)]
+            {
+                let body = &scene.bodies()[index];
+                let moved = body.translation_user() - centre;
+                println!("{label}: body {index} moved {moved:?}, expected {expected:?}");
+                assert!(
+                    (moved - expected).norm() <= RELATIVE_AGREEMENT * expected.norm(),
+                    "{label}: body {index} moved {moved:?}, expected {expected:?}"
+                );
+                let turned = body.user_pose().rotation.angle_to(&frame);
+                let allowed = rotation_allowance(expected.norm(), body.polyhedron().scale());
+                assert!(
+                    turned <= allowed,
+                    "{label}: body {index} turned by {turned:e} rad (allowed {allowed:e})"
+                );
+            }
         }
     }
+}
+
+/// How far the lowest vertex of a box sunk on one vertex is pushed into
+/// the ground: small against the body, so that the rotation of the
+/// correction is small and the first-order closed form is accurate to well
+/// below 1% (checked by [`assert_motions_match`]).
+const CORNER_DEPTH: f64 = 1e-3;
+
+/// The same for the rod: rolling about its own axis is 400 times cheaper
+/// than turning the box, so its correction turns it much more per unit of
+/// depth, and the depth is smaller to keep the first-order check sharp.
+const ROD_END_DEPTH: f64 = 1e-4;
+
+/// Rounding of a vertex placed at a given height (unit-sized bodies).
+const PLACEMENT_ROUNDING: f64 = 1e-12;
+
+/// A dynamic box of `half_extents` and `mass`, turned by `rotation`, with
+/// its lowest vertex `depth` below the top of a fixed ground (and
+/// every other vertex clear of the contact margin): one row, through a
+/// point off the centre of mass, so the minimal correction lifts and turns
+/// the box. The motion must match the one-row closed form.
+fn box_sunk_on_one_vertex(
+    label: &str,
+    half_extents: [f64; 3],
+    mass: f64,
+    rotation: UnitQuaternion<f64>,
+    depth: f64,
+) {
+    let up = Vector3::y();
+    let lowest_offset = rotation_lowest(&half_extents, &rotation);
+    let centre = Vector3::new(0.2, -depth - lowest_offset, -0.1);
+    let mut scene = scene_of(&[
+        ground(),
+        cuboid(
+            "box",
+            half_extents,
+            centre.into(),
+            xyzw(&rotation),
+            MassSpec::Mass(mass),
+        ),
+    ]);
+    let before = *scene.bodies()[1].com_pose();
+    let settings = tight(SolverChoice::Auto);
+    let margin = settings.contact_margin_relative * scene.bodies()[1].polyhedron().scale();
+    let heights = vertices_by_height(&scene, 1, &up);
+    let point = heights[0];
+    assert!(
+        (up.dot(&point) + depth).abs() <= PLACEMENT_ROUNDING && up.dot(&heights[1]) > 2.0 * margin,
+        "{label}: one vertex must be sunk, the others clear of the margin: {heights:?}"
+    );
+    let (report, residual) = stabilize_with(&mut scene, settings);
+    println!("{}", describe(label, &report, residual));
+    assert_eq!(report.status, Status::Converged, "{label}");
+    assert!(
+        residual <= report.tolerance,
+        "{label}: residual {residual:e}"
+    );
+    assert!(
+        sat_depth(&scene, 0, 1) <= report.tolerance,
+        "{label}: SAT depth"
+    );
+    let target = TIGHT * report.scale;
+    let member = RowMember::cuboid(mass, half_extents, centre, &rotation, 1.0);
+    let expected = one_row_correction(&[member], &point, &up, -depth, target);
+    let lever = (point - centre).norm();
+    let relative = one_row_tolerance(
+        &expected,
+        &[lever],
+        depth + target,
+        report.tolerance + target,
+    );
+    let measured = motion(&before, scene.bodies()[1].com_pose());
+    assert_motions_match(label, &[measured], &expected, relative);
+}
+
+/// The height of the lowest vertex of a box of `half_extents` turned by
+/// `rotation`, relative to its centre.
+fn rotation_lowest(half_extents: &[f64; 3], rotation: &UnitQuaternion<f64>) -> f64 {
+    let row = rotation.to_rotation_matrix().matrix().row(1).into_owned();
+    -(0..3).map(|k| row[k].abs() * half_extents[k]).sum::<f64>()
+}
+
+#[test]
+fn box_sunk_on_one_corner_lifts_and_turns_as_the_closed_form() {
+    box_sunk_on_one_vertex(
+        "box on one corner",
+        [0.4, 0.3, 0.2],
+        2.0,
+        UnitQuaternion::from_scaled_axis(Vector3::new(0.5, 0.3, 0.7)),
+        CORNER_DEPTH,
+    );
+}
+
+#[test]
+fn rod_sunk_at_one_end_lifts_and_turns_as_the_closed_form() {
+    // Tilted end down about z, then turned about its own axis so that one
+    // corner of the low end is lower than the other three.
+    let rotation = UnitQuaternion::from_scaled_axis(Vector3::new(0.0, 0.0, 0.25))
+        * UnitQuaternion::from_scaled_axis(Vector3::new(0.4, 0.0, 0.0));
+    box_sunk_on_one_vertex(
+        "rod on one end",
+        [1.0, 0.05, 0.05],
+        1.0,
+        rotation,
+        ROD_END_DEPTH,
+    );
 }
