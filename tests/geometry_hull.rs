@@ -2,6 +2,8 @@
 //! write: parry3d-f64's own hull and mass properties, and brute force over
 //! the input points (support functions, containment).
 
+mod proptest_support;
+
 use constraint_stabilization::geometry::{
     CONTAINMENT_TOLERANCE, ConvexPolyhedron, GeometryError, point_to_parry, vector_from_parry,
 };
@@ -280,7 +282,7 @@ fn check_build(points: &[Point3<f64>]) -> Result<Option<ConvexPolyhedron>, TestC
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: cases(), failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_support::config(cases()))]
 
     #[test]
     fn hull_of_points_on_a_sphere(points in sphere_points(), (pose, scale) in pose_strategy()) {
@@ -350,7 +352,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 4 * cases(), failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_support::config(4 * cases()))]
 
     /// Arbitrary floats (NaN, infinities, subnormals, huge values) mixed
     /// with small integers and unit-range values (so that many sets have a

@@ -3,6 +3,7 @@
 //! parry's distance, and the push-out property of the deepest vertex.
 //! Case counts are bounded so that `cargo test` stays fast.
 
+mod proptest_support;
 mod vclip_support;
 
 use constraint_stabilization::geometry::ConvexPolyhedron;
@@ -45,7 +46,7 @@ fn angles() -> impl Strategy<Value = [f64; 3]> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_support::config(64))]
 
     #[test]
     fn swapping_the_bodies_gives_the_same_answer(
