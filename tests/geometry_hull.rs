@@ -2,6 +2,8 @@
 //! write: parry3d-f64's own hull and mass properties, and brute force over
 //! the input points (support functions, containment).
 
+mod proptest_support;
+
 use constraint_stabilization::geometry::{
     CONTAINMENT_TOLERANCE, ConvexPolyhedron, GeometryError, point_to_parry, vector_from_parry,
 };
@@ -251,20 +253,43 @@ fn cube_points() -> impl Strategy<Value = Vec<Point3<f64>>> {
         .prop_map(|v| v.into_iter().map(Point3::from).collect())
 }
 
-/// Points in a slab of relative thickness `10^e`, `e` in [-9, -1]: below
-/// [`FLATNESS_TOLERANCE`] the set is degenerate.
-fn slab_points() -> impl Strategy<Value = Vec<Point3<f64>>> {
+/// The 8 corners of the slab `[-1, 1]² × [-t, t]`, `t = 10^e`, followed by
+/// 4 to 200 points inside it; `e` drawn from `exponents`.
+fn slab_points(exponents: std::ops::Range<f64>) -> impl Strategy<Value = (Vec<Point3<f64>>, f64)> {
     (
         prop::collection::vec(prop::array::uniform3(-1.0..1.0f64), 4..200),
-        -9.0..-1.0f64,
+        exponents,
     )
-        .prop_map(|(v, e)| {
+        .prop_map(|(inside, e)| {
             let thickness = 10f64.powf(e);
-            v.into_iter()
-                .map(|c| Point3::new(c[0], c[1], c[2] * thickness))
-                .collect()
+            let corners = (0..8).map(|i: usize| {
+                let sign = |bit: usize| if i & (1 << bit) != 0 { 1.0 } else { -1.0 };
+                Point3::new(sign(0), sign(1), sign(2) * thickness)
+            });
+            let points = corners
+                .chain(
+                    inside
+                        .into_iter()
+                        .map(|c| Point3::new(c[0], c[1], c[2] * thickness)),
+                )
+                .collect();
+            (points, thickness)
         })
 }
+
+/// Slabs at least this thick (relative to their side, 2) are solids: their
+/// width `2 t` is above `FLATNESS_TOLERANCE * L` (`L = 2 sqrt(2 + t²)`)
+/// with a margin of 7.
+const SOLID_SLAB_EXPONENTS: std::ops::Range<f64> = -7.0..-1.0;
+
+/// Slabs at most this thick are flat at `f64` precision: `2 t` and any
+/// tilt of the simplex's plane stay below `FLATNESS_TOLERANCE * L`.
+const FLAT_SLAB_EXPONENTS: std::ops::Range<f64> = -12.0..-10.0;
+
+/// Rounding of a transformed coordinate, in units of `ε M` (`M` the largest
+/// coordinate): a rotation, a scaling and a translation, a few operations
+/// each.
+const COORDINATE_ROUNDING_ULPS: f64 = 16.0;
 
 /// Unwraps a hull, accepting only [`GeometryError::Degenerate`] as an
 /// error, and checks every property.
@@ -280,7 +305,7 @@ fn check_build(points: &[Point3<f64>]) -> Result<Option<ConvexPolyhedron>, TestC
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: cases(), failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_support::config(cases()))]
 
     #[test]
     fn hull_of_points_on_a_sphere(points in sphere_points(), (pose, scale) in pose_strategy()) {
@@ -294,9 +319,42 @@ proptest! {
         prop_assert!(hull.is_some());
     }
 
+    /// A slab thicker than the flatness tolerance is a solid: its hull is
+    /// the box of its 8 corners (the first 8 points), volume `8 t` scaled.
     #[test]
-    fn hull_of_nearly_coplanar_points(points in slab_points(), (pose, scale) in pose_strategy()) {
-        check_build(&transformed(points, &pose, scale))?;
+    fn hull_of_a_thin_slab_is_its_box(
+        (points, thickness) in slab_points(SOLID_SLAB_EXPONENTS),
+        (pose, scale) in pose_strategy(),
+    ) {
+        let points = transformed(points, &pose, scale);
+        let hull = check_build(&points)?;
+        prop_assert!(hull.is_some(), "no hull for a slab of thickness {thickness:e}");
+        let hull = hull.unwrap();
+        prop_assert_eq!((hull.vertices().len(), hull.edges().len(), hull.faces().len()), (8, 12, 6));
+        for p_body in hull.vertices() {
+            let p_shape = to_shape_frame(&hull, p_body);
+            prop_assert!(points[..8].contains(&p_shape), "vertex {p_shape} is not a corner");
+        }
+        let box_volume = 8.0 * thickness * scale.powi(3);
+        let top_and_bottom = 8.0 * scale * scale;
+        let rounding = COORDINATE_ROUNDING_ULPS * f64::EPSILON * precision_scale(&points);
+        prop_assert!(
+            (hull.volume() - box_volume).abs() <= MASS_TOLERANCE * box_volume + top_and_bottom * rounding,
+            "volume {} vs {box_volume}", hull.volume()
+        );
+    }
+
+    /// A slab below the flatness tolerance is flat: `Degenerate`.
+    #[test]
+    fn hull_of_a_flat_slab_is_degenerate(
+        (points, thickness) in slab_points(FLAT_SLAB_EXPONENTS),
+        (pose, scale) in pose_strategy(),
+    ) {
+        let result = ConvexPolyhedron::from_points(&transformed(points, &pose, scale));
+        prop_assert!(
+            matches!(result, Err(GeometryError::Degenerate)),
+            "thickness {thickness:e}: {:?}", result.map(|h| h.volume())
+        );
     }
 
     #[test]
@@ -350,7 +408,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 4 * cases(), failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_support::config(4 * cases()))]
 
     /// Arbitrary floats (NaN, infinities, subnormals, huge values) mixed
     /// with small integers and unit-range values (so that many sets have a

@@ -1,6 +1,8 @@
 //! The parry bridge: converted shapes and poses give parry queries the
 //! answers known in closed form or by brute force.
 
+mod proptest_support;
+
 use approx::assert_relative_eq;
 use constraint_stabilization::geometry::{
     ConvexPolyhedron, isometry_from_parry, isometry_to_parry, point_from_parry, point_to_parry,
@@ -98,7 +100,7 @@ fn converted_shape_keeps_body_frame_vertices_and_mass() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_support::config(64))]
 
     #[test]
     fn pose_round_trip_maps_points_the_same_way(
@@ -181,7 +183,7 @@ fn mirtich_shapes_keep_their_mass_in_parry() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 32, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_support::config(32))]
 
     /// The converted hull has the same vertices, hence the same support
     /// function, which is all GJK uses.

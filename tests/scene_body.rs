@@ -1,5 +1,7 @@
 //! Bodies: pose views, mass properties against parry3d-f64, validation.
 
+mod proptest_support;
+
 use approx::assert_relative_eq;
 use constraint_stabilization::body::{Body, BodyDesc, BodyError, MassSpec, Shape};
 use constraint_stabilization::scene::{Scene, SceneError};
@@ -96,7 +98,7 @@ fn four_digit_quaternion_is_accepted_and_normalized() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(proptest_support::config(48))]
 
     /// Oracle: parry3d-f64's hull and mass properties, from the raw points
     /// in the shape frame, placed by the user pose.

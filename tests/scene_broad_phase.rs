@@ -2,6 +2,8 @@
 //! parry3d-f64's distance query (every pair within the margin must be a
 //! candidate).
 
+mod proptest_support;
+
 use constraint_stabilization::body::{BodyDesc, MassSpec, Shape};
 use constraint_stabilization::broad_phase::{
     BodyPair, BroadPhaseError, candidate_pairs, candidate_pairs_of_aabbs,
@@ -101,7 +103,7 @@ fn scene_of(specs: &[BoxSpec]) -> Scene {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(proptest_support::config(200))]
 
     #[test]
     fn pairs_of_aabbs_match_brute_force((aabbs, fixed) in aabbs(), margin in 0.0..0.5f64) {

@@ -2,6 +2,8 @@
 //! input, each naming the body (index and name) and the field.
 #![cfg(feature = "serde")]
 
+mod proptest_support;
+
 use constraint_stabilization::body::{BodyError, MassSpec, Shape};
 use constraint_stabilization::io::scene_file::{
     FieldProblem, SceneFileError, parse_scene, scene_to_string,
@@ -75,7 +77,7 @@ fn any_finite() -> impl Strategy<Value = f64> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(proptest_support::config(200))]
 
     #[test]
     fn numbers_round_trip_bit_for_bit(

@@ -1,5 +1,7 @@
 //! Islands against a brute-force breadth-first search on random graphs.
 
+mod proptest_support;
+
 use std::collections::VecDeque;
 
 use constraint_stabilization::broad_phase::BodyPair;
@@ -78,7 +80,7 @@ fn graph() -> impl Strategy<Value = (Vec<bool>, Vec<BodyPair>)> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(300))]
+    #![proptest_config(proptest_support::config(300))]
 
     #[test]
     fn islands_match_breadth_first_search((fixed, pairs) in graph()) {

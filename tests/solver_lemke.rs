@@ -5,6 +5,8 @@
 
 mod solver_support;
 
+mod proptest_support;
+
 use constraint_stabilization::solver::Lcp;
 use constraint_stabilization::solver::lemke::{self, LemkeSettings, LemkeStatus};
 use nalgebra::{DMatrix, DVector};
@@ -154,7 +156,7 @@ fn pd_lcp() -> impl Strategy<Value = (DMatrix<f64>, DVector<f64>)> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(proptest_support::config(200))]
     #[test]
     fn lemke_matches_enumeration((m, q) in pd_lcp()) {
         let solutions = enumerate(&m, &q);
@@ -193,7 +195,7 @@ fn singular_psd_lcp() -> impl Strategy<Value = (DMatrix<f64>, DVector<f64>)> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(proptest_support::config(200))]
     #[test]
     fn lemke_on_singular_psd_matches_enumeration((m, q) in singular_psd_lcp()) {
         let solutions = enumerate(&m, &q);

@@ -1,6 +1,8 @@
 //! Projected Gauss-Seidel: converges on symmetric positive definite
 //! problems (to Lemke's solution, the unique one), reports when it does not.
 
+mod proptest_support;
+
 use constraint_stabilization::solver::Lcp;
 use constraint_stabilization::solver::lemke::{self, LemkeSettings};
 use constraint_stabilization::solver::pgs::{self, PgsSettings, PgsStatus};
@@ -24,7 +26,7 @@ fn spd_lcp() -> impl Strategy<Value = Lcp> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(100))]
+    #![proptest_config(proptest_support::config(100))]
     #[test]
     fn pgs_converges_on_spd_problems(lcp in spd_lcp()) {
         let settings = PgsSettings { max_sweeps: 100_000, ..PgsSettings::default() };

@@ -1,5 +1,6 @@
-//! The deepest-vertex search against brute force and parry's EPA, and the
-//! exhaustive fallback (forced by an iteration cap of zero) against parry.
+//! The deepest-vertex search against brute force, the exact penetration
+//! depth (separating axes, brute force) and parry's EPA, and the exhaustive
+//! fallback (forced by an iteration cap of zero) against parry.
 
 mod vclip_support;
 
@@ -19,16 +20,48 @@ const ROUNDING: f64 = 1e-9;
 /// intersection fuzz (about 5e-8).
 const PUSH_OUT_GAP: f64 = 1e-6;
 
-/// Checks a deepest vertex against brute force over all vertices and
-/// against parry (EPA depth, separation after the push-out). Returns
-/// `depth / EPA depth`.
+/// parry's EPA depth counts as reliable on a pair when it is within this
+/// (relative to scale) of the separating-axis depth; the depth ratios are
+/// judged against the separating-axis depth, EPA is the check of that
+/// oracle. Measured on the 2000 pairs of
+/// `deepest_vertex_is_the_brute_force_minimum_and_bounds_epa`: EPA agreed
+/// to 1e-6 relative on all of them.
+const EPA_AGREEMENT: f64 = 1e-6;
+
+/// At most one pair in this many may have an unreliable EPA depth.
+const EPA_UNRELIABLE_ONE_IN: usize = 100;
+
+/// Quantile bounds `(q, max)` of `depth / exact depth` over the penetrating
+/// pairs of `deepest_vertex_is_the_brute_force_minimum_and_bounds_epa`
+/// (fixed seed). Measured with the witness face (`refine_face: false`):
+/// median 1.547, 90 % 3.75, 99 % 13.2, max 119; a deepest-vertex walk that
+/// stops early or a wrong witness face moves these up.
+const WITNESS_OVER_EXACT: &[(f64, f64)] = &[(0.5, 1.7), (0.9, 4.5)];
+
+/// As [`WITNESS_OVER_EXACT`] with the refined face (default): measured
+/// median 1.0004, 90 % 1.088, 99 % 2.01, max 106 (the maximum is a pair
+/// whose exact depth is an edge–edge overlap far below any vertex–face
+/// depth, 1.6e-4 of the scale: no vertex–face answer is close). A
+/// refinement that did nothing would give the witness-face figures.
+const REFINED_OVER_EXACT: &[(f64, f64)] = &[(0.5, 1.01), (0.9, 1.15), (0.99, 2.5)];
+
+/// Quantile bounds of `depth / face-normal minimum` (the best depth a
+/// vertex–face answer can have) with the refined face: measured median
+/// 1.000000, 90 % 1.0022, 99 % 1.53, max 4.08 (the refinement is a local
+/// climb; it may stop above the global minimum).
+const REFINED_OVER_FACES: &[(f64, f64)] =
+    &[(0.5, 1.0 + 1e-6), (0.9, 1.01), (0.99, 1.8), (1.0, 5.0)];
+
+/// Checks a deepest vertex against brute force over all vertices, against
+/// the separating-axis depths and parry (EPA depth, separation after the
+/// push-out), and returns its ratios to the exact depths.
 fn check_deepest(
     dv: &DeepestVertex,
     a: &ConvexPolyhedron,
     pose_a: &Isometry3<f64>,
     b: &ConvexPolyhedron,
     pose_b: &Isometry3<f64>,
-) -> f64 {
+) -> DepthRatios {
     let scale = a.scale().max(b.scale());
     let (vertex_poly, vertex_pose, face_poly, face_pose) = match dv.vertex_body {
         BodyRole::A => (a, pose_a, b, pose_b),
@@ -54,10 +87,19 @@ fn check_deepest(
     assert!(
         (dv.vertex_world - vertex_pose * vertex_poly.vertices()[dv.vertex]).norm() <= 1e-12 * scale
     );
+    let exact = separating_axis_depth(a, pose_a, b, pose_b);
+    assert!(
+        dv.depth >= exact.faces - ROUNDING * scale,
+        "depth {} below the face-normal minimum {}",
+        dv.depth,
+        exact.faces
+    );
+    assert!(exact.all <= exact.faces);
     let (pa, pb) = (parry_shape(a), parry_shape(b));
     let epa = parry_depth(&pa, pose_a, &pb, pose_b);
+    let epa_reliable = (epa - exact.all).abs() <= EPA_AGREEMENT * scale;
     assert!(
-        dv.depth >= epa - ROUNDING * scale,
+        !epa_reliable || dv.depth >= epa - ROUNDING * scale,
         "depth {} below EPA {epa}",
         dv.depth
     );
@@ -68,12 +110,46 @@ fn check_deepest(
         "after push-out: {after}"
     );
     assert!(!parry_intersects(&pa, &moved_a, &pb, &moved_b));
-    if epa > 0.0 { dv.depth / epa } else { 1.0 }
+    DepthRatios {
+        depth: dv.depth,
+        exact: dv.depth / exact.all,
+        faces: dv.depth / exact.faces,
+        epa_reliable,
+    }
+}
+
+/// A deepest vertex's depth against the exact depths of its pair.
+#[derive(Debug, Clone, Copy)]
+struct DepthRatios {
+    depth: f64,
+    /// `depth / separating-axis depth` (the exact penetration depth).
+    exact: f64,
+    /// `depth / minimum over face normals`.
+    faces: f64,
+    /// parry's EPA depth agrees with the separating-axis depth.
+    epa_reliable: bool,
+}
+
+/// Asserts `quantile(values, q) <= max` for every `(q, max)` in `bounds`.
+fn assert_quantiles(name: &str, values: &[f64], bounds: &[(f64, f64)]) {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    for &(q, max) in bounds {
+        let at = ((sorted.len() - 1) as f64 * q).round() as usize;
+        assert!(
+            sorted[at] <= max,
+            "{name}: quantile {q} is {}, bound {max}",
+            sorted[at]
+        );
+    }
 }
 
 /// Both the witness face of DESIGN.md section 4 (`refine_face: false`) and
 /// the refined face (default): the deepest vertex is the brute-force
-/// minimum, the depth bounds parry's EPA depth, the push-out separates.
+/// minimum, the depth bounds the exact depth (separating axes) and parry's
+/// EPA depth, the push-out separates, the refinement never deepens the
+/// witness-face answer, and the ratios to the exact depth stay within the
+/// measured bounds.
 #[test]
 fn deepest_vertex_is_the_brute_force_minimum_and_bounds_epa() {
     let witness_face = VClip::new(VClipSettings {
@@ -82,39 +158,59 @@ fn deepest_vertex_is_the_brute_force_minimum_and_bounds_epa() {
     });
     let refined = VClip::default();
     let mut rng = ChaCha8Rng::seed_from_u64(3);
-    let (mut count, mut by_role) = (0, [0, 0]);
-    let mut ratios = [Vec::new(), Vec::new()];
-    while count < 2000 {
+    let mut by_role = [0, 0];
+    let (mut witness, mut refine) = (Vec::new(), Vec::new());
+    while refine.len() < 2000 {
         let (n, m) = (rng.random_range(4..=120), rng.random_range(4..=120));
         let a = random_hull_varied(&mut rng, n, 1.0);
         let radius_b = rng.random_range(0.3..1.5);
         let b = random_hull_varied(&mut rng, m, radius_b);
         let (pose_a, pose_b) = (random_pose(&mut rng, 0.8), random_pose(&mut rng, 0.8));
-        for (k, engine) in [&witness_face, &refined].into_iter().enumerate() {
-            let result = engine.query(&a, &pose_a, &b, &pose_b, None).unwrap();
-            assert!(!result.fell_back());
-            if let Outcome::Penetrating(dv) = result.outcome {
-                ratios[k].push(check_deepest(&dv, &a, &pose_a, &b, &pose_b));
-                if k == 1 {
-                    by_role[(dv.vertex_body == BodyRole::B) as usize] += 1;
-                    count += 1;
-                }
+        let [w, r] = [&witness_face, &refined]
+            .map(|engine| engine.query(&a, &pose_a, &b, &pose_b, None).unwrap());
+        assert!(!w.fell_back() && !r.fell_back());
+        match (w.outcome, r.outcome) {
+            (Outcome::Penetrating(dw), Outcome::Penetrating(dr)) => {
+                witness.push(check_deepest(&dw, &a, &pose_a, &b, &pose_b));
+                refine.push(check_deepest(&dr, &a, &pose_a, &b, &pose_b));
+                by_role[(dr.vertex_body == BodyRole::B) as usize] += 1;
             }
+            (Outcome::Separated { .. }, Outcome::Separated { .. }) => {}
+            (ow, or) => panic!("witness face {ow:?}, refined {or:?}"),
         }
     }
-    for (name, r) in ["witness face", "refined face"].iter().zip(&mut ratios) {
-        r.sort_by(f64::total_cmp);
-        eprintln!(
-            "{name}: depth / EPA depth: median {:.3}, 90% {:.3}, max {:.3}",
-            r[r.len() / 2],
-            r[r.len() * 9 / 10],
-            r[r.len() - 1]
+    let unreliable = refine.iter().filter(|d| !d.epa_reliable).count();
+    assert!(
+        unreliable * EPA_UNRELIABLE_ONE_IN <= refine.len(),
+        "EPA off the separating-axis depth on {unreliable} of {} pairs",
+        refine.len()
+    );
+    let ratios =
+        |v: &[DepthRatios], f: fn(&DepthRatios) -> f64| v.iter().map(f).collect::<Vec<_>>();
+    assert_quantiles(
+        "witness face, depth / exact",
+        &ratios(&witness, |d| d.exact),
+        WITNESS_OVER_EXACT,
+    );
+    assert_quantiles(
+        "refined face, depth / exact",
+        &ratios(&refine, |d| d.exact),
+        REFINED_OVER_EXACT,
+    );
+    assert_quantiles(
+        "refined face, depth / face minimum",
+        &ratios(&refine, |d| d.faces),
+        REFINED_OVER_FACES,
+    );
+    for (w, r) in witness.iter().zip(&refine) {
+        assert!(
+            r.depth <= w.depth * (1.0 + ROUNDING),
+            "refined {} deeper than the witness face {}",
+            r.depth,
+            w.depth
         );
     }
-    eprintln!("refined: vertex on A {}, on B {}", by_role[0], by_role[1]);
     assert!(by_role[0] > 100 && by_role[1] > 100, "{by_role:?}");
-    // The refinement never makes the answer deeper than the witness face.
-    assert!(ratios[1][ratios[1].len() / 2] <= ratios[0][ratios[0].len() / 2]);
 }
 
 /// A small body deep inside a large one: the walk must end in the

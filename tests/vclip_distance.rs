@@ -25,10 +25,33 @@ const TOUCHING_BAND: f64 = 1e-9;
 /// known gap are checked against that gap instead.
 const PARRY_INTERSECTION_FUZZ: f64 = 1e-7;
 
+/// A witness point lies on its body's surface when its largest signed
+/// distance to the body's face planes is within this of 0 (relative to
+/// scale).
+const ON_SURFACE: f64 = 1e-9;
+
+/// The largest signed distance of `p_world` to the face planes of `poly` at
+/// `pose`: 0 on the surface, negative inside.
+fn surface_height(
+    poly: &ConvexPolyhedron,
+    pose: &nalgebra::Isometry3<f64>,
+    p_world: &nalgebra::Point3<f64>,
+) -> f64 {
+    let p_body = pose.inverse_transform_point(p_world);
+    poly.faces()
+        .iter()
+        .map(|f| f.plane.signed_distance(&p_body))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// Both outcomes occur in at least this many of the 3000 cuboid pairs
+/// (measured with seed 1: 2312 separated, 688 penetrating).
+const MIN_PER_OUTCOME: usize = 500;
+
 #[test]
 fn random_cuboids_agree_with_parry() {
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let mut checked = 0;
+    let (mut separated, mut penetrating) = (0, 0);
     for _ in 0..3000 {
         let half_a = Vector3::new(
             rng.random_range(0.1..2.0),
@@ -63,17 +86,28 @@ fn random_cuboids_agree_with_parry() {
                     ((witness_a_world - witness_b_world).norm() - distance).abs() <= 1e-12 * scale
                 );
                 assert!(!intersects || distance <= TOUCHING_BAND * scale);
+                for (poly, pose, p) in [
+                    (&a, &pose_a, witness_a_world),
+                    (&b, &pose_b, witness_b_world),
+                ] {
+                    let h = surface_height(poly, pose, &p);
+                    assert!(h.abs() <= ON_SURFACE * scale, "witness {p} at height {h}");
+                }
+                separated += 1;
             }
             Outcome::Penetrating(_) => {
                 assert!(
                     intersects || parry_d <= TOUCHING_BAND * scale,
                     "parry distance {parry_d}"
                 );
+                penetrating += 1;
             }
         }
-        checked += 1;
     }
-    assert_eq!(checked, 3000);
+    assert!(
+        separated >= MIN_PER_OUTCOME && penetrating >= MIN_PER_OUTCOME,
+        "separated {separated}, penetrating {penetrating}"
+    );
 }
 
 /// Checks one query against parry; returns whether V-Clip said separated.

@@ -3,6 +3,7 @@
 //! parry's distance, and the push-out property of the deepest vertex.
 //! Case counts are bounded so that `cargo test` stays fast.
 
+mod proptest_support;
 mod vclip_support;
 
 use constraint_stabilization::geometry::ConvexPolyhedron;
@@ -17,6 +18,10 @@ const AGREEMENT: f64 = 1e-9;
 
 /// parry's intersection test is fuzzy within about 5e-8 of touching.
 const PARRY_FUZZ: f64 = 1e-7;
+
+/// Gap left by the push-out check, relative to scale: well above
+/// [`PARRY_FUZZ`].
+const PUSH_OUT_GAP: f64 = 1e-6;
 
 fn hull_from_seed(seed: u64, n: usize, scale: f64) -> ConvexPolyhedron {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -45,7 +50,7 @@ fn angles() -> impl Strategy<Value = [f64; 3]> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_support::config(64))]
 
     #[test]
     fn swapping_the_bodies_gives_the_same_answer(
@@ -85,10 +90,29 @@ proptest! {
         let scaled = (hull_from_seed(seeds.0, sizes.0, s), hull_from_seed(seeds.1, sizes.1, s));
         let r1 = vclip(&unit.0, &pose(ta, ra, 1.0), &unit.1, &pose(tb, rb, 1.0), None).unwrap();
         let rs = vclip(&scaled.0, &pose(ta, ra, s), &scaled.1, &pose(tb, rb, s), None).unwrap();
-        match (distance_of(&r1), distance_of(&rs)) {
-            (Some(d1), Some(ds)) => prop_assert!((ds / s - d1).abs() <= AGREEMENT * unit.0.scale().max(unit.1.scale())),
-            (None, None) => {}
-            (d1, ds) => prop_assert!(d1.unwrap_or(0.0).max(ds.unwrap_or(0.0) / s) <= AGREEMENT),
+        let unit_scale = unit.0.scale().max(unit.1.scale());
+        match (r1.outcome, rs.outcome) {
+            (Outcome::Separated { distance: d1, .. }, Outcome::Separated { distance: ds, .. }) => {
+                prop_assert!((ds / s - d1).abs() <= AGREEMENT * unit_scale);
+            }
+            (Outcome::Penetrating(p1), Outcome::Penetrating(ps)) => {
+                // The same walk on a scaled copy: the same depth, scaled.
+                prop_assert!(
+                    (ps.depth / s - p1.depth).abs() <= AGREEMENT * unit_scale,
+                    "depth {} at scale 1, {} at scale {s}", p1.depth, ps.depth
+                );
+                prop_assert!((ps.normal_world - p1.normal_world).norm() <= AGREEMENT);
+                let (pa, pb) = (parry_shape(&unit.0), parry_shape(&unit.1));
+                let parry_d = parry_distance(&pa, &pose(ta, ra, 1.0), &pb, &pose(tb, rb, 1.0));
+                prop_assert!(parry_d <= PARRY_FUZZ * unit_scale, "parry distance {parry_d}");
+            }
+            (o1, os) => {
+                let (d1, ds) = (distance_of(&r1), distance_of(&rs));
+                prop_assert!(
+                    d1.unwrap_or(0.0).max(ds.unwrap_or(0.0) / s) <= AGREEMENT * unit_scale,
+                    "scale 1: {o1:?}, scale {s}: {os:?}"
+                );
+            }
         }
     }
 
@@ -100,13 +124,26 @@ proptest! {
         let (a, b) = (hull_from_seed(seeds.0, sizes.0, 1.0), hull_from_seed(seeds.1, sizes.1, 1.0));
         let (pose_a, pose_b) = (pose(ta, ra, 1.0), pose([0.0; 3], rb, 1.0));
         let result = vclip(&a, &pose_a, &b, &pose_b, None).unwrap();
-        if let Outcome::Penetrating(dv) = result.outcome {
-            let scale = a.scale().max(b.scale());
-            prop_assert!(dv.depth >= 0.0);
-            let (pa, pb) = (parry_shape(&a), parry_shape(&b));
-            prop_assert!(dv.depth >= parry_depth(&pa, &pose_a, &pb, &pose_b) - AGREEMENT * scale);
-            let (moved_a, moved_b) = pushed_out(&dv, &pose_a, &pose_b, 1e-6 * scale);
-            prop_assert!(!parry_intersects(&pa, &moved_a, &pb, &moved_b));
+        let scale = a.scale().max(b.scale());
+        let (pa, pb) = (parry_shape(&a), parry_shape(&b));
+        match result.outcome {
+            Outcome::Penetrating(dv) => {
+                prop_assert!(dv.depth >= 0.0);
+                let exact = separating_axis_depth(&a, &pose_a, &b, &pose_b);
+                prop_assert!(dv.depth >= exact.all - AGREEMENT * scale);
+                prop_assert!(dv.depth >= parry_depth(&pa, &pose_a, &pb, &pose_b) - AGREEMENT * scale);
+                let (moved_a, moved_b) = pushed_out(&dv, &pose_a, &pose_b, PUSH_OUT_GAP * scale);
+                prop_assert!(!parry_intersects(&pa, &moved_a, &pb, &moved_b));
+            }
+            // Rarely reached (centres within 0.5 * sqrt(3)): a separated
+            // answer must be parry's distance and no overlap.
+            Outcome::Separated { distance, .. } => {
+                let parry_d = parry_distance(&pa, &pose_a, &pb, &pose_b);
+                prop_assert!((distance - parry_d).abs() <= AGREEMENT * scale, "{distance} vs {parry_d}");
+                prop_assert!(
+                    separating_axis_depth(&a, &pose_a, &b, &pose_b).all <= AGREEMENT * scale
+                );
+            }
         }
     }
 }
