@@ -4,9 +4,10 @@
 
 mod vclip_support;
 
+use constraint_stabilization::contact::minimum_translation;
 use constraint_stabilization::geometry::{ConvexPolyhedron, Feature};
 use constraint_stabilization::vclip::{
-    BodyRole, FeaturePair, Outcome, VClipError, VClipResult, vclip,
+    BodyRole, DeepestVertex, FeaturePair, Outcome, VClipError, VClipResult, vclip,
 };
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};
@@ -81,17 +82,24 @@ struct Compared {
     separated: usize,
     unique_witnesses: usize,
     penetrating: usize,
-    /// `(warm depth, cold depth)` of the penetrating answers whose depths
-    /// differ by more than [`AGREEMENT`] (checked last, so that every other
-    /// comparison runs first).
+    /// `(warm depth, cold depth)` of the penetrating answers whose exact
+    /// depths (the minimum translation searched from each answer's deepest
+    /// vertex) differ by more than [`AGREEMENT`] (checked last, so that
+    /// every other comparison runs first).
     depth_mismatches: Vec<(f64, f64)>,
 }
 
 /// Warm and cold answers agree: same outcome kind; when separated, the
 /// same distance and closest vector `witness_b - witness_a` (unique for
 /// convex bodies), and the same witness points where the closest points
-/// are unique; when penetrating, the same depth, and each deepest vertex
-/// minimizes the height over its face's plane (brute force).
+/// are unique; when penetrating, the same exact depth (the library's
+/// answer: `contact::minimum_translation` from each deepest vertex), and
+/// each deepest vertex minimizes the height over its face's plane (brute
+/// force). The deepest vertex itself, and its face, may differ: the face
+/// refinement is a local search from the face where the walk detected the
+/// penetration, which depends on the start (measured by this test before
+/// the exact search existed: 52 of 1060 arbitrary starts gave another
+/// face); it is only the seed of the exact search.
 fn assert_same_answer(
     warm: &VClipResult,
     cold: &VClipResult,
@@ -134,8 +142,10 @@ fn assert_same_answer(
             }
         }
         (Outcome::Penetrating(w), Outcome::Penetrating(c)) => {
-            if (w.depth - c.depth).abs() > AGREEMENT * scale {
-                compared.depth_mismatches.push((w.depth, c.depth));
+            let exact = |dv: &DeepestVertex| minimum_translation(a, pose_a, b, pose_b, dv).depth();
+            let (exact_warm, exact_cold) = (exact(w), exact(c));
+            if (exact_warm - exact_cold).abs() > AGREEMENT * scale {
+                compared.depth_mismatches.push((exact_warm, exact_cold));
             }
             for dv in [w, c] {
                 let (poly, pose, face_poly, face_pose) = match dv.vertex_body {
@@ -190,8 +200,8 @@ fn warm_starts_along_paths_through_contact_agree_with_cold() {
 }
 
 /// Each kind of comparison ran often enough to mean something, and every
-/// warm-started depth equals the cold one (a warm start may change the
-/// cost, never the answer: `src/vclip/query.rs`).
+/// warm-started exact depth equals the cold one (a warm start may change
+/// the cost, never the answer: `src/vclip/query.rs`).
 fn assert_compared_enough(compared: &Compared) {
     assert!(
         compared.separated > 500

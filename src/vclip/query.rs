@@ -6,7 +6,13 @@
 //! gives up after [`VClipSettings::iteration_cap`] transitions, in which
 //! case the exhaustive [`fallback`](super::fallback) answers and the
 //! result says so. Any start converges (Mirtich 1998, Theorem 2), so a
-//! warm start changes the cost, not the answer.
+//! warm start changes the cost, not the answer: the distance and closest
+//! points of a separated pair, and the penetration verdict, are the same
+//! from any start. The deepest vertex–face pair of a penetration is not:
+//! its face refinement is a local search from the face where the walk
+//! detected the penetration. It is only the seed of the exact depth search
+//! (`crate::contact::penetration`), whose answer is the same from any seed
+//! (tested in `tests/vclip_warm.rs`).
 //!
 //! Rounding ties. In exact arithmetic no state repeats (each move lowers
 //! the inter-feature distance, or keeps it and lowers the dimension). In
