@@ -25,6 +25,19 @@
 //! **Edge–edge contact**: one point, the closest points of the two edges
 //! (interior points: the foot of the minimum translation lies inside the
 //! parallelogram the two edges span).
+//!
+//! **A face standing in for an edge–edge contact** (nearly parallel faces,
+//! see [`super::penetration::FACE_PREFERENCE_RELATIVE`]): the face's points,
+//! with every separation raised by `delta` so that the deepest asks for the
+//! exact depth (`delta = -deepest - exact depth`, between 0 and the
+//! difference of the two axes' depths; the point on B moves by
+//! `-delta n`, which leaves the Jacobian unchanged), plus the edge–edge
+//! point on the exact normal. The raised face rows keep the body level; the
+//! edge–edge row is the exact constraint. Without the raise the face rows
+//! asked for the face's depth; raising them by the full difference of the
+//! axes instead lifted the deepest clipped point clear when the face's
+//! deepest vertex lay outside the reference face, and every demo seed
+//! stalled (measured).
 
 use nalgebra::{Point3, Vector3};
 
@@ -47,16 +60,20 @@ pub struct ContactPoint {
     pub point_a_world: Point3<f64>,
     /// Point on body B.
     pub point_b_world: Point3<f64>,
+    /// Unit normal, world frame, from B towards A.
+    pub normal_world: Vector3<f64>,
     /// `n . (point_a - point_b)`: negative = penetration.
     pub separation: f64,
 }
 
-/// The contact points of a penetrating pair and their common normal.
+/// The contact points of a penetrating (or near) pair.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Manifold {
-    /// Unit normal, world frame, from B towards A.
+    /// Unit normal of the reference axis, world frame, from B towards A.
     pub normal_world: Vector3<f64>,
-    /// At most [`MAX_POINTS`] points, the deepest first.
+    /// At most [`MAX_POINTS`] points on the reference axis, the deepest
+    /// first, then the exact edge–edge point when the reference is a face
+    /// standing in for it.
     pub points: Vec<ContactPoint>,
 }
 
@@ -71,7 +88,41 @@ pub fn manifold(
 ) -> Manifold {
     let axis = &penetration.reference;
     let normal = axis.normal_world;
-    let mut points = match axis.features {
+    let stand_in = penetration.reference_offset();
+    let mut points = reference_points(axis, a, b, margin + stand_in);
+    shift_to_exact_depth(&mut points, &normal, penetration.exact.depth, stand_in);
+    points.retain(|p| p.separation < margin);
+    points.sort_by(|p, q| p.separation.total_cmp(&q.separation));
+    if !all_points {
+        points.truncate(1);
+    }
+    let spacing = MIN_SPACING_RELATIVE * a.shape.scale().min(b.shape.scale());
+    let mut points = reduce(points, &normal, spacing);
+    if let (PenetrationFeatures::EdgeEdge { edge_a, edge_b }, true) =
+        (penetration.exact.features, stand_in > 0.0 && all_points)
+    {
+        let crossing = edge_contact(a, edge_a, b, edge_b, penetration.exact.normal_world);
+        if points.iter().all(|kept| apart(kept, &crossing, spacing)) {
+            points.push(crossing);
+        }
+    }
+    Manifold {
+        normal_world: normal,
+        points,
+    }
+}
+
+/// The contact points on the reference axis with separation below
+/// `margin` (at least one: the support vertex when clipping, through
+/// rounding, leaves nothing).
+fn reference_points(
+    axis: &ContactAxis,
+    a: &BodyGeometry,
+    b: &BodyGeometry,
+    margin: f64,
+) -> Vec<ContactPoint> {
+    let normal = axis.normal_world;
+    let points: Vec<ContactPoint> = match axis.features {
         PenetrationFeatures::FaceOfB { face_b } => {
             face_contact(b, face_b, a, axis.support_a, normal, margin)
         }
@@ -86,16 +137,32 @@ pub fn manifold(
         }
     };
     if points.is_empty() {
-        points.push(support_contact(axis, a));
+        vec![support_contact(axis, a)]
+    } else {
+        points
     }
-    points.sort_by(|p, q| p.separation.total_cmp(&q.separation));
-    if !all_points {
-        points.truncate(1);
+}
+
+/// Raises every separation by the amount (at most `stand_in`) that brings
+/// the deepest point to `-exact_depth`, moving the point on B by `-delta n`
+/// (the Jacobian is unchanged: `(delta n) x n = 0`).
+fn shift_to_exact_depth(
+    points: &mut [ContactPoint],
+    normal: &Vector3<f64>,
+    exact_depth: f64,
+    stand_in: f64,
+) {
+    if stand_in <= 0.0 {
+        return;
     }
-    let spacing = MIN_SPACING_RELATIVE * a.shape.scale().min(b.shape.scale());
-    Manifold {
-        normal_world: normal,
-        points: reduce(points, &normal, spacing),
+    let deepest = points
+        .iter()
+        .map(|p| p.separation)
+        .fold(f64::INFINITY, f64::min);
+    let delta = (-deepest - exact_depth).clamp(0.0, stand_in);
+    for point in points {
+        point.separation += delta;
+        point.point_b_world -= normal * delta;
     }
 }
 
@@ -132,6 +199,7 @@ fn face_contact(
             (separation < margin).then(|| ContactPoint {
                 point_a_world: p,
                 point_b_world: p - normal * separation,
+                normal_world: normal,
                 separation,
             })
         })
@@ -177,6 +245,7 @@ fn swap_roles(point: ContactPoint) -> ContactPoint {
     ContactPoint {
         point_a_world: point.point_b_world,
         point_b_world: point.point_a_world,
+        normal_world: -point.normal_world,
         separation: point.separation,
     }
 }
@@ -204,6 +273,7 @@ fn edge_contact(
     ContactPoint {
         point_a_world,
         point_b_world,
+        normal_world: normal,
         separation: normal.dot(&(point_a_world - point_b_world)),
     }
 }
@@ -237,6 +307,7 @@ fn support_contact(axis: &ContactAxis, a: &BodyGeometry) -> ContactPoint {
     ContactPoint {
         point_a_world,
         point_b_world: point_a_world + axis.normal_world * axis.depth,
+        normal_world: axis.normal_world,
         separation: -axis.depth,
     }
 }
@@ -275,6 +346,11 @@ fn reduce(points: Vec<ContactPoint>, normal: &Vector3<f64>, spacing: f64) -> Vec
     chosen.sort_unstable();
     chosen.dedup();
     chosen.into_iter().map(|i| distinct[i]).collect()
+}
+
+/// Whether two contact points are at least `spacing` apart (on body A).
+fn apart(p: &ContactPoint, q: &ContactPoint, spacing: f64) -> bool {
+    (p.point_a_world - q.point_a_world).norm() >= spacing
 }
 
 /// The index in `0..count` with the largest `value` (the first on ties).

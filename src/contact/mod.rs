@@ -189,7 +189,7 @@ pub fn contact_rows(
                 contact_row(
                     &point.point_a_world,
                     &point.point_b_world,
-                    &contact.normal_world,
+                    &point.normal_world,
                     a.side(),
                     b.side(),
                 )

@@ -82,17 +82,35 @@ pub const DEPTH_TIE_RELATIVE: f64 = 1e-12;
 
 /// An edge–edge minimum translation is built into a manifold on the best
 /// face axis instead when that face's depth is within this fraction of the
-/// exact depth (plus [`FACE_PREFERENCE_ABSOLUTE_RELATIVE`] of the scale):
-/// two nearly parallel faces pressed together (a box resting on a box with
-/// a small relative tilt) have an edge–edge axis a hair shallower than the
-/// face axis, and a single edge–edge row then tilts the box, pass after
-/// pass, where the face manifold lifts it flat (measured on the demo scene:
-/// 35 passes and a stall with the edge–edge row, see the README). The
-/// depth reported stays the exact one; the correction is at most this
-/// fraction larger than the minimum. Game engines prefer faces the same way
-/// (D. Gregorius, "Robust contact creation for physics simulations", GDC
-/// 2015: face contacts unless an edge axis is clearly better).
+/// exact depth (plus [`FACE_PREFERENCE_ABSOLUTE_RELATIVE`] of the scale), or
+/// when the face's normal is within the angle of [`FACE_ALIGNMENT_COS`] of
+/// the exact normal. Two nearly parallel faces pressed together (a box
+/// resting on a box with a small relative tilt) have an edge–edge axis a
+/// hair shallower than the face axis, spanned by two edges that cross at a
+/// small angle; the row of that edge pair is a poor model (its crossing
+/// point slides by the motion divided by the sine of that angle), and a
+/// single row tilts the box pass after pass where the face manifold lifts
+/// it flat (measured on the 100-body demo: a stall after 35 passes with the
+/// edge–edge row alone, 5 passes with the face manifold). The face rows are
+/// raised so that they ask for the exact depth, not the face's, and the
+/// edge–edge row is kept beside them (see [`super::manifold`]). Game
+/// engines prefer faces the same way (D. Gregorius, "Robust contact
+/// creation for physics simulations", GDC 2015).
 pub const FACE_PREFERENCE_RELATIVE: f64 = 0.05;
+
+/// The largest ratio of the face depth to the exact (edge–edge) depth for
+/// which an aligned face ([`FACE_ALIGNMENT_COS`]) carries the manifold. A
+/// face much deeper than the exact depth (a corner of a tilted box hanging
+/// past the other's edge, far below its face plane) does not describe the
+/// contact.
+pub const FACE_ALIGNED_MAX_RATIO: f64 = 4.0;
+
+/// Cosine of the largest angle between the exact (edge–edge) normal and the
+/// best face normal for which the manifold is built on the face (see
+/// [`FACE_PREFERENCE_RELATIVE`]): 0.1 rad. Crossing boxes, whose edge–edge
+/// normals are tens of degrees from every face normal, keep their
+/// edge–edge row.
+pub const FACE_ALIGNMENT_COS: f64 = 0.995_004_165_278_025_8;
 
 /// The absolute part of the face preference, relative to the pair's scale
 /// (the smaller circumradius).
@@ -163,6 +181,13 @@ pub struct Penetration {
 }
 
 impl Penetration {
+    /// How much deeper the reference axis is than the exact one (0 when they
+    /// are the same): the most the manifold raises its rows by, so that they
+    /// ask for the exact depth along the reference normal.
+    pub fn reference_offset(&self) -> f64 {
+        (self.reference.depth - self.exact.depth).max(0.0)
+    }
+
     /// The penetration depth.
     pub fn depth(&self) -> f64 {
         self.exact.depth
@@ -361,8 +386,11 @@ fn search_from(
     let face_close = search.best_face.depth
         <= exact.depth * (1.0 + FACE_PREFERENCE_RELATIVE)
             + FACE_PREFERENCE_ABSOLUTE_RELATIVE * scale;
+    let face_aligned = search.best_face.normal.dot(&exact.normal) >= FACE_ALIGNMENT_COS;
     let is_edge = matches!(exact.features, PenetrationFeatures::EdgeEdge { .. });
-    let reference = if is_edge && face_close {
+    let face_bounded = search.best_face.depth
+        <= exact.depth * FACE_ALIGNED_MAX_RATIO + FACE_PREFERENCE_ABSOLUTE_RELATIVE * scale;
+    let reference = if is_edge && (face_close || (face_aligned && face_bounded)) {
         search.best_face
     } else {
         exact
