@@ -328,3 +328,102 @@ fn agrees_with_parry_epa_on_round_bodies() {
         checked += 1;
     }
 }
+
+/// Agreement of depths under the symmetries below, relative to the pair's
+/// scale (rounding of transformed coordinates).
+const SYMMETRY_AGREEMENT_RELATIVE: f64 = 1e-9;
+
+/// A random penetrating pair (hulls or boxes) from `seed`, or `None` when
+/// the drawn poses do not overlap.
+fn seeded_pair(
+    seed: u64,
+) -> Option<(
+    ConvexPolyhedron,
+    Isometry3<f64>,
+    ConvexPolyhedron,
+    Isometry3<f64>,
+)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let family = [
+        Family::RoundHulls,
+        Family::Plates,
+        Family::Needles,
+        Family::Boxes,
+    ][(seed % 4) as usize];
+    let a = random_shape(&mut rng, family);
+    let b = random_shape(&mut rng, family);
+    let pose_a = Isometry3::from_parts(Translation3::identity(), random_rotation(&mut rng));
+    let pose_b = overlapping_pose(&mut rng, &a, &b);
+    query(&a, &pose_a, &b, &pose_b)
+        .penetration
+        .map(|_| (a, pose_a, b, pose_b))
+}
+
+fn scaled(poly: &ConvexPolyhedron, s: f64) -> ConvexPolyhedron {
+    let points: Vec<Point3<f64>> = poly.vertices().iter().map(|v| v * s).collect();
+    ConvexPolyhedron::from_points(&points).expect("a scaled hull is a hull")
+}
+
+mod proptest_support;
+
+proptest::proptest! {
+    #![proptest_config(proptest_support::config(96))]
+
+    /// Swapping A and B gives the same depth and the opposite normal.
+    #[test]
+    fn swapping_the_bodies_keeps_the_depth(seed in 0u64..u64::MAX) {
+        if let Some((a, pose_a, b, pose_b)) = seeded_pair(seed) {
+            let ab = query(&a, &pose_a, &b, &pose_b).penetration.expect("penetrating");
+            let ba = query(&b, &pose_b, &a, &pose_a).penetration.expect("penetrating");
+            let scale = a.scale().min(b.scale());
+            proptest::prop_assert!((ab.depth() - ba.depth()).abs() <= SYMMETRY_AGREEMENT_RELATIVE * scale);
+        }
+    }
+
+    /// Scaling the whole pair by 1e-4 or 1e4 scales the depth.
+    #[test]
+    fn scaling_the_pair_scales_the_depth(seed in 0u64..u64::MAX, large in proptest::bool::ANY) {
+        if let Some((a, pose_a, b, pose_b)) = seeded_pair(seed) {
+            let s = if large { 1e4 } else { 1e-4 };
+            let depth = query(&a, &pose_a, &b, &pose_b).penetration.expect("penetrating").depth();
+            let scale_pose = |pose: &Isometry3<f64>| {
+                Isometry3::from_parts(Translation3::from(pose.translation.vector * s), pose.rotation)
+            };
+            let (a_s, b_s) = (scaled(&a, s), scaled(&b, s));
+            // The scaled hulls are built from the vertices about the centre
+            // of mass, whose centre of mass stays at the origin up to
+            // rounding (`shape_origin_offset`).
+            let place = |pose: &Isometry3<f64>, scaled_poly: &ConvexPolyhedron| {
+                scale_pose(pose) * Translation3::from(scaled_poly.shape_origin_offset())
+            };
+            let scaled_depth = query(&a_s, &place(&pose_a, &a_s), &b_s, &place(&pose_b, &b_s))
+                .penetration
+                .expect("still penetrating")
+                .depth();
+            let scale = a.scale().min(b.scale());
+            proptest::prop_assert!(
+                (scaled_depth / s - depth).abs() <= SYMMETRY_AGREEMENT_RELATIVE * scale,
+                "{} vs {}", scaled_depth / s, depth
+            );
+        }
+    }
+
+    /// Rotating and translating the whole pair leaves the depth unchanged.
+    #[test]
+    fn moving_the_pair_rigidly_keeps_the_depth(seed in 0u64..u64::MAX) {
+        if let Some((a, pose_a, b, pose_b)) = seeded_pair(seed) {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x9e37_79b9);
+            let motion = Isometry3::from_parts(
+                Translation3::new(rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0)),
+                random_rotation(&mut rng),
+            );
+            let depth = query(&a, &pose_a, &b, &pose_b).penetration.expect("penetrating").depth();
+            let moved = query(&a, &(motion * pose_a), &b, &(motion * pose_b))
+                .penetration
+                .expect("still penetrating")
+                .depth();
+            let scale = a.scale().min(b.scale());
+            proptest::prop_assert!((moved - depth).abs() <= SYMMETRY_AGREEMENT_RELATIVE * scale);
+        }
+    }
+}
