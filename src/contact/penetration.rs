@@ -139,12 +139,13 @@ pub enum PenetrationFeatures {
 }
 
 impl PenetrationFeatures {
-    /// A short name for logs and reports.
+    /// A short name for logs and reports: `vertex_a_face_b` (a vertex of A
+    /// below a face of B), `face_a_vertex_b`, `edge_edge`.
     pub fn kind(&self) -> &'static str {
         match self {
-            PenetrationFeatures::FaceOfB { .. } => "vertex-face(B)",
-            PenetrationFeatures::FaceOfA { .. } => "face(A)-vertex",
-            PenetrationFeatures::EdgeEdge { .. } => "edge-edge",
+            PenetrationFeatures::FaceOfB { .. } => "vertex_a_face_b",
+            PenetrationFeatures::FaceOfA { .. } => "face_a_vertex_b",
+            PenetrationFeatures::EdgeEdge { .. } => "edge_edge",
         }
     }
 }

@@ -4,7 +4,7 @@
 use serde_json::{Value, json};
 
 use crate::scene::Scene;
-use crate::stabilizer::{IslandReport, PassReport, Report};
+use crate::stabilizer::{IslandReport, PairPenetration, PassReport, Report};
 
 /// The report as a JSON object.
 pub fn report_to_json(report: &Report, scene: &Scene) -> Value {
@@ -15,6 +15,10 @@ pub fn report_to_json(report: &Report, scene: &Scene) -> Value {
         "tolerance": report.tolerance,
         "penetration_before": report.depth_before,
         "penetration_after": report.depth_after,
+        "penetrations_before": report.penetrations_before.iter()
+            .map(|p| penetration_to_json(p, scene)).collect::<Vec<_>>(),
+        "penetrations_after": report.penetrations_after.iter()
+            .map(|p| penetration_to_json(p, scene)).collect::<Vec<_>>(),
         "displacement": report.displacement,
         "bodies_moved": report.bodies_moved,
         "islands_solved": report.islands_solved(),
@@ -29,6 +33,14 @@ pub fn report_to_json(report: &Report, scene: &Scene) -> Value {
             "total": report.times.total,
         },
         "pass_reports": report.pass_reports.iter().map(pass_to_json).collect::<Vec<_>>(),
+    })
+}
+
+fn penetration_to_json(penetration: &PairPenetration, scene: &Scene) -> Value {
+    json!({
+        "bodies": body_names(&[penetration.body_a, penetration.body_b], scene),
+        "features": penetration.features.kind(),
+        "depth": penetration.depth,
     })
 }
 

@@ -13,6 +13,7 @@ use crate::scene::Scene;
 use crate::vclip::VClip;
 
 use super::island_provider::{SceneGeometry, shape_pair};
+use super::report::PairPenetration;
 use super::settings::ResolvedLengths;
 use super::{StabilizeError, parallel};
 
@@ -27,6 +28,8 @@ pub struct Detection {
     pub active_values: Vec<f64>,
     /// Deepest penetration over all pairs (0 if none).
     pub deepest: f64,
+    /// The pairs penetrating deeper than the tolerance, ascending.
+    pub penetrations: Vec<PairPenetration>,
     /// Broad-phase wall time, seconds.
     pub broad_phase_seconds: f64,
     /// Narrow-phase wall time, seconds.
@@ -73,6 +76,21 @@ pub fn detect(
         );
         let value = result.signed_value();
         detection.deepest = detection.deepest.max(-value);
+        if let Some(penetration) = result.penetration.filter(|p| p.depth() > lengths.tolerance) {
+            log::debug!(
+                "penetration ({}, {}): {} depth {:.3e}",
+                pair.body_a,
+                pair.body_b,
+                penetration.features().kind(),
+                penetration.depth()
+            );
+            detection.penetrations.push(PairPenetration {
+                body_a: pair.body_a,
+                body_b: pair.body_b,
+                features: penetration.features(),
+                depth: penetration.depth(),
+            });
+        }
         if value < lengths.contact_margin {
             detection.active_pairs.push(pair);
             detection.active_values.push(value);

@@ -123,7 +123,7 @@ impl ConstraintProvider for IslandProvider<'_> {
                 if let Some(penetration) = &result.penetration {
                     let pair = self.pairs[k];
                     let (exact, reference) = (&penetration.exact, &penetration.reference);
-                    log::debug!(
+                    log::trace!(
                         "  pair ({}, {}): {} depth {:.3e}, normal {:.3?}; {} rows on {} {:.3e}",
                         pair.body_a,
                         pair.body_b,

@@ -31,7 +31,7 @@ use std::time::Instant;
 
 use nalgebra::{Isometry3, Vector3};
 
-pub use report::{IslandReport, PassReport, Report, StageTimes, Status};
+pub use report::{IslandReport, PairPenetration, PassReport, Report, StageTimes, Status};
 pub use settings::{ResolvedLengths, Settings, SettingsError};
 
 use crate::Error;

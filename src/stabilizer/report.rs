@@ -3,6 +3,7 @@
 
 use super::detection::Detection;
 use super::settings::ResolvedLengths;
+use crate::contact::PenetrationFeatures;
 use crate::projector::StepOutcome;
 use crate::solver::{CrossCheck, Fallback, SolverKind};
 
@@ -87,6 +88,20 @@ pub struct PassReport {
     pub solved: Vec<IslandReport>,
 }
 
+/// One penetrating pair as a detection found it: the feature pair of its
+/// minimum translation and its exact depth.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairPenetration {
+    /// First body (scene index, the smaller).
+    pub body_a: usize,
+    /// Second body (scene index).
+    pub body_b: usize,
+    /// Vertex–face (either body's face) or edge–edge.
+    pub features: PenetrationFeatures,
+    /// Exact penetration depth (separating axes).
+    pub depth: f64,
+}
+
 /// Wall time per stage, seconds, summed over passes (and over islands for
 /// the per-island stages, so with several threads these may exceed `total`).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -117,11 +132,17 @@ pub struct Report {
     pub scale: f64,
     /// The absolute penetration tolerance used.
     pub tolerance: f64,
-    /// Deepest penetration before the call (deepest-vertex depth, an upper
-    /// bound of the penetration depth).
+    /// Deepest penetration before the call: the exact depth (the minimum
+    /// translation, equal to the separating-axis depth) of the deepest pair.
     pub depth_before: f64,
-    /// Deepest penetration after the call.
+    /// Deepest penetration after the call (exact, as `depth_before`).
     pub depth_after: f64,
+    /// The pairs penetrating deeper than the tolerance before the call, by
+    /// ascending body indices.
+    pub penetrations_before: Vec<PairPenetration>,
+    /// The pairs still penetrating deeper than the tolerance at the last
+    /// detection of the call.
+    pub penetrations_after: Vec<PairPenetration>,
     /// Mass-weighted displacement of the whole scene, `sqrt(sum_i m_i
     /// |dx_i|^2 + dtheta_i^T I_i dtheta_i)` between the poses before and
     /// after (`dtheta_i` the rotation vector of `R_after R_before^T`).
@@ -146,6 +167,8 @@ impl Report {
             tolerance: lengths.tolerance,
             depth_before: 0.0,
             depth_after: 0.0,
+            penetrations_before: Vec::new(),
+            penetrations_after: Vec::new(),
             displacement: 0.0,
             bodies_moved: 0,
             stalled_islands: Vec::new(),
@@ -160,8 +183,10 @@ impl Report {
         self.times.narrow_phase += detection.narrow_phase_seconds;
         if self.pass_reports.is_empty() {
             self.depth_before = detection.deepest;
+            self.penetrations_before = detection.penetrations.clone();
         }
         self.depth_after = detection.deepest;
+        self.penetrations_after = detection.penetrations.clone();
     }
 
     /// Total number of islands solved over all passes.
