@@ -5,7 +5,7 @@
 use constraint_stabilization::geometry::{
     ConvexPolyhedron, DUPLICATE_TOLERANCE, FLAT_VERTEX_TOLERANCE, FLATNESS_TOLERANCE, GeometryError,
 };
-use nalgebra::Point3;
+use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion};
 
 fn p(x: f64, y: f64, z: f64) -> Point3<f64> {
     Point3::new(x, y, z)
@@ -80,16 +80,22 @@ fn coplanar_points_are_degenerate() {
     );
 }
 
+/// The flat-vertex tolerance is below the flatness tolerance, or the apex
+/// of a pyramid accepted as a solid would be dropped.
+const _: () = assert!(FLAT_VERTEX_TOLERANCE < FLATNESS_TOLERANCE);
+
 #[test]
 fn thickness_just_below_the_flatness_tolerance_is_degenerate() {
     // Extent L = diagonal of the bounding box; the apex height relative to
     // L. Below the flatness tolerance: degenerate at once; below the
-    // flat-vertex tolerance: the apex is dropped, then degenerate; well
-    // above it: a pyramid.
+    // flat-vertex tolerance: the apex is dropped, then degenerate; just
+    // above the flatness tolerance (so above the flat-vertex tolerance,
+    // which is smaller) and well above it: a pyramid that keeps its apex.
     for (relative, expect_ok) in [
         (0.5 * FLATNESS_TOLERANCE, false),
         (0.5 * FLAT_VERTEX_TOLERANCE, false),
-        (100.0 * FLAT_VERTEX_TOLERANCE, true),
+        (2.0 * FLATNESS_TOLERANCE, true),
+        (100.0 * FLATNESS_TOLERANCE, true),
     ] {
         let mut points = vec![
             p(0.0, 0.0, 0.0),
@@ -101,7 +107,80 @@ fn thickness_just_below_the_flatness_tolerance_is_degenerate() {
         points.push(p(0.3, 0.3, relative * extent));
         let result = ConvexPolyhedron::from_points(&points);
         assert_eq!(result.is_ok(), expect_ok, "{relative:e}: {result:?}");
+        if let Ok(pyramid) = result {
+            assert_eq!(pyramid.vertices().len(), 5, "{relative:e}: apex dropped");
+        }
     }
+}
+
+/// The corners of the slab `[-1, 1]² × [-t, t]` and its centre.
+fn slab(t: f64) -> Vec<Point3<f64>> {
+    let mut points: Vec<_> = (0..8)
+        .map(|i| {
+            let s = |bit: usize| if i & (1 << bit) != 0 { 1.0 } else { -1.0 };
+            p(s(0), s(1), s(2) * t)
+        })
+        .collect();
+    points.push(p(0.0, 0.0, 0.0));
+    points
+}
+
+/// Relative accuracy demanded of the volume and inertia of an
+/// axis-aligned slab: its coordinates are exact, so only the rounding of
+/// the tetrahedron sums, about `ε T / t` for `T = 12` triangles and
+/// relative thickness `t >= 1e-8`, enters.
+const SLAB_MASS_TOLERANCE: f64 = 1e-6;
+
+/// Regression (`tests/geometry_hull.proptest-regressions`): the slab
+/// `[-1, 1]² × [-t, t]` with `t = 7.28e-7` and its centre came back as a
+/// tetrahedron. Its sides, `2t = 1.46e-6` wide, were below the old
+/// thin-face tolerance `1e-6 max(L, M) = 2.83e-6`, so each lost two
+/// corners, though the slab is 50 times thicker than the flatness
+/// tolerance `FLATNESS_TOLERANCE * L = 2.83e-8`. Every slab above the
+/// flatness tolerance (down to twice it) is its box, with the closed-form
+/// volume `8 t` and inertia `m (b² + c²) / 3` (half extents `a, b, c`,
+/// `m = 8 a b c`); below it (a quarter), it is flat.
+#[test]
+fn thin_slab_keeps_its_eight_corners() {
+    let extent = 2.0 * 2f64.sqrt();
+    for t in [
+        1e-1,
+        1e-5,
+        7.282523544542664e-7,
+        1e-7,
+        FLATNESS_TOLERANCE * extent,
+    ] {
+        let points = slab(t);
+        let hull = ConvexPolyhedron::from_points(&points).unwrap();
+        let counts = (
+            hull.vertices().len(),
+            hull.edges().len(),
+            hull.faces().len(),
+        );
+        assert_eq!(counts, (8, 12, 6), "t = {t:e}");
+        for v in hull.vertices() {
+            let corner = v + hull.shape_origin_offset();
+            assert!(points[..8].contains(&corner), "t = {t:e}: {corner}");
+        }
+        let mass = 8.0 * t;
+        let relative = |ours: f64, exact: f64| (ours - exact).abs() / exact;
+        assert!(relative(hull.volume(), mass) <= SLAB_MASS_TOLERANCE);
+        let inertia = hull.mass_properties().inertia_unit_density;
+        let exact = [
+            mass * (1.0 + t * t) / 3.0,
+            mass * (1.0 + t * t) / 3.0,
+            mass * 2.0 / 3.0,
+        ];
+        for (axis, exact) in exact.into_iter().enumerate() {
+            let ours = inertia[(axis, axis)];
+            assert!(
+                relative(ours, exact) <= SLAB_MASS_TOLERANCE,
+                "t = {t:e}, axis {axis}: {ours:e} vs {exact:e}"
+            );
+        }
+    }
+    let flat = ConvexPolyhedron::from_points(&slab(0.25 * FLATNESS_TOLERANCE * extent));
+    assert_eq!(flat, Err(GeometryError::Degenerate));
 }
 
 #[test]
@@ -248,4 +327,32 @@ fn point_just_outside_an_edge_is_dropped_and_far_outside_kept() {
     assert_eq!((thin.vertices().len(), thin.faces().len()), (8, 6));
     let kept = ConvexPolyhedron::from_points(&cube(1e-3)).unwrap();
     assert_eq!(kept.vertices().len(), 9);
+}
+
+/// Regression: the same slab rotated and moved (coordinates rounded at
+/// `ε M`, `M ≈ 8`) came back with one side split into two triangles
+/// (8 vertices, 13 edges, 7 faces): the normal of the seed triangle of that
+/// side, taken from its two long sides, was tilted by about `1e-11` rad
+/// (`ε l / w` for length `l = 2`, width `w = 1.46e-6`), which put the twin
+/// triangle's far corner farther from its plane than the coplanar
+/// tolerance `1e-12 max(L, M) ≈ 8e-12`. Taken at the right-angle corner,
+/// the normal is accurate to rounding and the side is one face.
+#[test]
+fn rotated_thin_slab_has_six_faces() {
+    let t = 7.282523544542664e-7;
+    let rotation = UnitQuaternion::new_unchecked(Quaternion::new(
+        0.4308014492319006,
+        0.7162965032679525,
+        0.0,
+        0.5489348146599908,
+    ));
+    let pose = Isometry3::from_parts(Translation3::new(0.0, -6.7276812043874665, 0.0), rotation);
+    let points: Vec<_> = slab(t).iter().map(|q| pose * q).collect();
+    let hull = ConvexPolyhedron::from_points(&points).unwrap();
+    let counts = (
+        hull.vertices().len(),
+        hull.edges().len(),
+        hull.faces().len(),
+    );
+    assert_eq!(counts, (8, 12, 6));
 }

@@ -29,6 +29,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use nalgebra::{Point3, Vector3};
 
 use super::GeometryError;
+use super::plane::triangle_area_vector;
 
 /// Adjacent hull triangles are one face when every vertex of one is within
 /// `COPLANAR_TOLERANCE * max(L, M)` of the plane of the face's largest
@@ -287,8 +288,14 @@ fn compact(cycles: Vec<Vec<usize>>) -> HullFaces {
     HullFaces { vertices, faces }
 }
 
-/// Unit normal of a triangle (zero when the triangle is degenerate).
+/// Unit normal of a triangle (zero when the triangle is degenerate), taken
+/// at its best corner ([`triangle_area_vector`]): the seed of a thin face
+/// (a side of a thin slab, split along a diagonal) then has a normal
+/// accurate to rounding, and its twin triangle, whose far corner is a face
+/// length away, is found coplanar.
 fn triangle_normal(points: &[Point3<f64>], t: &[usize; 3]) -> Vector3<f64> {
-    let n = (points[t[1]] - points[t[0]]).cross(&(points[t[2]] - points[t[0]]));
-    n.try_normalize(0.0).unwrap_or_else(Vector3::zeros)
+    let [a, b, c] = t.map(|i| points[i]);
+    triangle_area_vector(&a, &b, &c)
+        .try_normalize(0.0)
+        .unwrap_or_else(Vector3::zeros)
 }

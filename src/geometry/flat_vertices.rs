@@ -14,6 +14,8 @@
 //! `h(v) / cos(angle)` of the fan of its neighbours, which stays (they are
 //! protected for the round): the hull moves by about `h(v)`. (Without it a
 //! real corner with only short edges would look flat: fuzz-tested.)
+//! Bumps above [`FLAT_VERTEX_TOLERANCE`] stay: they are the corners of
+//! solids at least that thin, which V-Clip must handle anyway.
 
 use std::collections::HashSet;
 
@@ -24,7 +26,11 @@ use super::thin_faces::THIN_FACE_TOLERANCE;
 
 /// Vertices less than `FLAT_VERTEX_TOLERANCE * max(L, M)` above their
 /// neighbours are dropped; the same scale as thin faces, so that the hull
-/// moves by at most about that much per round.
+/// moves by at most about that much per round. Below
+/// [`super::FLATNESS_TOLERANCE`] for the same reason as thin faces: the
+/// apex of a flat pyramid (a square base and a point `h` above its
+/// centre) has aligned faces and height `h`, so a larger tolerance would
+/// drop the apex of a pyramid that the flatness test accepts as a solid.
 pub const FLAT_VERTEX_TOLERANCE: f64 = THIN_FACE_TOLERANCE;
 
 /// Largest angle between a face normal around a flat vertex and their mean.

@@ -10,6 +10,7 @@
 
 use nalgebra::{Point3, Vector3};
 
+use super::plane::triangle_area_vector;
 use super::topology::build_topology;
 use super::{Feature, GeometryError, MassProperties, Plane};
 
@@ -337,16 +338,27 @@ fn check_points(points: &[Point3<f64>]) -> Result<(), GeometryError> {
     }
 }
 
-/// Plane of a polygon by Newell's method, through the vertex centroid.
+/// Plane of a polygon through its vertex centroid, with the normal of its
+/// area vector summed over the fan `(v_0, v_i, v_{i+1})`.
+///
+/// Each fan triangle's area vector is taken at its best corner
+/// ([`triangle_area_vector`]), not as Newell's `Σ v_i × v_{i+1}`: that sum
+/// rounds every term at the size of the body (`ε s²`), which tilts the
+/// normal of a face of width `w` and length `l` by about `ε s² / (w l)`.
+/// A side of a slab of relative thickness `1e-8` (as thin as a solid may
+/// be, [`crate::geometry::FLATNESS_TOLERANCE`]) would tilt by `1e-8` and
+/// its far corners leave the plane by more than [`PLANARITY_TOLERANCE`].
+/// Split at the corners between its long and short sides, it keeps a
+/// normal accurate to about `ε`.
 fn newell_plane(vertices: &[Point3<f64>], cycle: &[usize]) -> Plane {
-    let mut normal = Vector3::zeros();
-    let mut centroid = Vector3::zeros();
-    for (i, &a) in cycle.iter().enumerate() {
-        let b = cycle[(i + 1) % cycle.len()];
-        normal += vertices[a].coords.cross(&vertices[b].coords);
-        centroid += vertices[a].coords;
-    }
-    let centroid = Point3::from(centroid / cycle.len() as f64);
+    let sum = cycle
+        .iter()
+        .fold(Vector3::zeros(), |acc, &a| acc + vertices[a].coords);
+    let centroid = Point3::from(sum / cycle.len() as f64);
+    let corner = |i: usize| &vertices[cycle[i]];
+    let normal = (1..cycle.len() - 1).fold(Vector3::zeros(), |acc, i| {
+        acc + triangle_area_vector(corner(0), corner(i), corner(i + 1))
+    });
     Plane::through(&centroid, normal.normalize())
 }
 

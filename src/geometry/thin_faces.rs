@@ -1,30 +1,57 @@
 //! Thin faces of a hull and the vertices that make them.
 //!
-//! A face's plane is only as accurate as the face is wide: rounding of
-//! order `u = ε·M` in the vertex coordinates (`M` the largest coordinate)
-//! tilts the normal of a face of width `w` by about `u / w`, which moves a
-//! plane by `u L / w` at the distance `L` of the farthest vertex. For
-//! [`super::PLANARITY_TOLERANCE`]` = 1e-9` relative to the body's size this
-//! needs `w ≳ 1e-6 max(L, M)`.
+//! A face whose width `w` is at the scale of the rounding of the input has
+//! no reliable plane: rounding of order `u = ε·M` in the vertex coordinates
+//! (`M` the largest coordinate; the body-frame vertices are rounded when
+//! the centre of mass is subtracted) tilts the normal of a face of width
+//! `w` by about `δ = u / w`. The tilt moves the plane by `δ w = u` over the
+//! face itself, and by `δ x` at a lateral distance `x`; that matters only
+//! for a vertex nearly on the extension of the plane, i.e. across an edge
+//! whose dihedral angle `θ` is nearly flat. Faces are merged when their
+//! vertices are within [`super::COPLANAR_TOLERANCE`]` * max(L, M)` of one
+//! plane, so an unmerged neighbour has `θ ≳ COPLANAR_TOLERANCE max(L, M) /
+//! w`, which is `1e-12 / 2.2e-16 ≈ 4500` times `δ`: wide or thin, a face of
+//! the exact hull keeps every other vertex below its plane. The width
+//! therefore need not be large compared with the body, only compared with
+//! the rounding.
 //!
 //! The width of a convex polygon is attained with one of its sides flush
 //! (rotating calipers): `w = min_edges max_vertices dist(vertex, line(edge))`.
 //! When `w` is below [`THIN_FACE_TOLERANCE`]` * max(L, M)`, the vertices of
 //! the face other than its two farthest apart (`a`, `b`) are dropped from
-//! the point set and the hull is rebuilt. Every dropped vertex is within about `w` of
-//! the segment `ab`, which stays in the hull, so each round moves the hull
-//! by at most about `w`. Such faces come from points within `w` of an edge
-//! (a sliver along it), or from clusters of points closer than `w`.
+//! the point set and the hull is rebuilt. Every dropped vertex is within
+//! about `w` of the segment `ab`, which stays in the hull, so each round
+//! moves the hull by at most about `w`. Such faces come from points within
+//! `w` of an edge (a sliver along it), or from clusters of points closer
+//! than `w` that the duplicate merge
+//! ([`super::DUPLICATE_TOLERANCE`]` * L`) left apart.
+//!
+//! The tolerance sits between those two: above the duplicate merge, and a
+//! factor 10 below [`super::FLATNESS_TOLERANCE`]` * L`, the width below
+//! which a point set is rejected as flat. A set that is accepted as a solid
+//! is at least `FLATNESS_TOLERANCE * L` wide, so its faces across that
+//! width (the sides of a thin slab) are wider than the thin-face tolerance
+//! whenever `M < 10 L`, and the solid keeps its corners. (With
+//! `THIN_FACE_TOLERANCE = 1e-6` the sides of a slab `[-1, 1]² × [-t, t]`
+//! with `t = 7.3e-7`, width `1.46e-6` against `2.83e-6`, were dropped and
+//! its hull came back as a tetrahedron.) Farther from the origin the
+//! rounding `ε M` itself approaches the flatness tolerance: at `M = 1e8 L`
+//! it is `2.2e-8 L`.
 
 use std::collections::HashSet;
 
 use nalgebra::Point3;
 
 use super::coplanar::HullFaces;
+use super::hull::FLATNESS_TOLERANCE;
 
 /// Faces narrower than `THIN_FACE_TOLERANCE * max(L, M)` are removed by
-/// dropping their inner vertices; see the module doc.
-pub const THIN_FACE_TOLERANCE: f64 = 1e-6;
+/// dropping their inner vertices; see the module doc. Ten times the
+/// duplicate merge [`super::DUPLICATE_TOLERANCE`], a tenth of the flatness
+/// tolerance [`super::FLATNESS_TOLERANCE`], so that every solid the hull
+/// accepts (relative width above `FLATNESS_TOLERANCE`) keeps its faces.
+/// A face this thin has a normal accurate to about `ε / 1e-9 ≈ 2e-7` rad.
+pub const THIN_FACE_TOLERANCE: f64 = FLATNESS_TOLERANCE / 10.0;
 
 /// Vertices (indices into `points`) to drop so that no face is narrower
 /// than `min_width`; empty when every face is wide enough.
