@@ -1,27 +1,33 @@
 //! Solver comparison on contact-like projection QPs (random stacks of boxes
 //! with redundant corner contacts, see `tests/solver_support`): time and
 //! residual for each solver, side by side, at 1, 10, 100, 500 and 1000
-//! constraints. Writes `target/solver-bench/solvers.csv` and `.md` and
-//! prints the Markdown table.
+//! constraints. Writes `benchmarks/results/solvers.md` (with the command,
+//! the date, the commit, the load average and the seeds) and
+//! `benchmarks/results/solvers.csv`, and prints the Markdown table.
 //!
 //! `cargo bench --bench solvers` (all sizes), or with a list of sizes:
 //! `cargo bench --bench solvers -- 10 100`.
 //!
-//! Timing: each (size, seed, solver) is run once to warm up, then repeated
-//! until `MIN_TOTAL_S` of run time or `MAX_REPS` runs; the median is
-//! reported, and the table shows the median over seeds. Residual: the worst
+//! Timing: for each (size, seed), every solver is run once to warm up, then
+//! the solvers are run in alternation, one run each per round, for at least
+//! `MIN_ROUNDS` rounds and until the rounds have taken `ROUND_BUDGET_S`, at
+//! most `MAX_ROUNDS`; the median per solver is reported, and the table shows
+//! the median over seeds. On a shared machine the load then weighs on every
+//! solver alike. Residual: the worst
 //! relative residual of `ProjectionResiduals` (natural map,
 //! complementarity, primal infeasibility, stationarity), measured by the
 //! same code for every solver. The LCP solvers (Lemke, PGS, clarabel dual)
 //! need `A = J M^-1 J^T`: its assembly is timed separately (`build A`) and
 //! included in their times.
 
+mod common;
 #[path = "../tests/solver_support/mod.rs"]
 mod solver_support;
 
 use std::fmt::Write as _;
 use std::time::Instant;
 
+use common::{Provenance, bench_command, results_dir};
 use constraint_stabilization::solver::clarabel_qp::{ClarabelSettings, dual, primal};
 use constraint_stabilization::solver::lemke::{self, LemkeSettings};
 use constraint_stabilization::solver::metric::BlockMetric;
@@ -34,8 +40,11 @@ use solver_support::{StackSpec, random_stacks};
 
 const SIZES: [usize; 5] = [1, 10, 100, 500, 1000];
 const SEEDS: u64 = 3;
-const MIN_TOTAL_S: f64 = 0.3;
-const MAX_REPS: usize = 30;
+/// The generator's seed of problem `seed` (0..SEEDS).
+const SEED_BASE: u64 = 100;
+const MIN_ROUNDS: usize = 5;
+const ROUND_BUDGET_S: f64 = 2.0;
+const MAX_ROUNDS: usize = 30;
 /// The O(n^3)-per-pivot variant is only run up to this size (at 100 rows it
 /// is already two orders of magnitude slower).
 const REFACTOR_MAX_N: usize = 100;
@@ -135,21 +144,40 @@ fn run_once(p: &Problem, method: Method) -> Result<Candidate, Failure> {
     }
 }
 
-fn measure(p: &Problem, n: usize, seed: u64, method: Method) -> Row {
-    let first = run_once(p, method);
-    let mut times = Vec::new();
+/// Times every method of `methods` on `p`, interleaved (see the module
+/// doc): one row per method.
+fn measure_interleaved(p: &Problem, n: usize, seed: u64, methods: &[Method]) -> Vec<Row> {
+    let first: Vec<_> = methods.iter().map(|&m| run_once(p, m)).collect();
+    let mut times = vec![Vec::new(); methods.len()];
     let mut total = 0.0;
-    while times.len() < MAX_REPS && (total < MIN_TOTAL_S || times.is_empty()) {
-        let start = Instant::now();
-        let out = run_once(p, method);
-        let t = start.elapsed().as_secs_f64();
-        std::hint::black_box(out.is_ok());
-        times.push(t);
-        total += t;
+    while times[0].len() < MAX_ROUNDS && (times[0].len() < MIN_ROUNDS || total < ROUND_BUDGET_S) {
+        for (&method, times) in methods.iter().zip(&mut times) {
+            let start = Instant::now();
+            let out = run_once(p, method);
+            let t = start.elapsed().as_secs_f64();
+            std::hint::black_box(out.is_ok());
+            times.push(t);
+            total += t;
+        }
     }
-    times.sort_by(f64::total_cmp);
-    let time_s = times[times.len() / 2];
-    let (residual, iterations, status) = match (&first, method) {
+    methods
+        .iter()
+        .zip(first)
+        .zip(times)
+        .map(|((&method, first), times)| row(p, n, seed, method, &first, times))
+        .collect()
+}
+
+fn row(
+    p: &Problem,
+    n: usize,
+    seed: u64,
+    method: Method,
+    first: &Result<Candidate, Failure>,
+    times: Vec<f64>,
+) -> Row {
+    let time_s = median(times);
+    let (residual, iterations, status) = match (first, method) {
         (Ok(_), Method::BuildA) => (None, 0, "ok".to_string()),
         (Ok(c), _) => {
             let r = projection_residuals(&p.qp, &p.metric, &c.dq, &c.lambda).worst();
@@ -245,23 +273,24 @@ fn main() {
     } else {
         args
     };
+    let provenance = Provenance::start(bench_command("solvers", &[]));
     let mut rows = Vec::new();
     let mut csv = String::from("n,seed,method,time_s,residual,iterations,status\n");
     for &n in &sizes {
         for seed in 0..SEEDS {
-            let qp = random_stacks(&StackSpec::new(n, 100 + seed));
+            let qp = random_stacks(&StackSpec::new(n, SEED_BASE + seed));
             let metric = qp.validate().expect("valid generated problem");
             let p = Problem { qp, metric };
-            for method in METHODS {
-                if method == Method::LemkeRefactorEvery && n > REFACTOR_MAX_N {
-                    continue;
-                }
-                let row = measure(&p, n, seed, method);
+            let methods: Vec<Method> = METHODS
+                .into_iter()
+                .filter(|&m| m != Method::LemkeRefactorEvery || n <= REFACTOR_MAX_N)
+                .collect();
+            for row in measure_interleaved(&p, n, seed, &methods) {
                 let _ = writeln!(
                     csv,
                     "{},{},{},{:.6e},{},{},{}",
                     row.n,
-                    row.seed,
+                    SEED_BASE + row.seed,
                     row.method.name(),
                     row.time_s,
                     row.residual.map_or(String::new(), |r| format!("{r:.3e}")),
@@ -269,8 +298,9 @@ fn main() {
                     row.status.replace(',', ";")
                 );
                 eprintln!(
-                    "n {n} seed {seed} {:<24} {:>10.3} ms  {}",
-                    method.name(),
+                    "n {n} seed {} {:<24} {:>10.3} ms  {}",
+                    SEED_BASE + seed,
+                    row.method.name(),
                     row.time_s * 1e3,
                     row.status
                 );
@@ -278,11 +308,27 @@ fn main() {
             }
         }
     }
-    let md = markdown(&rows, &sizes);
-    println!("{md}");
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/target/solver-bench");
-    if std::fs::create_dir_all(dir).is_ok() {
-        let _ = std::fs::write(format!("{dir}/solvers.csv"), csv);
-        let _ = std::fs::write(format!("{dir}/solvers.md"), md);
-    }
+    let table = markdown(&rows, &sizes);
+    println!("{table}");
+    let md = format!(
+        "# Solvers on contact-like projection QPs\n\n{}\n\
+         Problems: `random_stacks(&StackSpec::new(n, seed))` \
+         (`tests/solver_support`, random box stacks with redundant corner \
+         rows), seeds {SEED_BASE} to {} for each n. For each (n, seed) every \
+         solver runs once to warm up, then the solvers run in alternation, one \
+         run each per round, at least {MIN_ROUNDS} rounds and until the rounds \
+         have taken {ROUND_BUDGET_S} s, at most {MAX_ROUNDS}; time = median \
+         over the seeds of the median per seed. The LCP solvers' times include \
+         the assembly of `A = J M^-1 J^T` (`build A`). Residual: the worst \
+         relative residual of `ProjectionResiduals` (natural map, \
+         complementarity, primal infeasibility, stationarity), the same code \
+         for every solver; solved = residual at most 1e-9. Every run is in \
+         `solvers.csv`.\n\n{table}",
+        provenance.markdown(),
+        SEED_BASE + SEEDS - 1,
+    );
+    let dir = results_dir();
+    std::fs::write(dir.join("solvers.csv"), csv).expect("write solvers.csv");
+    std::fs::write(dir.join("solvers.md"), md).expect("write solvers.md");
+    println!("written to {}", dir.join("solvers.md").display());
 }

@@ -152,3 +152,106 @@ pub fn results_dir() -> std::path::PathBuf {
     std::fs::create_dir_all(&dir).expect("create benchmarks/results");
     dir
 }
+
+/// `/proc/loadavg` (the machine is shared), or "unknown".
+pub fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg").map_or("unknown".into(), |s| s.trim().to_string())
+}
+
+/// The current UTC date and time, `YYYY-MM-DD HH:MM:SS UTC` (from the
+/// system clock; civil date from days since 1970, Howard Hinnant's
+/// algorithm).
+pub fn utc_now() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs()) as i64;
+    let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02} {:02}:{:02}:{:02} UTC",
+        rem / 3600,
+        rem / 60 % 60,
+        rem % 60
+    )
+}
+
+/// The commit the benchmark was built from (`git describe --always
+/// --dirty`), or "unknown".
+pub fn git_commit() -> String {
+    std::process::Command::new("git")
+        .args(["describe", "--always", "--dirty"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map_or("unknown".into(), |o| {
+            String::from_utf8_lossy(&o.stdout).trim().to_string()
+        })
+}
+
+/// Provenance of a result file, taken when the run starts: the command, the
+/// start date, the commit, the number of CPUs and the load average.
+pub struct Provenance {
+    command: String,
+    started: String,
+    commit: String,
+    load_at_start: String,
+}
+
+impl Provenance {
+    /// `command` as the user types it (environment variables included).
+    pub fn start(command: impl Into<String>) -> Self {
+        Provenance {
+            command: command.into(),
+            started: utc_now(),
+            commit: git_commit(),
+            load_at_start: load_average(),
+        }
+    }
+
+    /// The Markdown lines to put under a result file's title: command,
+    /// dates, commit, CPUs, load average at the start and at the end (now).
+    pub fn markdown(&self) -> String {
+        let cpus = std::thread::available_parallelism().map_or(0, |n| n.get());
+        format!(
+            "- command: `{}`\n- started: {}; finished: {}\n- commit: {}\n\
+             - machine: {cpus} CPUs, shared with other builds; load average \
+             (`/proc/loadavg`) at the start: {}; at the end: {}\n",
+            self.command,
+            self.started,
+            utc_now(),
+            self.commit,
+            self.load_at_start,
+            load_average(),
+        )
+    }
+}
+
+/// The command line that ran this benchmark: `cargo bench --bench NAME`,
+/// the environment variables in `env_vars` that are set, and the
+/// arguments after `--` (without the ones cargo adds, such as `--bench`).
+pub fn bench_command(name: &str, env_vars: &[&str]) -> String {
+    let mut command = String::new();
+    for var in env_vars {
+        if let Ok(value) = std::env::var(var) {
+            command += &format!("{var}={value} ");
+        }
+    }
+    command += &format!("cargo bench --bench {name}");
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--bench")
+        .collect();
+    if !args.is_empty() {
+        command += &format!(" -- {}", args.join(" "));
+    }
+    command
+}
