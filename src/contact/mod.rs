@@ -21,25 +21,24 @@
 //!   product of two edges), else from the centres of mass.
 //!
 //! Files: `gauss_map` (arcs on the sphere), `penetration` (exact depth),
-//! `manifold` (contact points), this file (queries, rows, warm starts).
+//! `manifold` (contact points), `warm_start` (the cache of V-Clip's last
+//! feature pairs), this file (queries and rows).
 
 pub mod gauss_map;
 pub mod manifold;
 pub mod penetration;
-
-use std::collections::HashMap;
-use std::sync::Arc;
+mod warm_start;
 
 use nalgebra::{Isometry3, Point3, Vector3};
 
-use crate::broad_phase::BodyPair;
 use crate::geometry::{ConvexPolyhedron, Feature};
 use crate::projector::{ConstraintRow, ContactSide, contact_row};
-use crate::vclip::{FeaturePair, Outcome, VClip, VClipResult};
+use crate::vclip::{FeaturePair, Outcome, VClip, VClipError, VClipResult};
 pub use manifold::{ContactPoint, Manifold};
 pub use penetration::{
     ContactAxis, Penetration, PenetrationFeatures, minimum_translation, widest_separation,
 };
+pub use warm_start::WarmStartCache;
 
 /// Distance, relative to the pair's scale, below which the witness
 /// difference of a separated pair is too small to give a normal.
@@ -61,55 +60,6 @@ impl BodyGeometry<'_> {
     fn side(&self) -> ContactSide {
         self.configuration_index
             .map(|index| (index, Point3::from(self.pose.translation.vector)))
-    }
-}
-
-/// Warm starts of V-Clip per body pair, valid across passes, line-search
-/// trials and calls as long as the pair's two shapes are the same objects.
-#[derive(Debug, Clone, Default)]
-pub struct WarmStartCache {
-    entries: HashMap<BodyPair, CachedPair>,
-}
-
-#[derive(Debug, Clone, Copy)]
-struct CachedPair {
-    shapes: (usize, usize),
-    features: FeaturePair,
-}
-
-/// Identity of a shape object (its address), to tell a cached warm start
-/// from one of another scene that reuses the body indices.
-pub fn shape_identity(shape: &Arc<ConvexPolyhedron>) -> usize {
-    Arc::as_ptr(shape) as usize
-}
-
-impl WarmStartCache {
-    /// The cached start of `pair` if it was recorded for these shapes.
-    pub fn get(&self, pair: BodyPair, shapes: (usize, usize)) -> Option<FeaturePair> {
-        self.entries
-            .get(&pair)
-            .filter(|entry| entry.shapes == shapes)
-            .map(|entry| entry.features)
-    }
-
-    /// Records the final feature pair of a query.
-    pub fn insert(&mut self, pair: BodyPair, shapes: (usize, usize), features: FeaturePair) {
-        self.entries.insert(pair, CachedPair { shapes, features });
-    }
-
-    /// Takes over every entry of `other` (newer queries win).
-    pub fn merge(&mut self, other: WarmStartCache) {
-        self.entries.extend(other.entries);
-    }
-
-    /// Number of cached pairs.
-    pub fn len(&self) -> usize {
-        self.entries.len()
-    }
-
-    /// Whether nothing is cached.
-    pub fn is_empty(&self) -> bool {
-        self.entries.is_empty()
     }
 }
 
@@ -143,8 +93,15 @@ pub fn query(
     a: &BodyGeometry,
     b: &BodyGeometry,
     warm_start: Option<FeaturePair>,
-) -> Result<PairQuery, crate::vclip::VClipError> {
-    let result = vclip.query(a.shape, &a.pose, b.shape, &b.pose, warm_start)?;
+) -> Result<PairQuery, VClipError> {
+    let result = match vclip.query(a.shape, &a.pose, b.shape, &b.pose, warm_start) {
+        // A warm start is a hint: one that does not fit these shapes is
+        // dropped and the query starts cold.
+        Err(VClipError::InvalidWarmStart { .. }) => {
+            vclip.query(a.shape, &a.pose, b.shape, &b.pose, None)?
+        }
+        answer => answer?,
+    };
     let penetration = match &result.outcome {
         Outcome::Penetrating(deepest) => Some(minimum_translation(
             a.shape, &a.pose, b.shape, &b.pose, deepest,

@@ -14,7 +14,7 @@ use nalgebra::Isometry3;
 
 use crate::broad_phase::BodyPair;
 use crate::contact::PairQuery;
-use crate::contact::{self, BodyGeometry, WarmStartCache, shape_identity};
+use crate::contact::{self, BodyGeometry, WarmStartCache};
 use crate::geometry::ConvexPolyhedron;
 use crate::projector::{BodyState, ConstraintProvider, ConstraintRow, Measurement};
 use crate::vclip::{FeaturePair, VClip};
@@ -152,10 +152,7 @@ impl ConstraintProvider for IslandProvider<'_> {
     }
 }
 
-/// Shape identities of a pair, for the warm-start cache.
-pub fn shape_pair(shapes: &[Arc<ConvexPolyhedron>], pair: BodyPair) -> (usize, usize) {
-    (
-        shape_identity(&shapes[pair.body_a]),
-        shape_identity(&shapes[pair.body_b]),
-    )
+/// The shapes of a pair, the key of its warm start.
+pub fn shape_pair(shapes: &[Arc<ConvexPolyhedron>], pair: BodyPair) -> [&Arc<ConvexPolyhedron>; 2] {
+    [&shapes[pair.body_a], &shapes[pair.body_b]]
 }

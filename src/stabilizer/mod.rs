@@ -122,6 +122,7 @@ impl Stabilizer {
             .map(|b| b.polyhedron().clone())
             .collect();
         let mut report = Report::new(&lengths);
+        self.cache.forget_dropped_shapes();
         loop {
             let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
             let geometry = SceneGeometry {
