@@ -25,6 +25,8 @@ pub mod geometry;
 pub mod io;
 pub mod island;
 pub mod projector;
+#[cfg(feature = "rapier")]
+pub mod rapier_bridge;
 pub mod scene;
 pub mod solver;
 pub mod stabilizer;

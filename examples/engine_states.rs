@@ -1,0 +1,382 @@
+//! Engine states from Rapier: simulates scenes with Rapier's default
+//! integration parameters (60 Hz) and writes the state of chosen steps as
+//! scene files (DESIGN.md section 6), read through the Rapier bridge.
+//!
+//! ```text
+//! cargo run --features rapier --example engine_states -- DIR [--large PATH]
+//! ```
+//!
+//! writes the small states to `DIR/rp*.json` with `DIR/engine-notes-rapier.tsv`
+//! (step, time, bodies, Rapier's own deepest contact depth and number of
+//! contact points from its narrow phase, and parry's deepest penetration
+//! and penetrating pairs on the state as written), and with `--large` the
+//! settled pile of 1,000 to `PATH`.
+//!
+//! Z up, gravity -9.81, SI units, density 1000 kg/m^3 unless a mass is
+//! given; fixed seeds. Lengths are multiples of 2^-10 m, exact in f32 and
+//! short in the files.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use constraint_stabilization::Settings;
+use constraint_stabilization::io::scene_file::write_scene;
+use constraint_stabilization::rapier_bridge::RapierBridge;
+use constraint_stabilization::scene::Scene;
+use constraint_stabilization::verify::{ParryPenetration, parry_penetration};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rapier3d::prelude::*;
+
+/// Quantum of every generated length (m): exact in f32.
+const LENGTH_QUANTUM: f32 = 1.0 / 1024.0;
+const DENSITY: f32 = 1000.0;
+const STEP_SECONDS: f64 = 1.0 / 60.0;
+
+/// A written state: the scene and what Rapier said about it.
+struct State {
+    stem: String,
+    /// Deepest penetration and penetrating pairs by parry3d-f64 on the
+    /// scene as written (the independent measure of `verify`).
+    parry: ParryPenetration,
+    scene: Scene,
+    step: usize,
+    rapier_deepest: f64,
+    rapier_contacts: usize,
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some(dir) = args.first().map(PathBuf::from) else {
+        return Err("usage: engine_states DIR [--large PATH]".into());
+    };
+    let large = match args.get(1).map(String::as_str) {
+        Some("--large") => Some(PathBuf::from(args.get(2).ok_or("--large needs a path")?)),
+        Some(other) => return Err(format!("unknown argument {other}").into()),
+        None => None,
+    };
+    std::fs::create_dir_all(&dir)?;
+    let states = vec![
+        settled_pile("rp01_pile_200", 200, 1.0, 300, 1)?,
+        heavy_on_stack("rp03_heavy_on_stack_100x", 100.0, 3)?,
+        heavy_on_stack("rp04_heavy_on_stack_1000x", 1000.0, 4)?,
+        pyramid("rp05_pyramid")?,
+        thrown_box("rp06_thrown_box", 6)?,
+        jumble("rp07_jumble_midfall", 7)?,
+    ];
+    let mut notes = String::from(
+        "file\tstep\ttime_s\tbodies\trapier_deepest\trapier_contacts\tparry_deepest\tparry_pairs\n",
+    );
+    for state in &states {
+        write(&dir.join(format!("{}.json", state.stem)), state, &mut notes)?;
+    }
+    std::fs::write(dir.join("engine-notes-rapier.tsv"), notes)?;
+    if let Some(path) = large {
+        let state = settled_pile("rp_pile_1000", 1000, 2.0, 480, 2)?;
+        write(&path, &state, &mut String::new())?;
+    }
+    Ok(())
+}
+
+fn write(path: &Path, state: &State, notes: &mut String) -> Result<(), Box<dyn std::error::Error>> {
+    write_scene(path, &state.scene, None)?;
+    writeln!(
+        notes,
+        "{}.json\t{}\t{:.4}\t{}\t{:.6e}\t{}\t{:.6e}\t{}",
+        state.stem,
+        state.step,
+        state.step as f64 * STEP_SECONDS,
+        state.scene.len(),
+        state.rapier_deepest,
+        state.rapier_contacts,
+        state.parry.deepest,
+        state.parry.penetrating_pairs
+    )?;
+    println!(
+        "{}: step {}, {} bodies, Rapier deepest {:.3e} over {} contacts, parry deepest {:.3e} in {} pairs",
+        path.display(),
+        state.step,
+        state.scene.len(),
+        state.rapier_deepest,
+        state.rapier_contacts,
+        state.parry.deepest,
+        state.parry.penetrating_pairs
+    );
+    Ok(())
+}
+
+fn world() -> PhysicsWorld {
+    PhysicsWorld {
+        gravity: Vector::new(0.0, 0.0, -9.81),
+        ..PhysicsWorld::default()
+    }
+}
+
+fn quantize(x: f32) -> f32 {
+    (x / LENGTH_QUANTUM).round() * LENGTH_QUANTUM
+}
+
+fn random_rotation(rng: &mut ChaCha8Rng) -> Rotation {
+    let q = Rotation::from_xyzw(
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+    );
+    q.normalize()
+}
+
+/// The fixed ground (top face at z = 0) and, if `half_width > 0`, four walls
+/// of a square bin: colliders of one fixed body.
+fn ground_and_bin(world: &mut PhysicsWorld, half_width: f32) {
+    let fixed = world.insert_body(RigidBodyBuilder::fixed());
+    let floor = ColliderBuilder::cuboid(half_width.max(1.0) + 1.0, half_width.max(1.0) + 1.0, 0.5)
+        .translation(Vector::new(0.0, 0.0, -0.5));
+    world.insert_collider(floor, Some(fixed));
+    if half_width <= 0.0 {
+        return;
+    }
+    let (wall_half, wall_height) = (0.05, 1.0);
+    for (x, y, hx, hy) in [
+        (
+            half_width + wall_half,
+            0.0,
+            wall_half,
+            half_width + 2.0 * wall_half,
+        ),
+        (
+            -half_width - wall_half,
+            0.0,
+            wall_half,
+            half_width + 2.0 * wall_half,
+        ),
+        (0.0, half_width + wall_half, half_width, wall_half),
+        (0.0, -half_width - wall_half, half_width, wall_half),
+    ] {
+        let wall = ColliderBuilder::cuboid(hx, hy, wall_height).translation(Vector::new(
+            x,
+            y,
+            wall_height,
+        ));
+        world.insert_collider(wall, Some(fixed));
+    }
+}
+
+/// A random box (half extents 3-8 cm) or hull (8-12 points at radii 4-8 cm).
+fn random_collider(rng: &mut ChaCha8Rng, hull: bool) -> ColliderBuilder {
+    if !hull {
+        let mut h = || quantize(rng.random_range(0.03..0.08));
+        return ColliderBuilder::cuboid(h(), h(), h()).density(DENSITY);
+    }
+    loop {
+        let count = rng.random_range(8..=12);
+        let radius = rng.random_range(0.04..0.08);
+        let points: Vec<Vector> = (0..count)
+            .map(|_| {
+                let d = Vector::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                )
+                .normalize_or(Vector::X);
+                let p = d * radius * rng.random_range(0.8..1.0);
+                Vector::new(quantize(p.x), quantize(p.y), quantize(p.z))
+            })
+            .collect();
+        if let Some(builder) = ColliderBuilder::convex_hull(&points) {
+            return builder.density(DENSITY);
+        }
+    }
+}
+
+/// Bodies dropped from a grid above a bin, alternately boxes and hulls,
+/// simulated for `steps` steps.
+fn settled_pile(
+    stem: &str,
+    count: usize,
+    bin_half_width: f32,
+    steps: usize,
+    seed: u64,
+) -> Result<State, Box<dyn std::error::Error>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut world = world();
+    ground_and_bin(&mut world, bin_half_width);
+    let spacing = 0.3;
+    let per_row = ((2.0 * bin_half_width - 0.1) / spacing).floor() as usize;
+    for i in 0..count {
+        let (col, row, layer) = (
+            i % per_row,
+            (i / per_row) % per_row,
+            i / (per_row * per_row),
+        );
+        let translation = Vector::new(
+            -bin_half_width + 0.15 + col as f32 * spacing,
+            -bin_half_width + 0.15 + row as f32 * spacing,
+            0.2 + layer as f32 * spacing,
+        );
+        let body = RigidBodyBuilder::dynamic()
+            .pose(Pose::from_parts(translation, random_rotation(&mut rng)));
+        world.insert(body, random_collider(&mut rng, i % 2 == 1));
+    }
+    for _ in 0..steps {
+        world.step();
+    }
+    state(stem, &world, steps)
+}
+
+/// Four 1 kg boxes (20 cm, yaws within 5 degrees) under a box `ratio`
+/// times heavier; the state at the deepest penetration in the first 0.5 s.
+fn heavy_on_stack(stem: &str, ratio: f32, seed: u64) -> Result<State, Box<dyn std::error::Error>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut world = world();
+    ground_and_bin(&mut world, 0.0);
+    for level in 0..5 {
+        let yaw = rng.random_range(-5.0f32..5.0).to_radians();
+        let mass = if level == 4 { ratio } else { 1.0 };
+        let body = RigidBodyBuilder::dynamic().pose(Pose::from_parts(
+            Vector::new(0.0, 0.0, 0.1 + level as f32 * 0.2005),
+            Rotation::from_rotation_z(yaw),
+        ));
+        world.insert(body, ColliderBuilder::cuboid(0.1, 0.1, 0.1).mass(mass));
+    }
+    deepest_within(stem, world, 30)
+}
+
+/// 55 boxes of 20 cm in a plane, base of 10, settled for 2 s.
+fn pyramid(stem: &str) -> Result<State, Box<dyn std::error::Error>> {
+    let mut world = world();
+    ground_and_bin(&mut world, 0.0);
+    for row in 0..10 {
+        let count = 10 - row;
+        for i in 0..count {
+            let x = (i as f32 - (count - 1) as f32 / 2.0) * 0.201;
+            let z = 0.1 + row as f32 * 0.2005;
+            let body = RigidBodyBuilder::dynamic().translation(Vector::new(x, 0.0, z));
+            world.insert(
+                body,
+                ColliderBuilder::cuboid(0.1, 0.1, 0.1).density(DENSITY),
+            );
+        }
+    }
+    for _ in 0..120 {
+        world.step();
+    }
+    state(stem, &world, 120)
+}
+
+/// A 2 kg box thrown at 15 m/s, spinning, into a stack of six 8 kg boxes;
+/// the state at the deepest penetration in the first second (the
+/// projectile's impact).
+fn thrown_box(stem: &str, seed: u64) -> Result<State, Box<dyn std::error::Error>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut world = world();
+    ground_and_bin(&mut world, 0.0);
+    for level in 0..6 {
+        let yaw = rng.random_range(-3.0f32..3.0).to_radians();
+        let body = RigidBodyBuilder::dynamic().pose(Pose::from_parts(
+            Vector::new(0.0, 0.0, 0.1 + level as f32 * 0.2005),
+            Rotation::from_rotation_z(yaw),
+        ));
+        world.insert(
+            body,
+            ColliderBuilder::cuboid(0.1, 0.1, 0.1).density(DENSITY),
+        );
+    }
+    let projectile = RigidBodyBuilder::dynamic()
+        .translation(Vector::new(-1.5, 0.0, 0.75))
+        .linvel(Vector::new(15.0, 0.0, 0.0))
+        .angvel(Vector::new(3.0, 8.0, 5.0));
+    world.insert(
+        projectile,
+        ColliderBuilder::cuboid(0.06, 0.06, 0.06).mass(2.0),
+    );
+    deepest_within(stem, world, 60)
+}
+
+/// 50 boxes and 30 hulls in a column falling onto the ground; the step of
+/// the first 3 s with the most penetrating pairs.
+fn jumble(stem: &str, seed: u64) -> Result<State, Box<dyn std::error::Error>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut world = world();
+    ground_and_bin(&mut world, 0.0);
+    for i in 0..80 {
+        let translation = Vector::new(
+            rng.random_range(-0.02..0.02) + (i % 2) as f32 * 0.3,
+            rng.random_range(-0.02..0.02) + ((i / 2) % 2) as f32 * 0.3,
+            0.3 + (i / 4) as f32 * 0.3,
+        );
+        let body = RigidBodyBuilder::dynamic()
+            .pose(Pose::from_parts(translation, random_rotation(&mut rng)));
+        world.insert(body, random_collider(&mut rng, i % 8 >= 5));
+    }
+    let mut best: Option<State> = None;
+    for step in 1..=180 {
+        world.step();
+        let state = state(stem, &world, step)?;
+        let most = |s: &State| s.parry.penetrating_pairs;
+        if best.as_ref().is_none_or(|b| most(&state) > most(b)) {
+            best = Some(state);
+        }
+    }
+    Ok(best.ok_or("no step simulated")?)
+}
+
+/// Steps `steps` times and keeps the state with the deepest penetration
+/// (by parry on the state as written: Rapier's narrow phase describes the
+/// poses at the start of its step, one step stale).
+fn deepest_within(
+    stem: &str,
+    mut world: PhysicsWorld,
+    steps: usize,
+) -> Result<State, Box<dyn std::error::Error>> {
+    let mut best: Option<State> = None;
+    for step in 1..=steps {
+        world.step();
+        let state = state(stem, &world, step)?;
+        if best
+            .as_ref()
+            .is_none_or(|b| state.parry.deepest > b.parry.deepest)
+        {
+            best = Some(state);
+        }
+    }
+    Ok(best.ok_or("no step simulated")?)
+}
+
+/// Deepest penetration (positive) and number of contact points of a pair,
+/// as Rapier's narrow phase reports them (computed at the start of the
+/// step, before the solver moved the bodies).
+fn rapier_depth(pair: &ContactPair) -> (f64, usize) {
+    let PairContacts::Rigid(contacts) = &pair.contacts else {
+        return (0.0, 0);
+    };
+    let points = contacts.manifolds.iter().flat_map(|m| &m.points);
+    points.fold((0.0, 0), |(deepest, count), p| {
+        (deepest.max(-f64::from(p.dist)), count + 1)
+    })
+}
+
+/// The world read through the bridge, with Rapier's own depth and contacts.
+fn state(
+    stem: &str,
+    world: &PhysicsWorld,
+    step: usize,
+) -> Result<State, Box<dyn std::error::Error>> {
+    let mut bridge = RapierBridge::new(Settings::default())?;
+    let sync = bridge.sync(&world.bodies, &world.colliders)?;
+    if !sync.skipped.is_empty() {
+        return Err(format!("{stem}: {} colliders skipped", sync.skipped.len()).into());
+    }
+    let (rapier_deepest, rapier_contacts) = world
+        .contact_pairs()
+        .map(rapier_depth)
+        .fold((0.0, 0), |(d, c), (pd, pc)| (f64::max(d, pd), c + pc));
+    Ok(State {
+        stem: stem.to_owned(),
+        parry: parry_penetration(bridge.scene(), 0.0)?,
+        scene: bridge.scene().clone(),
+        step,
+        rapier_deepest,
+        rapier_contacts,
+    })
+}

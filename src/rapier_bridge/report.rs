@@ -1,0 +1,79 @@
+//! What a bridge call did: the stabilizer's report, the colliders skipped
+//! and why, how the scene was kept, and the f32 rounding of the write-back.
+
+use rapier3d::geometry::ColliderHandle;
+
+use crate::stabilizer::Report;
+
+/// Why a collider is not in the scene.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum SkipReason {
+    /// Its shape is neither a cuboid nor a convex polyhedron (the name of
+    /// Rapier's `ShapeType`, e.g. `"Ball"`, `"RoundCuboid"`).
+    Shape(String),
+    /// A sensor: it does not collide.
+    Sensor,
+    /// The collider or its parent body is disabled (or the parent is gone).
+    Disabled,
+    /// Its dynamic parent body has other enabled solid colliders: compound
+    /// bodies are not supported (every collider of that body is skipped).
+    SeveralColliders,
+    /// The scene rejected it (a degenerate hull, a mass that is zero or not
+    /// finite): the message says why. It is tried again next call.
+    Invalid(String),
+}
+
+/// A collider that is not in the scene.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SkippedCollider {
+    /// The collider.
+    pub collider: ColliderHandle,
+    /// Why it is skipped.
+    pub reason: SkipReason,
+}
+
+/// How the world was read into the scene ([`super::RapierBridge::sync`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SyncReport {
+    /// Colliders not read, in the collider set's order.
+    pub skipped: Vec<SkippedCollider>,
+    /// Scene bodies after the call.
+    pub scene_bodies: usize,
+    /// Bodies appended by this call (all of them when the scene was rebuilt).
+    pub appended: usize,
+    /// Whether the scene was rebuilt (a mapped collider vanished or changed)
+    /// and the stabilizer restarted without warm starts.
+    pub rebuilt: bool,
+}
+
+/// Largest f32 rounding of the poses written back (0 when none was).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WriteBackRoundOff {
+    /// Largest distance between a body-frame origin computed in f64 and as
+    /// written in f32 (length).
+    pub translation: f64,
+    /// Largest rotation angle between a body rotation computed in f64 and as
+    /// written in f32 (radians).
+    pub rotation: f64,
+}
+
+/// The report of [`super::RapierBridge::stabilize`].
+#[derive(Debug, Clone)]
+pub struct BridgeReport {
+    /// How the world was read.
+    pub sync: SyncReport,
+    /// The stabilizer's report; `None` when the scene has no dynamic body
+    /// (nothing to do, the stabilizer is not called).
+    pub stabilizer: Option<Report>,
+    /// Rapier bodies whose pose was written back.
+    pub bodies_written: usize,
+    /// f32 rounding of the written poses.
+    pub write_back_round_off: WriteBackRoundOff,
+}
+
+impl BridgeReport {
+    /// The colliders not in the scene.
+    pub fn skipped(&self) -> &[SkippedCollider] {
+        &self.sync.skipped
+    }
+}
