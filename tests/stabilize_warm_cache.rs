@@ -73,5 +73,9 @@ fn a_shared_stabilizer_answers_like_a_fresh_one() {
             differing.push(k);
         }
     }
-    assert!(differing.is_empty(), "{} scenes differ: {differing:?}", differing.len());
+    assert!(
+        differing.is_empty(),
+        "{} scenes differ: {differing:?}",
+        differing.len()
+    );
 }
