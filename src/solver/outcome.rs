@@ -59,7 +59,7 @@ pub enum FailureReason {
     /// The solver returned a solution whose residual, checked by us against
     /// the original problem, is above the tolerance.
     ResidualTooLarge {
-        /// The worst relative residual.
+        /// The acceptance measure ([`super::ProjectionResiduals::acceptance`]).
         residual: f64,
         /// The tolerance it was checked against.
         tolerance: f64,

@@ -21,6 +21,49 @@
 //!   (zero by construction for the LCP solvers; measures clarabel's primal
 //!   and dual agreeing)
 //! - objective `1/2 dq^T M dq` and displacement `sqrt(dq^T M dq)` (absolute).
+//!
+//! These KKT measures judge `lambda` as much as `dq`. With redundant rows
+//! (four coplanar corners of a box resting face-down, a contact listed
+//! twice) `A` is singular and `lambda` is not unique: an interior point
+//! stops with multipliers spread over the redundant rows, each with a small
+//! `lambda_i w_i`, and the natural map and complementarity above stay at
+//! 1e-6..1e-4 although `dq` is right to rounding. The projection only uses
+//! `dq`, so a candidate is accepted on two measures of `dq` alone
+//! ([`ProjectionResiduals::acceptance`]), with `lambda` only as a
+//! certificate:
+//!
+//! - feasibility: `max_i max(0, -w_i) / L` with the acceptance length
+//!   `L = max(||b||_inf, length_scale)` (`length_scale` the caller's scene
+//!   scale, or 0): how far a linearized row is left below its target,
+//!   relative to the largest violation the problem started with;
+//! - optimality: `sqrt(gap / E)`, a certified bound on the relative error of
+//!   `dq` in the `M`-norm, from the duality gap of the QP. For any
+//!   `lambda >= 0` (the candidate's, clamped), with `v = M^-1 J^T lambda`,
+//!   the dual objective `D(lambda) = -1/2 v^T M v - b^T lambda` is a lower
+//!   bound of the optimum `P* = 1/2 dq*^T M dq*` (weak duality). Using
+//!   `b^T lambda = lambda^T w - v^T M dq`, the gap of a feasible `dq` is
+//!
+//!   ```text
+//!   gap = 1/2 dq^T M dq - D(lambda) = 1/2 ||dq - v||_M^2 + lambda^T w  >= 0
+//!   ```
+//!
+//!   and since `P` is `M`-strongly convex and `dq*` minimizes it over the
+//!   feasible set, `1/2 ||dq - dq*||_M^2 <= P(dq) - P* <= gap`. A slightly
+//!   infeasible `dq` is the feasible point of the problem whose rows are
+//!   relaxed to `max(w_i, 0)`, so the gap is taken with `w^+ = max(w, 0)`
+//!   (the relaxation itself is bounded by the feasibility measure). The
+//!   energy scale is `E = max(1/2 dq^T M dq, max_i max(0, -b_i)^2 / (2 a_i))`
+//!   (the second term is the cost of the single most violated row alone, a
+//!   lower bound of `P*`; with no violated row, `dq* = 0` and `E` is
+//!   `L^2 / (2 max_i a_i)`, the cost of moving by `L` the row that moves most easily),
+//!   so `sqrt(gap / E) >= ||dq - dq*||_M / sqrt(2 E)`,
+//!   the error of `dq` relative to the size of the correction.
+//!   Non-unique multipliers do not enter: any `lambda` that makes the gap
+//!   small certifies `dq`, whichever of the many optimal `lambda` it is.
+//!   Rounding: `w_i` carries an absolute error of about `u |b|` (`u` the
+//!   unit roundoff), so `gap / E` has a floor of about `n u` and the
+//!   optimality measure one of about `sqrt(n u)` (1e-7 at 500 rows): the
+//!   tolerance on it cannot be much below 1e-6.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -86,6 +129,15 @@ pub struct ProjectionResiduals {
     pub objective: f64,
     /// `sqrt(dq^T M dq)` (sqrt(mass) x length).
     pub displacement: f64,
+    /// `max_i max(0, -w_i) / L`, `L = max(||b||_inf, length_scale)`: the
+    /// violation of the linearized rows relative to the acceptance length.
+    pub feasibility: f64,
+    /// Duality gap `1/2 ||dq - v||_M^2 + lambda^+ . w^+` relative to the
+    /// energy scale `E` (module docs).
+    pub duality_gap: f64,
+    /// `sqrt(duality_gap)`: a certified bound on `||dq - dq*||_M / sqrt(2 E)`,
+    /// the relative error of `dq` (module docs).
+    pub optimality: f64,
 }
 
 impl ProjectionResiduals {
@@ -97,6 +149,15 @@ impl ProjectionResiduals {
             .max(self.complementarity)
             .max(self.primal_infeasibility)
             .max(self.stationarity)
+    }
+
+    /// What a candidate is accepted on: the larger of
+    /// [`feasibility`](Self::feasibility) and
+    /// [`duality_gap`](Self::duality_gap), two measures of `dq` alone
+    /// (module docs). Unlike [`worst`](Self::worst), redundant rows with
+    /// non-unique multipliers do not raise it.
+    pub fn acceptance(&self) -> f64 {
+        self.feasibility.max(self.duality_gap)
     }
 }
 
@@ -147,12 +208,68 @@ pub fn length_scale(b: &DVector<f64>) -> f64 {
     b.amax().max(f64::MIN_POSITIVE)
 }
 
-/// Residuals of `(dq, lambda)` for the projection QP.
+/// Residuals of `(dq, lambda)` for the projection QP, with the problem's
+/// own length scale only (`length_scale = 0` in
+/// [`projection_residuals_scaled`]).
 pub fn projection_residuals(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
     dq: &DVector<f64>,
     lambda: &DVector<f64>,
+) -> ProjectionResiduals {
+    projection_residuals_scaled(qp, metric, dq, lambda, 0.0)
+}
+
+/// The acceptance measures of `dq` (module docs): feasibility relative to
+/// `l_accept`, the relative duality gap, and its square root.
+fn acceptance_measures(
+    qp: &ProjectionQp,
+    metric: &[BlockMetric],
+    dq: &DVector<f64>,
+    lambda: &DVector<f64>,
+    w: &DVector<f64>,
+    l_accept: f64,
+) -> (f64, f64, f64) {
+    let b = qp.b();
+    let a = row_diagonal(qp, metric);
+    let feasibility = w.iter().fold(0.0, |m: f64, wi| m.max(-wi)) / l_accept;
+    let lambda_plus = lambda.map(|x| x.max(0.0));
+    let v = m_inv(metric, &qp.apply_jt(&lambda_plus));
+    let stationarity_energy = 0.5 * m_inner(metric, &(dq - &v), &(dq - &v)).max(0.0);
+    let complementarity_energy: f64 = lambda_plus
+        .iter()
+        .zip(w.iter())
+        .map(|(l, wi)| l * wi.max(0.0))
+        .sum();
+    let gap = stationarity_energy + complementarity_energy;
+    let single_row_bound = (0..b.len())
+        .filter(|&i| a[i] > 0.0)
+        .map(|i| b[i].min(0.0).powi(2) / (2.0 * a[i]))
+        .fold(0.0, f64::max);
+    // No violated row: `dq* = 0`, and the scale is the cost of moving by
+    // `L` the row with the largest `a_i` (the one that moves most easily).
+    let a_max = a.iter().copied().fold(0.0, f64::max);
+    let floor = if single_row_bound > 0.0 || a_max == 0.0 {
+        single_row_bound
+    } else {
+        l_accept * l_accept / (2.0 * a_max)
+    };
+    let energy = (0.5 * m_inner(metric, dq, dq))
+        .max(floor)
+        .max(f64::MIN_POSITIVE);
+    let duality_gap = if gap == 0.0 { 0.0 } else { gap / energy };
+    (feasibility, duality_gap, duality_gap.sqrt())
+}
+
+/// Residuals of `(dq, lambda)` for the projection QP; the acceptance length
+/// is `max(||b||_inf, scene_length)` (module docs; `scene_length` is
+/// [`super::SolverSettings::length_scale`]).
+pub fn projection_residuals_scaled(
+    qp: &ProjectionQp,
+    metric: &[BlockMetric],
+    dq: &DVector<f64>,
+    lambda: &DVector<f64>,
+    scene_length: f64,
 ) -> ProjectionResiduals {
     let b = qp.b();
     let w = &b + qp.apply_j(dq);
@@ -179,7 +296,12 @@ pub fn projection_residuals(
         0.0
     };
     let displacement = m_norm(metric, dq);
+    let (feasibility, duality_gap, optimality) =
+        acceptance_measures(qp, metric, dq, lambda, &w, l.max(scene_length));
     ProjectionResiduals {
+        feasibility,
+        duality_gap,
+        optimality,
         natural_map,
         complementarity,
         primal_infeasibility,
