@@ -242,6 +242,11 @@ impl View<'_> {
         (vertex, dir.dot(&self.translation) - height)
     }
 
+    /// Vertex `v` in A's frame.
+    fn point(&self, v: usize) -> Vector3<f64> {
+        self.rotation * self.poly.vertices()[v].coords + self.translation
+    }
+
     /// The edges around vertex `v` and, for a face, its boundary.
     fn edges_at_vertex(&self, v: usize) -> &[usize] {
         self.poly.vertex_edges(v)
@@ -264,6 +269,8 @@ struct Search<'a> {
     centre_b: Vector3<f64>,
     /// `r_a + r_b`.
     radii: f64,
+    /// `[r_a, r_b]`.
+    inradii: [f64; 2],
     tie: f64,
     best: Candidate,
     /// The shallowest face axis (for the manifold's face preference).
@@ -371,6 +378,7 @@ fn search_from(
     let mut search = Search {
         centre_b: views[1].translation,
         radii: poly_a.inradius() + poly_b.inradius(),
+        inradii: [poly_a.inradius(), poly_b.inradius()],
         tie: DEPTH_TIE_RELATIVE * poly_a.scale().min(poly_b.scale()),
         views,
         best: unevaluated,
@@ -437,12 +445,6 @@ impl Search<'_> {
         }
     }
 
-    /// Whether an axis could beat a candidate of depth `depth` (the cap
-    /// test, strict up to the tie).
-    fn may_beat(&self, normal: &Vector3<f64>, depth: f64) -> bool {
-        normal.dot(&self.centre_b) < depth - self.radii + self.tie
-    }
-
     /// Whether `candidate` replaces `best` (shallower, or tied and first in
     /// the fixed order).
     fn replaces(&self, candidate: &Candidate, best: &Candidate) -> bool {
@@ -452,22 +454,68 @@ impl Search<'_> {
         shallower || tied_first
     }
 
-    fn consider(&mut self, features: PenetrationFeatures, normal: Vector3<f64>) {
-        let is_face = !matches!(features, PenetrationFeatures::EdgeEdge { .. });
-        let bound = if is_face {
-            self.best_face.depth
+    /// A lower bound of `d(n)` for the axis of face `face` of `body`: that
+    /// body's support along the axis is the face itself, the other body's
+    /// is at least its inradius about its centre of mass.
+    fn face_bound(&self, body: usize, face: usize) -> f64 {
+        let view = &self.views[body];
+        let normal = view.image(face);
+        let on_face = view.point(view.poly.faces()[face].vertices[0]);
+        if body == 1 {
+            // h_B(n) = n . p_f, h_A(-n) >= r_a (A's centre is the origin).
+            normal.dot(&on_face) + self.inradii[0]
         } else {
-            self.best.depth
+            // h_A(-n) = -n . p_f, h_B(n) >= r_b + n . c_b.
+            normal.dot(&(self.centre_b - on_face)) + self.inradii[1]
+        }
+    }
+
+    /// A lower bound of `d(n)` over the axes on the arc of `edge` of
+    /// `body`: that body's support along them is the edge itself (the arc
+    /// is where the edge supports it), the other body's at least its
+    /// inradius about its centre of mass.
+    fn edge_bound(&self, body: usize, edge: usize) -> f64 {
+        let view = &self.views[body];
+        let on_edge = view.point(view.poly.edges()[edge].tail);
+        let arc = view.arc(edge);
+        let linear = if body == 1 {
+            arc.min_dot(&on_edge)
+        } else {
+            arc.min_dot(&(self.centre_b - on_edge))
         };
-        if !self.may_beat(&normal, bound) {
+        linear + self.inradii[1 - body]
+    }
+
+    fn consider_face(&mut self, body: usize, face: usize) {
+        if self.face_bound(body, face) >= self.best_face.depth + self.tie {
             return;
         }
-        let candidate = self.evaluate(features, normal);
+        let candidate = self.evaluate(face_features(body, face), self.face_axis(body, face));
         if self.replaces(&candidate, &self.best) {
             self.best = candidate;
         }
-        if is_face && self.replaces(&candidate, &self.best_face) {
+        if self.replaces(&candidate, &self.best_face) {
             self.best_face = candidate;
+        }
+    }
+
+    /// An edge pair whose arcs cross at `normal`: the edges are the two
+    /// supports there, so `d = n . (p_b - p_a)` for any points of them.
+    fn consider_edges(&mut self, edge_a: usize, edge_b: usize, normal: Vector3<f64>) {
+        self.evaluated += 1;
+        let tails = [
+            self.views[0].poly.edges()[edge_a].tail,
+            self.views[1].poly.edges()[edge_b].tail,
+        ];
+        let depth = normal.dot(&(self.views[1].point(tails[1]) - self.views[0].point(tails[0])));
+        let candidate = Candidate {
+            features: PenetrationFeatures::EdgeEdge { edge_a, edge_b },
+            depth,
+            normal,
+            supports: tails,
+        };
+        if self.replaces(&candidate, &self.best) {
+            self.best = candidate;
         }
     }
 
@@ -486,14 +534,23 @@ impl Search<'_> {
         });
         for (body, body_arcs) in arcs.iter().enumerate() {
             for face in faces_in_cap(&self.views[body], body_arcs, &self.centre_b, limit) {
-                self.consider(face_features(body, face), self.face_axis(body, face));
+                self.consider_face(body, face);
             }
         }
-        let [arcs_a, arcs_b] = arcs;
-        for &edge_a in &arcs_a {
-            for &edge_b in &arcs_b {
+        // Only edges whose own bound can still beat the best can span it.
+        let promising = |search: &Self, body: usize, found: &[usize]| -> Vec<usize> {
+            found
+                .iter()
+                .copied()
+                .filter(|&edge| search.edge_bound(body, edge) < search.best.depth + search.tie)
+                .collect()
+        };
+        let edges_a = promising(self, 0, &arcs[0]);
+        let edges_b = promising(self, 1, &arcs[1]);
+        for &edge_a in &edges_a {
+            for &edge_b in &edges_b {
                 if let Some(normal) = self.crossing(edge_a, edge_b) {
-                    self.consider(PenetrationFeatures::EdgeEdge { edge_a, edge_b }, normal);
+                    self.consider_edges(edge_a, edge_b, normal);
                 }
             }
         }
