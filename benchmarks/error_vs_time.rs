@@ -9,16 +9,26 @@
 //! cumulative wall time to get there. Point k = 0 is the initial depth at
 //! time 0.
 //!
-//! Outputs in `benchmarks/results/`:
-//! - `error_vs_time.csv`: scene, solver, k, status, time_ms, solve_ms,
-//!   deepest;
-//! - `error_vs_time.md`: per scene and solver, passes to converge, final
-//!   status and depth, time to converge, and the depth after 1, 2, 5 passes;
-//! - `error_vs_time_<scene>.svg`: deepest penetration (log scale) against
-//!   time, one line per solver. A depth of 0 (no penetration) is drawn at
-//!   [`PLOT_FLOOR_FRACTION`] of the tolerance.
+//! The depth of each point is measured independently of the library: the
+//! exact deepest penetration of the scene after the k passes (of the last
+//! repeat) by brute-force separating axes (`common::sat`). A curve has
+//! converged when that exact depth is at most the tolerance; the library's
+//! own status and depth are kept beside it.
 //!
-//! Run: `cargo bench --bench error_vs_time`.
+//! Outputs in `benchmarks/results/`:
+//! - `error_vs_time.csv`: scene, solver, k, status (library), time_ms,
+//!   solve_ms, deepest (library), exact (separating axes);
+//! - `error_vs_time.md` (with the command, the date, the commit and the
+//!   load average): per scene and solver, passes and time to reach the
+//!   tolerance by the exact depth, and the exact depth after 1, 2, 5, 10
+//!   passes;
+//! - `error_vs_time_<scene>.svg`: exact deepest penetration (log scale)
+//!   against time, one line per solver. A depth of 0 (no penetration) is
+//!   drawn at [`PLOT_FLOOR_FRACTION`] of the tolerance.
+//!
+//! Run: `cargo bench --bench error_vs_time`. `ERROR_VS_TIME_MAX_REPEATS=n`
+//! caps the repeats per point (defaults: 15 on demo 100, 5 on demo 1,000,
+//! 25 on the stack of 10).
 
 mod common;
 
@@ -26,6 +36,8 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
+use common::sat::exact_depth;
+use common::{Provenance, bench_command};
 use constraint_stabilization::demo::demo_scene;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::lemke::LemkeStatus;
@@ -47,6 +59,14 @@ const SOLVERS: [(SolverChoice, &str); 5] = [
     (SolverChoice::Pgs, "pgs"),
 ];
 
+/// Environment variables that change what the benchmark does (or how it
+/// was built).
+const ENV_VARS: [&str; 3] = [
+    "ERROR_VS_TIME_MAX_REPEATS",
+    "RAYON_NUM_THREADS",
+    "CARGO_PROFILE_RELEASE_DEBUG",
+];
+
 /// A named scene and the timing repeats per point.
 struct Case {
     name: &'static str,
@@ -61,7 +81,18 @@ struct Point {
     seconds: f64,
     /// Median time in the solve stage (linearization and solver).
     solve_seconds: f64,
+    /// The library's deepest penetration after the k passes.
     deepest: f64,
+    /// The exact deepest penetration (separating axes) of the scene after
+    /// the k passes.
+    exact: f64,
+}
+
+impl Point {
+    /// Whether the exact depth is within the tolerance.
+    fn resolved(&self, tolerance: f64) -> bool {
+        self.exact <= tolerance
+    }
 }
 
 /// One solver's curve on one scene.
@@ -77,32 +108,36 @@ struct Curve {
 }
 
 fn main() {
+    let provenance = Provenance::start(bench_command("error_vs_time", &ENV_VARS));
+    let cap = common::env_cap("ERROR_VS_TIME_MAX_REPEATS");
     let cases = vec![
         Case {
             name: "demo_100",
             scene: demo_scene(100, 2026),
-            repeats: 15,
+            repeats: 15.min(cap),
         },
         Case {
             name: "demo_1000",
             scene: demo_scene(1000, 2026),
-            repeats: 5,
+            repeats: 5.min(cap),
         },
         Case {
             name: "stack_10",
             scene: common::box_stack(10, 1),
-            repeats: 25,
+            repeats: 25.min(cap),
         },
     ];
     let dir = common::results_dir();
-    let mut csv = String::from("scene,solver,passes,status,time_ms,solve_ms,deepest\n");
+    let mut csv = String::from("scene,solver,passes,status,time_ms,solve_ms,deepest,exact\n");
     let mut md = String::from(
-        "# Deepest penetration against run time, per solver\n\n\
-         Default settings (contact manifold on) except `solver.choice`. Each point k reruns the \
+        "Default settings (contact manifold on) except `solver.choice`. Each point k reruns the \
          stabilizer with `max_passes = k` (fresh stabilizer, median of the repeats); time = whole \
          call; solve ms = time in the solve stage (linearization and solver) of the same runs, summed over \
-         islands solved on different threads (so it can exceed the total). `conv` = passes and time to reach the tolerance (1e-6 L), '-' if not reached within \
-         the measured passes. Machine shared and noisy: compare within a scene; each point is an \
+         islands solved on different threads (so it can exceed the total). Depths are exact: the \
+         deepest penetration over all pairs with a dynamic body by brute-force separating axes \
+         (`benchmarks/common/sat.rs`) on the scene after k passes (last repeat); status and library \
+         deepest are the library's report. `conv` = passes and time to reach the tolerance (1e-6 L) \
+         by the exact depth, '-' if not reached within the measured passes. Machine shared and noisy: compare within a scene; each point is an \
          independent set of runs (all points of a scene interleaved per \
          repeat); noise can still put point k+1 slightly before point k on the time axis.\n",
     );
@@ -112,14 +147,15 @@ fn main() {
             for p in &curve.points {
                 let _ = writeln!(
                     csv,
-                    "{},{},{},{},{:.6},{:.6},{:.6e}",
+                    "{},{},{},{},{:.6},{:.6},{:.6e},{:.6e}",
                     case.name,
                     curve.solver,
                     p.passes,
                     p.status,
                     p.seconds * 1e3,
                     p.solve_seconds * 1e3,
-                    p.deepest
+                    p.deepest,
+                    p.exact
                 );
             }
         }
@@ -129,6 +165,11 @@ fn main() {
             eprintln!("plot {}: {e}", svg.display());
         }
     }
+    let md = format!(
+        "# Deepest penetration against run time, per solver\n\n{}\n\
+         `error_vs_time.csv` and the `error_vs_time_*.svg` plots are from the same run.\n\n{md}",
+        provenance.markdown()
+    );
     std::fs::write(dir.join("error_vs_time.csv"), &csv).expect("write csv");
     std::fs::write(dir.join("error_vs_time.md"), &md).expect("write md");
     println!("{md}\nwritten to {}", dir.display());
@@ -157,7 +198,7 @@ fn measure(case: &Case) -> Vec<Curve> {
         .zip(&mut curves)
         .map(
             |(&(choice, _), curve)| match run(&case.scene, choice, MAX_PASSES) {
-                Ok(report) => report.passes.max(1),
+                Ok((report, _)) => report.passes.max(1),
                 Err(e) => {
                     curve.error = Some(e);
                     0
@@ -171,7 +212,10 @@ fn measure(case: &Case) -> Vec<Curve> {
         .iter()
         .map(|&n| vec![Vec::with_capacity(case.repeats); n])
         .collect();
-    let mut last: Vec<Vec<Option<Report>>> = passes_needed.iter().map(|&n| vec![None; n]).collect();
+    let mut last: Vec<Vec<Option<(Report, Scene)>>> = passes_needed
+        .iter()
+        .map(|&n| (0..n).map(|_| None).collect())
+        .collect();
     for _ in 0..case.repeats {
         for k in 1..=k_max {
             for (s, &(choice, _)) in SOLVERS.iter().enumerate() {
@@ -179,9 +223,9 @@ fn measure(case: &Case) -> Vec<Curve> {
                     continue;
                 }
                 match run(&case.scene, choice, k) {
-                    Ok(report) => {
+                    Ok((report, scene)) => {
                         times[s][k - 1].push((report.times.total, report.times.solve));
-                        last[s][k - 1] = Some(report);
+                        last[s][k - 1] = Some((report, scene));
                     }
                     Err(e) => curves[s].error = Some(e),
                 }
@@ -189,54 +233,49 @@ fn measure(case: &Case) -> Vec<Curve> {
         }
     }
     for (s, curve) in curves.iter_mut().enumerate() {
-        for (k_times, report) in times[s].iter().zip(last[s].iter_mut()) {
-            let Some(report) = report.take() else {
+        for (k_times, run) in times[s].iter().zip(last[s].iter_mut()) {
+            let Some((report, scene)) = run.take() else {
                 break;
             };
             let total: Vec<f64> = k_times.iter().map(|t| t.0).collect();
             let solve: Vec<f64> = k_times.iter().map(|t| t.1).collect();
-            extend(
-                curve,
-                &report,
-                common::median(&total),
-                common::median(&solve),
-            );
+            if curve.points.is_empty() {
+                let initial = exact_depth(&case.scene, report.tolerance).deepest;
+                curve.tolerance = report.tolerance;
+                curve.points.push(Point {
+                    passes: 0,
+                    status: "initial",
+                    seconds: 0.0,
+                    solve_seconds: 0.0,
+                    deepest: report.depth_before,
+                    exact: initial,
+                });
+            }
+            curve.usage = solver_usage(&report);
+            curve.points.push(Point {
+                passes: report.passes,
+                status: report.status.name(),
+                seconds: common::median(&total),
+                solve_seconds: common::median(&solve),
+                deepest: report.depth_after,
+                exact: exact_depth(&scene, report.tolerance).deepest,
+            });
         }
         log_curve(case.name, curve);
     }
     curves
 }
 
-/// One call with `max_passes = k`, fresh stabilizer.
-fn run(scene: &Scene, choice: SolverChoice, k: usize) -> Result<Report, String> {
+/// One call with `max_passes = k`, fresh stabilizer: the report and the
+/// stabilized scene.
+fn run(scene: &Scene, choice: SolverChoice, k: usize) -> Result<(Report, Scene), String> {
     let mut settings = Settings::default();
     settings.solver.choice = choice;
     settings.max_passes = k;
     let mut work = scene.clone();
     let mut stabilizer = Stabilizer::new(settings).map_err(|e| e.to_string())?;
-    stabilizer.stabilize(&mut work).map_err(|e| e.to_string())
-}
-
-/// Appends the point of a run (and the initial point before the first).
-fn extend(curve: &mut Curve, report: &Report, seconds: f64, solve_seconds: f64) {
-    curve.usage = solver_usage(report);
-    if curve.points.is_empty() {
-        curve.tolerance = report.tolerance;
-        curve.points.push(Point {
-            passes: 0,
-            status: "initial",
-            seconds: 0.0,
-            solve_seconds: 0.0,
-            deepest: report.depth_before,
-        });
-    }
-    curve.points.push(Point {
-        passes: report.passes,
-        status: report.status.name(),
-        seconds,
-        solve_seconds,
-        deepest: report.depth_after,
-    });
+    let report = stabilizer.stabilize(&mut work).map_err(|e| e.to_string())?;
+    Ok((report, work))
 }
 
 /// "Lemke 12, ClosedForm 3; fallbacks: Pgs MaxSweeps 2" over every island
@@ -285,23 +324,24 @@ fn reason_name(reason: &FailureReason) -> String {
 fn log_curve(scene: &str, curve: &Curve) {
     if let Some(p) = curve.points.last() {
         eprintln!(
-            "{scene} {}: {} passes, {}, {:.3} ms, deepest {:.3e}",
+            "{scene} {}: {} passes, {}, {:.3} ms, deepest {:.3e}, exact {:.3e}",
             curve.solver,
             p.passes,
             p.status,
             p.seconds * 1e3,
-            p.deepest
+            p.deepest,
+            p.exact
         );
     }
 }
 
-/// Depth after k passes, or '-' when the curve stopped earlier (at the
-/// depth it stopped with if it converged).
+/// Exact depth after k passes, or '-' when the curve stopped earlier (at
+/// the depth it stopped with if that is within the tolerance).
 fn depth_after(curve: &Curve, k: usize) -> String {
     match curve.points.iter().find(|p| p.passes == k) {
-        Some(p) => format!("{:.2e}", p.deepest),
+        Some(p) => format!("{:.2e}", p.exact),
         None => match curve.points.last() {
-            Some(p) if p.passes < k && p.status == "converged" => format!("{:.2e}", p.deepest),
+            Some(p) if p.passes < k && p.resolved(curve.tolerance) => format!("{:.2e}", p.exact),
             _ => "-".into(),
         },
     }
@@ -310,8 +350,8 @@ fn depth_after(curve: &Curve, k: usize) -> String {
 fn table(case: &Case, curves: &[Curve]) -> String {
     let mut md = format!(
         "\n## {} ({} bodies, {} repeat(s) per point)\n\n\
-         | solver | status | passes | time ms | solve ms | final deepest | conv passes | conv ms | after 1 | after 2 | after 5 | after 10 | islands solved by |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+         | solver | verdict (exact) | status (library) | passes | time ms | solve ms | final exact | final library | conv passes | conv ms | after 1 | after 2 | after 5 | after 10 | islands solved by |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
         case.name,
         case.scene.len(),
         case.repeats
@@ -320,36 +360,40 @@ fn table(case: &Case, curves: &[Curve]) -> String {
         let Some(last) = curve.points.last() else {
             let _ = writeln!(
                 md,
-                "| {} | error: {} | | | | | | | | | | | |",
+                "| {} | error: {} | | | | | | | | | | | | | |",
                 curve.solver,
                 curve.error.as_deref().unwrap_or("no point")
             );
             continue;
         };
-        let converged = last.status == "converged";
+        // The first point within the tolerance by the exact depth.
+        let converged = curve
+            .points
+            .iter()
+            .skip(1)
+            .find(|p| p.resolved(curve.tolerance));
+        let verdict = if last.resolved(curve.tolerance) {
+            "resolved"
+        } else {
+            "UNRESOLVED"
+        };
         let status = match &curve.error {
             Some(e) => format!("{} then error: {e}", last.status),
             None => last.status.to_string(),
         };
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {:.3} | {:.3} | {:.2e} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {:.3} | {:.3} | {:.2e} | {:.2e} | {} | {} | {} | {} | {} | {} | {} |",
             curve.solver,
+            verdict,
             status,
             last.passes,
             last.seconds * 1e3,
             last.solve_seconds * 1e3,
+            last.exact,
             last.deepest,
-            if converged {
-                last.passes.to_string()
-            } else {
-                "-".into()
-            },
-            if converged {
-                format!("{:.3}", last.seconds * 1e3)
-            } else {
-                "-".into()
-            },
+            converged.map_or("-".into(), |p| p.passes.to_string()),
+            converged.map_or("-".into(), |p| format!("{:.3}", p.seconds * 1e3)),
             depth_after(curve, 1),
             depth_after(curve, 2),
             depth_after(curve, 5),
@@ -371,12 +415,16 @@ fn plot(path: &Path, title: &str, curves: &[Curve]) -> Result<(), Box<dyn std::e
     let floor = PLOT_FLOOR_FRACTION * tolerance;
     let all = || curves.iter().flat_map(|c| &c.points);
     let x_max = all().map(|p| p.seconds * 1e3).fold(0.0, f64::max).max(1e-3) * 1.05;
-    let y_max = all().map(|p| p.deepest).fold(floor, f64::max) * 2.0;
+    let y_max = all().map(|p| p.exact).fold(floor, f64::max) * 2.0;
     let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            format!("{title}: deepest penetration vs time"),
+            format!(
+                "{title}: exact deepest penetration vs time ({}, {})",
+                common::git_commit(),
+                &common::utc_now()[..10]
+            ),
             ("sans-serif", 22),
         )
         .margin(15)
@@ -386,7 +434,7 @@ fn plot(path: &Path, title: &str, curves: &[Curve]) -> Result<(), Box<dyn std::e
     chart
         .configure_mesh()
         .x_desc("cumulative wall time (ms)")
-        .y_desc("deepest penetration")
+        .y_desc("exact deepest penetration")
         .y_label_formatter(&|y| format!("{y:.0e}"))
         .draw()?;
     chart.draw_series(LineSeries::new(
@@ -398,7 +446,7 @@ fn plot(path: &Path, title: &str, curves: &[Curve]) -> Result<(), Box<dyn std::e
         let points: Vec<(f64, f64)> = curve
             .points
             .iter()
-            .map(|p| (p.seconds * 1e3, p.deepest.max(floor)))
+            .map(|p| (p.seconds * 1e3, p.exact.max(floor)))
             .collect();
         chart
             .draw_series(LineSeries::new(points, color.stroke_width(2)))?

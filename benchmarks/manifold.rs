@@ -13,15 +13,23 @@
 //! Per scene and setting: status, passes, median wall time of the call
 //! (fresh stabilizer per call), final deepest penetration, mass-weighted
 //! displacement, largest rotation of any body (degrees), and for the
-//! resting box its final tilt. The table goes to
-//! `benchmarks/results/manifold.md`; time ratios are manifold / deepest.
+//! resting box its final tilt. The verdict (resolved or not) is the exact
+//! depth of the stabilized scene by brute-force separating axes
+//! (`common::sat`) against the tolerance, not the library's status, which
+//! is shown beside it. The table goes to `benchmarks/results/manifold.md`
+//! with the command, the date, the commit and the load average; time
+//! ratios are manifold / deepest.
 //!
-//! Run: `cargo bench --bench manifold`.
+//! Run: `cargo bench --bench manifold`. `MANIFOLD_MAX_RUNS=n` caps the runs
+//! per scene and setting (defaults: 15 on demo 10 and the stacks, 7 on
+//! demo 100, 3 on demo 1,000, 31 on the resting box).
 
 mod common;
 
 use std::fmt::Write as _;
 
+use common::sat::{ExactDepth, exact_depth};
+use common::{Provenance, bench_command};
 use constraint_stabilization::demo::demo_scene;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::{Report, Settings};
@@ -35,9 +43,19 @@ struct Case {
     tilt_body: Option<usize>,
 }
 
+/// Environment variables that change what the benchmark does (or how it
+/// was built).
+const ENV_VARS: [&str; 3] = [
+    "MANIFOLD_MAX_RUNS",
+    "RAYON_NUM_THREADS",
+    "CARGO_PROFILE_RELEASE_DEBUG",
+];
+
 /// One setting's result on one case.
 struct Outcome {
     report: Report,
+    /// Exact depth of the stabilized scene (last run).
+    exact: ExactDepth,
     median_seconds: f64,
     /// Largest rotation of any body (radians) and that body's name.
     max_rotation: (f64, String),
@@ -45,13 +63,14 @@ struct Outcome {
 }
 
 fn cases() -> Vec<Case> {
+    let cap = common::env_cap("MANIFOLD_MAX_RUNS");
     let mut cases = Vec::new();
     for (n, seeds, runs) in [(10, 1..=8u64, 15), (100, 1..=5, 7), (1000, 1..=3, 3)] {
         for seed in seeds {
             cases.push(Case {
                 name: format!("demo {n} seed {seed}"),
                 scene: demo_scene(n, seed),
-                runs,
+                runs: runs.min(cap),
                 tilt_body: None,
             });
         }
@@ -61,7 +80,7 @@ fn cases() -> Vec<Case> {
             cases.push(Case {
                 name: format!("stack {height} seed {seed}"),
                 scene: common::box_stack(height, seed),
-                runs: 15,
+                runs: 15.min(cap),
                 tilt_body: None,
             });
         }
@@ -70,7 +89,7 @@ fn cases() -> Vec<Case> {
         cases.push(Case {
             name: format!("box on ground, tilt {tilt_degrees} deg"),
             scene: common::box_on_ground(f64::to_radians(tilt_degrees)),
-            runs: 31,
+            runs: 31.min(cap),
             tilt_body: Some(1),
         });
     }
@@ -78,51 +97,67 @@ fn cases() -> Vec<Case> {
 }
 
 fn main() {
+    let provenance = Provenance::start(bench_command("manifold", &ENV_VARS));
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "# Contact manifold vs deepest vertex (`Settings::contact_manifold`)\n\n\
-         D = deepest vertex per pair (`false`), M = manifold (`true`). Fresh stabilizer per call, \
+        "D = deepest vertex per pair (`false`), M = manifold (`true`). Fresh stabilizer per call, \
          both settings interleaved run by run; time = median wall time of the call. \
          depth = final deepest penetration (tolerance 1e-6 L). disp = mass-weighted displacement. \
          rot = largest rotation of any body (deg, and that body). tilt = final tilt of the resting box (deg; initial tilt in the scene name). \
-         ratio = M time / D time.\n"
+         ratio = M time / D time. \
+         status and depth = the library's report. exact = deepest penetration over all pairs with \
+         a dynamic body by brute-force separating axes (`benchmarks/common/sat.rs`), before the \
+         call and after the last run of each setting; D / M verdict: `resolved` if exact after <= \
+         the tolerance, else `UNRESOLVED`.\n"
     );
     let _ = writeln!(
         md,
-        "| scene | runs | D status | M status | D passes | M passes | D ms | M ms | ratio | \
+        "| scene | runs | exact before | D verdict | M verdict | D exact | M exact | D status | M status | \
+         D passes | M passes | D ms | M ms | ratio | \
          D depth | M depth | D disp | M disp | D rot | M rot | D tilt | M tilt |"
     );
     let _ = writeln!(
         md,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     let mut ratios = Vec::new();
     let mut passes = [0usize; 2];
     let mut unresolved = [0usize; 2];
+    // Library status and exact verdict disagree.
+    let mut disagree = [0usize; 2];
     for case in cases() {
         let [deepest, manifold] = measure(&case);
         ratios.push(manifold.median_seconds / deepest.median_seconds);
         for (k, o) in [&deepest, &manifold].iter().enumerate() {
             passes[k] += o.report.passes;
-            unresolved[k] += usize::from(!o.report.status.is_resolved());
+            unresolved[k] += usize::from(!o.exact.resolved());
+            disagree[k] += usize::from(o.exact.resolved() != o.report.status.is_resolved());
         }
-        let line = row(&case, &deepest, &manifold);
+        let before = exact_depth(&case.scene, deepest.report.tolerance);
+        let line = row(&case, &before, &deepest, &manifold);
         println!("{line}");
         let _ = writeln!(md, "{line}");
     }
     let geo_mean = (ratios.iter().map(|r| r.ln()).sum::<f64>() / ratios.len() as f64).exp();
     let _ = writeln!(
         md,
-        "\nSummary over {} scenes: passes D {} / M {}; unresolved D {} / M {}; \
+        "\nSummary over {} scenes: passes D {} / M {}; unresolved (exact depth) D {} / M {}; \
+         library status disagreeing with the exact verdict D {} / M {}; \
          time ratio M/D geometric mean {:.3}, median {:.3}.",
         ratios.len(),
         passes[0],
         passes[1],
         unresolved[0],
         unresolved[1],
+        disagree[0],
+        disagree[1],
         geo_mean,
         common::median(&ratios)
+    );
+    let md = format!(
+        "# Contact manifold vs deepest vertex (`Settings::contact_manifold`)\n\n{}\n{md}",
+        provenance.markdown()
     );
     let path = common::results_dir().join("manifold.md");
     std::fs::write(&path, &md).expect("write manifold.md");
@@ -147,6 +182,7 @@ fn measure(case: &Case) -> [Outcome; 2] {
     [0, 1].map(|k| {
         let (report, scene) = last[k].take().expect("runs >= 1");
         Outcome {
+            exact: exact_depth(&scene, report.tolerance),
             report,
             median_seconds: common::median(&times[k]),
             max_rotation: max_rotation(&case.scene, &scene),
@@ -175,7 +211,7 @@ fn max_rotation(before: &Scene, after: &Scene) -> (f64, String) {
         })
 }
 
-fn row(case: &Case, d: &Outcome, m: &Outcome) -> String {
+fn row(case: &Case, before: &ExactDepth, d: &Outcome, m: &Outcome) -> String {
     let deg = f64::to_degrees;
     let tilt = |o: &Outcome| {
         o.tilt
@@ -183,9 +219,14 @@ fn row(case: &Case, d: &Outcome, m: &Outcome) -> String {
     };
     let rotation = |o: &Outcome| format!("{:.2} ({})", deg(o.max_rotation.0), o.max_rotation.1);
     format!(
-        "| {} | {} | {} | {} | {} | {} | {:.3} | {:.3} | {:.2} | {:.2e} | {:.2e} | {:.4} | {:.4} | {} | {} | {} | {} |",
+        "| {} | {} | {:.2e} | {} | {} | {:.2e} | {:.2e} | {} | {} | {} | {} | {:.3} | {:.3} | {:.2} | {:.2e} | {:.2e} | {:.4} | {:.4} | {} | {} | {} | {} |",
         case.name,
         case.runs,
+        before.deepest,
+        verdict(&d.exact),
+        verdict(&m.exact),
+        d.exact.deepest,
+        m.exact.deepest,
         d.report.status.name(),
         m.report.status.name(),
         d.report.passes,
@@ -202,4 +243,13 @@ fn row(case: &Case, d: &Outcome, m: &Outcome) -> String {
         tilt(d),
         tilt(m),
     )
+}
+
+/// `resolved`, or `UNRESOLVED` in capitals so that it stands out.
+fn verdict(exact: &ExactDepth) -> &'static str {
+    if exact.resolved() {
+        "resolved"
+    } else {
+        "UNRESOLVED"
+    }
 }

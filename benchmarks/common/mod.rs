@@ -16,6 +16,8 @@
 
 #![allow(dead_code)]
 
+pub mod sat;
+
 use std::time::Instant;
 
 use constraint_stabilization::body::{BodyDesc, MassSpec, Shape};
@@ -123,6 +125,15 @@ pub fn box_on_ground(tilt: f64) -> Scene {
 pub fn tilt(scene: &Scene, index: usize) -> f64 {
     let up = scene.bodies()[index].user_pose().rotation * Vector3::y();
     up.y.clamp(-1.0, 1.0).acos()
+}
+
+/// The cap set by the environment variable `name` (at least 1), or no cap
+/// (`usize::MAX`) if it is unset or not a number.
+pub fn env_cap(name: &str) -> usize {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .map_or(usize::MAX, |n: usize| n.max(1))
 }
 
 /// Median (of a copy); NaN for an empty slice.
