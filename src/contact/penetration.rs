@@ -577,13 +577,18 @@ impl Search<'_> {
 /// from `starts` through arcs that meet it (breadth first).
 fn arcs_in_cap(view: &View, centre: &Vector3<f64>, limit: f64, starts: &[usize]) -> Vec<usize> {
     let poly = view.poly;
-    let meets = |edge: usize| view.arc(edge).min_dot(centre) <= limit;
-    let mut visited = vec![false; poly.edges().len()];
+    // Each arc is tested once: `tested` holds the arcs whose test ran,
+    // whatever its result.
+    let mut tested = vec![false; poly.edges().len()];
+    let mut meets = |edge: usize| {
+        let first = !tested[edge];
+        tested[edge] = true;
+        first && view.arc(edge).min_dot(centre) <= limit
+    };
     let mut found = Vec::new();
     let mut queue = std::collections::VecDeque::new();
     for &edge in starts {
-        if !visited[edge] && meets(edge) {
-            visited[edge] = true;
+        if meets(edge) {
             queue.push_back(edge);
         }
     }
@@ -597,8 +602,7 @@ fn arcs_in_cap(view: &View, centre: &Vector3<f64>, limit: f64, starts: &[usize])
             .chain(poly.vertex_edges(e.tail))
             .chain(poly.vertex_edges(e.head));
         for &next in neighbours {
-            if !visited[next] && meets(next) {
-                visited[next] = true;
+            if meets(next) {
                 queue.push_back(next);
             }
         }
