@@ -15,9 +15,14 @@
 //! - penetrating: one row per manifold point (at most four for a face
 //!   contact, one for an edge–edge contact), `phi` = the point's separation
 //!   along `n`; with the manifold off, the deepest point only;
-//! - separated closer than the contact margin: one row at the closest
-//!   points, `n = (p_a - p_b) / d`. When `d` is too small for that quotient,
-//!   the normal comes from the closest features (a face normal, or the cross
+//! - separated closer than the contact margin: the same manifold, on the
+//!   axis of widest separation ([`widest_separation`]), so that two nearly
+//!   touching faces get up to four rows, not one at an arbitrary closest
+//!   point (measured on the engine states of `tests/data/engine/`: the
+//!   single row needed up to 4.5 times the passes, see the README); with
+//!   the manifold off, one row at V-Clip's closest points,
+//!   `n = (p_a - p_b) / d`. When `d` is too small for that quotient, the
+//!   normal comes from the closest features (a face normal, or the cross
 //!   product of two edges), else from the centres of mass.
 //!
 //! Files: `gauss_map` (arcs on the sphere), `penetration` (exact depth),
