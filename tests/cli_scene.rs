@@ -146,17 +146,28 @@ fn run_scene(name: &str, text: &str) -> (Option<i32>, String, PathBuf) {
     (result.status.code(), stderr, output)
 }
 
-/// A scene that no correction can solve: exit 1, no output file (the call
-/// failed, the scene was not corrected), and a message that says no solver
-/// succeeded.
+/// A scene that no correction can solve: exit 1, the output written with
+/// the progress made (the first pass lifted the cube out of the floor),
+/// and a report and a message that say which island is left and why.
 #[test]
-fn unsolvable_scene_exits_1_writes_nothing_and_says_why() {
+fn unsolvable_scene_exits_1_writes_the_progress_and_says_why() {
     let (code, stderr, output) = run_scene("wedged", &wedged_cube(""));
     assert_eq!(code, Some(1), "{stderr}");
-    assert!(!output.exists(), "no output for a failed call");
     assert!(
-        stderr.contains("not solved") && stderr.contains("no solver succeeded"),
+        stderr.contains("unsolved") && stderr.contains("no solver succeeded"),
         "{stderr}"
+    );
+    let written = read_json(&output);
+    assert_eq!(written["report"]["status"], "unsolved");
+    let left = &written["report"]["islands_left"];
+    assert_eq!(left.as_array().map(Vec::len), Some(1), "{left}");
+    assert_eq!(left[0]["bodies"][0]["name"], "cube");
+    let reason = left[0]["reason"].as_str().unwrap_or_default();
+    assert!(reason.contains("no solver succeeded"), "{reason}");
+    let cube_y = written["bodies"][2]["translation"][1].as_f64().unwrap();
+    assert!(
+        (cube_y - 0.5).abs() <= WEDGE_LIFT_AGREEMENT,
+        "cube at y = {cube_y}"
     );
 }
 

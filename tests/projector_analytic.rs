@@ -4,7 +4,8 @@
 use approx::assert_relative_eq;
 use constraint_stabilization::projector::{
     BodyInertia, BodyState, ConstraintProvider, ConstraintRow, LineSearchSettings, Measurement,
-    ProjectionSettings, ProjectionStatus, StepOutcome, contact_row, project, projection_step,
+    ProjectionSettings, ProjectionStatus, StepOutcome, TrustRegion, contact_row, project,
+    projection_step,
 };
 use constraint_stabilization::solver::SolverSettings;
 use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3, Vector6};
@@ -16,6 +17,7 @@ fn settings(target_margin: f64) -> ProjectionSettings {
         tolerance: TOLERANCE,
         target_margin,
         line_search: LineSearchSettings::default(),
+        trust_region: TrustRegion::UNLIMITED,
         solver: SolverSettings::default(),
         max_steps: 20,
     }

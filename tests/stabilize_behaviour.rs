@@ -18,6 +18,7 @@ use constraint_stabilization::body::{BodyDesc, MassSpec};
 use constraint_stabilization::demo::demo_scene;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::{CrossCheckOutcome, SolverChoice, SolverKind};
+use constraint_stabilization::stabilizer::IslandOutcome;
 use constraint_stabilization::{Error, Settings, Stabilizer, Status};
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 use stabilize_support::*;
@@ -371,7 +372,12 @@ fn contact_manifold_lifts_flat_deepest_vertex_stalls() {
     let (report, scene, before_deepest) = box_face_down_with(false, depth);
     assert_eq!(before, before_deepest);
     assert_eq!(report.status, Status::Stalled);
-    assert_eq!(report.stalled_islands, vec![vec![1]]);
+    let left: Vec<_> = report
+        .islands_left
+        .iter()
+        .map(|left| (left.bodies.clone(), left.outcome.clone()))
+        .collect();
+    assert_eq!(left, vec![(vec![1], IslandOutcome::Stalled)]);
     assert_eq!(pose_bits(&scene), before, "a stalled step applies nothing");
     assert!((penetration_residual(&scene).0 - depth).abs() <= 1e-9);
 }
@@ -411,6 +417,13 @@ fn invalid_settings_are_rejected() {
         settings.line_search.min_step = min_step;
         line_search.push(settings);
     }
+    for (rotation, translation) in [(0.0, 1.0), (f64::NAN, 1.0), (0.2, -1.0), (0.2, f64::NAN)] {
+        line_search.push(Settings {
+            step_max_rotation: rotation,
+            step_max_translation_relative: translation,
+            ..Settings::default()
+        });
+    }
     for tol_residual in [f64::NAN, 0.0, -1e-9] {
         let mut settings = Settings::default();
         settings.solver.tol_residual = tol_residual;
@@ -426,21 +439,29 @@ fn invalid_settings_are_rejected() {
 }
 
 /// A solver setting that makes every solver fail (a residual tolerance no
-/// solution can meet) surfaces as an error in the first pass, before
-/// anything moved, and the scene is left as it was.
+/// solution can meet) leaves every island unsolved in the first pass: the
+/// call ends `Unsolved`, names each island with the solver's error, and
+/// moves nothing.
 #[test]
-fn an_unreachable_solver_tolerance_is_an_error() {
+fn an_unreachable_solver_tolerance_leaves_every_island_unsolved() {
     let mut settings = Settings::default();
     settings.solver.tol_residual = f64::MIN_POSITIVE;
     let mut scene = scene_of(&small_scene());
     let before = pose_bits(&scene);
-    let mut stabilizer = Stabilizer::new(settings).expect("a positive tolerance is valid");
-    let outcome = stabilizer.stabilize(&mut scene);
-    println!("tol_residual {:e}: {outcome:?}", f64::MIN_POSITIVE);
-    assert!(
-        matches!(outcome, Err(Error::Solver(_))),
-        "no solver can meet the tolerance"
+    let (report, _) = stabilize_with(&mut scene, settings);
+    println!(
+        "tol_residual {:e}: {:?}",
+        f64::MIN_POSITIVE,
+        report.islands_left
     );
+    assert_eq!((report.status, report.passes), (Status::Unsolved, 1));
+    assert!(!report.islands_left.is_empty());
+    for left in &report.islands_left {
+        assert!(
+            matches!(left.outcome, IslandOutcome::Failed(Error::Solver(_))),
+            "{left:?}"
+        );
+    }
     assert_eq!(pose_bits(&scene), before);
 }
 
@@ -477,15 +498,45 @@ fn wedged_cube() -> Vec<BodyDesc> {
     ]
 }
 
-/// The failure comes after an island has been applied: the first pass
-/// lifts the wedged cube out of the floor (shown by a call limited to one
-/// pass, which returns with the cube moved and pushed into the ceiling),
-/// the second pass has no solution. The failing call must put back every
-/// pose bit for bit, including the cube's, which the first pass moved.
+/// Index of the solvable small cube in [`wedged_cube_and_a_solvable_island`].
+const SOLVABLE: usize = 3;
+
+/// [`wedged_cube`] and, 5 away under the same ceiling, a cube of half-edge
+/// 0.25 sunk `WEDGE_DEPTH` into the floor: an independent island that one
+/// lift solves.
+fn wedged_cube_and_a_solvable_island() -> Vec<BodyDesc> {
+    let mut descs = wedged_cube();
+    descs.push(cuboid(
+        "solvable",
+        [0.25, 0.25, 0.25],
+        [5.0, 0.25 - WEDGE_DEPTH, 0.0],
+        IDENTITY_XYZW,
+        MassSpec::Mass(1.0),
+    ));
+    descs
+}
+
+/// The deepest exact (separating-axis) depth over every pair of the scene.
+fn deepest_sat_depth(scene: &Scene) -> f64 {
+    let n = scene.len();
+    (0..n)
+        .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
+        .map(|(a, b)| sat_depth(scene, a, b))
+        .fold(0.0, f64::max)
+}
+
+/// One island cannot be solved and never loses the others' progress: the
+/// first pass lifts the wedged cube out of the floor into the ceiling (as a
+/// call limited to one pass shows) and fixes the small cube; the second
+/// pass has no solution for the wedged cube. The call ends `Unsolved`, the
+/// wedged cube keeps its pose from before the failing step (bit for bit the
+/// one-pass pose), the small cube is fixed, the report names the wedged
+/// island with the solver's error, and the exact deepest penetration did
+/// not rise.
 #[test]
-fn a_failing_call_leaves_the_scene_untouched() {
-    let reference = scene_of(&wedged_cube());
-    let before = pose_bits(&reference);
+fn an_unsolvable_island_keeps_its_poses_and_the_others_are_fixed() {
+    let reference = scene_of(&wedged_cube_and_a_solvable_island());
+    let depth_before = deepest_sat_depth(&reference);
 
     let mut one_pass = reference.clone();
     let settings = Settings {
@@ -495,11 +546,6 @@ fn a_failing_call_leaves_the_scene_untouched() {
     let (report, _) = stabilize_with(&mut one_pass, settings);
     println!("{}", describe("wedged cube, one pass", &report, 0.0));
     assert_eq!((report.status, report.passes), (Status::PassLimit, 1));
-    let moved = pose_bits(&one_pass);
-    assert_ne!(
-        moved[WEDGED], before[WEDGED],
-        "the first pass moves the cube"
-    );
     let lift = one_pass.bodies()[WEDGED].translation_user().y - (0.5 - WEDGE_DEPTH);
     assert!(
         (lift - WEDGE_DEPTH).abs() <= WEDGE_DEPTH * RELATIVE_MOTION,
@@ -512,14 +558,39 @@ fn a_failing_call_leaves_the_scene_untouched() {
     );
 
     let mut scene = reference.clone();
-    let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
-    let outcome = stabilizer.stabilize(&mut scene);
-    println!("wedged cube: {outcome:?}");
-    assert!(
-        matches!(outcome, Err(Error::Solver(_))),
-        "the second pass has no solution: {outcome:?}"
+    let (report, _) = stabilize_default(&mut scene);
+    println!(
+        "{}",
+        describe("wedged cube and a solvable island", &report, 0.0)
     );
-    assert_eq!(pose_bits(&scene), before, "every pose restored bit for bit");
+    println!("left: {:?}", report.islands_left);
+    assert_eq!(report.status, Status::Unsolved);
+    assert!(!report.status.is_resolved() && !report.restored_input);
+    assert_eq!(report.islands_left.len(), 1);
+    assert_eq!(report.islands_left[0].bodies, vec![WEDGED]);
+    assert!(
+        matches!(
+            report.islands_left[0].outcome,
+            IslandOutcome::Failed(Error::Solver(_))
+        ),
+        "{:?}",
+        report.islands_left[0].outcome
+    );
+    assert_eq!(
+        pose_bits(&scene)[WEDGED],
+        pose_bits(&one_pass)[WEDGED],
+        "the wedged cube keeps its pose from before the failing step"
+    );
+    assert!(
+        sat_depth(&scene, 0, SOLVABLE) <= report.tolerance,
+        "the solvable island is fixed: {:e}",
+        sat_depth(&scene, 0, SOLVABLE)
+    );
+    let depth_after = deepest_sat_depth(&scene);
+    assert!(
+        depth_after <= depth_before,
+        "the exact depth rose: {depth_before:e} -> {depth_after:e}"
+    );
 }
 
 /// A motion checked against its expected value agrees to this fraction of

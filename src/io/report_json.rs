@@ -23,8 +23,13 @@ pub fn report_to_json(report: &Report, scene: &Scene) -> Value {
         "bodies_moved": report.bodies_moved,
         "islands_solved": report.islands_solved(),
         "line_search_trials": report.line_search_trials(),
-        "stalled_islands": report.stalled_islands.iter()
-            .map(|bodies| body_names(bodies, scene)).collect::<Vec<_>>(),
+        "islands_left": report.islands_left.iter()
+            .map(|left| json!({
+                "bodies": body_names(&left.bodies, scene),
+                "reason": left.outcome.reason(),
+            }))
+            .collect::<Vec<_>>(),
+        "restored_input": report.restored_input,
         "times_s": {
             "broad_phase": report.times.broad_phase,
             "narrow_phase": report.times.narrow_phase,
@@ -62,7 +67,8 @@ fn island_to_json(island: &IslandReport) -> Value {
         "solver": island.solver.map(|s| format!("{s:?}")),
         "fallbacks": island.fallbacks.iter().map(|f| format!("{f:?}")).collect::<Vec<_>>(),
         "cross_check": island.cross_check.as_ref().map(|c| format!("{c:?}")),
-        "outcome": format!("{:?}", island.outcome),
+        "outcome": island.outcome.reason(),
+        "trust_scale": island.trust_scale,
         "alpha": island.alpha,
         "line_search_trials": island.line_search_trials,
         "depth_before": island.depth_before,

@@ -23,7 +23,8 @@
 //! the merit on the *true* constraints (`sum_k min(0, phi_k + tol)^2`, the
 //! squared penetrations beyond the tolerance) decreases sufficiently and no
 //! constraint that was clear becomes penetrating beyond the tolerance
-//! ([`line_search`]). The loop is independent of the geometry: contacts from
+//! ([`line_search`]), after scaling `dq` so that no body moves further than
+//! its trust region ([`TrustRegion`]). The loop is independent of the geometry: contacts from
 //! V-Clip are one provider; analytic providers test it alone.
 
 mod configuration;
@@ -31,6 +32,7 @@ mod contact_row;
 mod line_search;
 mod provider;
 mod step;
+mod trust_region;
 
 pub use configuration::{BodyInertia, BodyState, Configuration, moved_configuration};
 pub use contact_row::{ContactSide, contact_row};
@@ -40,3 +42,4 @@ pub use step::{
     ProjectionSettings, ProjectionStatus, ProjectionSummary, StepOutcome, StepReport, project,
     projection_step,
 };
+pub use trust_region::{TrustRegion, radius_of_gyration};

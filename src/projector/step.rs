@@ -5,13 +5,15 @@
 //! 1. measure the true constraints; if the deepest penetration is within
 //!    `tolerance`, stop (nothing is touched);
 //! 2. linearize: rows `phi_k + J_k dq >= target`;
-//! 3. solve the projection QP for `dq` (see [`crate::solver`]);
+//! 3. solve the projection QP for `dq` (see [`crate::solver`]) and scale it
+//!    into the trust region ([`super::trust_region`]);
 //! 4. line search along `dq` ([`super::line_search`]) and apply the accepted
 //!    step, or leave `q` unchanged and report a stall.
 
 use std::time::Instant;
 
 use super::line_search::{LineSearchOutcome, LineSearchSettings, line_search};
+use super::trust_region::TrustRegion;
 use super::{BodyInertia, BodyState, ConstraintProvider, ConstraintRow};
 use crate::solver::{
     BodyMetric, JacobianRow, ProjectionQp, ProjectionSolution, SolverError, SolverSettings,
@@ -29,6 +31,9 @@ pub struct ProjectionSettings {
     pub target_margin: f64,
     /// The line search.
     pub line_search: LineSearchSettings,
+    /// Per-body limits of one step; the correction is scaled into them
+    /// before the line search.
+    pub trust_region: TrustRegion,
     /// The QP/LCP solvers.
     pub solver: SolverSettings,
     /// Largest number of steps of [`project`].
@@ -55,7 +60,11 @@ pub struct StepReport {
     pub constraints: usize,
     /// The solver's result (`None` when nothing was solved).
     pub solution: Option<ProjectionSolution>,
-    /// Accepted step length (`None` when nothing was applied).
+    /// Factor in (0, 1] by which the trust region scaled the solver's
+    /// correction (1 when nothing was solved or no limit was reached).
+    pub trust_scale: f64,
+    /// Accepted step length along the scaled correction (`None` when
+    /// nothing was applied).
     pub alpha: Option<f64>,
     /// Trial configurations measured by the line search.
     pub line_search_trials: usize,
@@ -63,7 +72,8 @@ pub struct StepReport {
     pub depth_before: f64,
     /// Deepest penetration after the step (equal to before if not moved).
     pub depth_after: f64,
-    /// Mass-weighted length of the applied correction, `alpha sqrt(dq^T M dq)`.
+    /// Mass-weighted length of the applied correction,
+    /// `alpha trust_scale sqrt(dq^T M dq)`.
     pub displacement: f64,
     /// Wall time of linearization and solver, seconds.
     pub solve_seconds: f64,
@@ -105,6 +115,7 @@ pub fn projection_step<P: ConstraintProvider + ?Sized>(
         outcome: StepOutcome::AlreadySatisfied,
         constraints: 0,
         solution: None,
+        trust_scale: 1.0,
         alpha: None,
         line_search_trials: 0,
         depth_before,
@@ -121,7 +132,10 @@ pub fn projection_step<P: ConstraintProvider + ?Sized>(
     report.constraints = rows.len();
     let qp = projection_qp(configuration, inertias, &rows, settings.target_margin);
     let solution = solve_projection(&qp, &settings.solver)?;
-    let dq = &solution.dq;
+    report.trust_scale = settings
+        .trust_region
+        .scale(&solution.dq, inertias, depth_before);
+    let dq = &(&solution.dq * report.trust_scale);
     report.solve_seconds = solve_start.elapsed().as_secs_f64();
     let line_search_start = Instant::now();
     let search = line_search(
@@ -143,7 +157,7 @@ pub fn projection_step<P: ConstraintProvider + ?Sized>(
             report.alpha = Some(alpha);
             report.line_search_trials = trials;
             report.depth_after = measurement.deepest_penetration();
-            report.displacement = alpha * solution.residuals.displacement;
+            report.displacement = alpha * report.trust_scale * solution.residuals.displacement;
             *configuration = moved;
         }
         LineSearchOutcome::Rejected { trials } => {
@@ -153,9 +167,10 @@ pub fn projection_step<P: ConstraintProvider + ?Sized>(
     }
     report.line_search_seconds = line_search_start.elapsed().as_secs_f64();
     log::debug!(
-        "projection step: {} rows, {:?}, alpha {:?} after {} trials, depth {:e} -> {:e}",
+        "projection step: {} rows, {:?}, trust scale {:.3e}, alpha {:?} after {} trials, depth {:e} -> {:e}",
         report.constraints,
         solution.solver,
+        report.trust_scale,
         report.alpha,
         report.line_search_trials,
         report.depth_before,

@@ -15,10 +15,20 @@
 //!    (feature `parallel`) and merged in island order, so the result is
 //!    bit-identical whatever the number of threads.
 //!
+//! An island that cannot be solved (every solver failed, its problem was
+//! invalid, or its line search stalled) keeps the poses it had before its
+//! step; the other islands are applied and the call goes on with them. It
+//! ends when no island moved in a pass ([`Status::Stalled`], or
+//! [`Status::Unsolved`] if one failed), with the islands left and why in
+//! the report.
+//!
 //! Guarantees: a scene with no penetration deeper than the tolerance is not
 //! touched (every pose bit-identical); bodies outside solved islands are not
-//! touched; the merit of each island never rises; on an error every pose is
-//! as it was before the call.
+//! touched; the merit of each island never rises; the scene is never
+//! returned worse than it came: if the exact deepest penetration or the
+//! merit over the whole scene rose (islands moved into each other), every
+//! pose is put back and the report says so; on an error (invalid input)
+//! every pose is as it was before the call.
 
 mod detection;
 mod island_provider;
@@ -31,18 +41,21 @@ use std::time::Instant;
 
 use nalgebra::{Isometry3, Vector3};
 
-pub use report::{IslandReport, PairPenetration, PassReport, Report, StageTimes, Status};
+pub use report::{
+    IslandLeft, IslandOutcome, IslandReport, PairPenetration, PassReport, Report, StageTimes,
+    Status,
+};
 pub use settings::{ResolvedLengths, Settings, SettingsError};
 
 use crate::Error;
 use crate::contact::WarmStartCache;
 use crate::island::islands;
-use crate::projector::{ProjectionSettings, StepOutcome};
+use crate::projector::ProjectionSettings;
 use crate::scene::Scene;
 use crate::vclip::VClip;
 use detection::{Detection, detect};
 use island_provider::SceneGeometry;
-use solve_island::{IslandSolution, solve_island};
+use solve_island::{IslandSolution, PassInput, solve_island};
 
 /// The error type of a stabilization call.
 pub type StabilizeError = Error;
@@ -71,8 +84,14 @@ impl Stabilizer {
     }
 
     /// Moves the dynamic bodies of `scene` by the smallest mass-weighted
-    /// correction that removes their interpenetration. On error the poses
-    /// are as they were.
+    /// correction that removes their interpenetration.
+    ///
+    /// An island that cannot be solved keeps its poses and the call goes
+    /// on with the others (status [`Status::Unsolved`] or
+    /// [`Status::Stalled`] when nothing more can move, the islands left in
+    /// [`Report::islands_left`]); the scene is never returned worse than it
+    /// came (see [`Report::restored_input`]). On error (invalid input) the
+    /// poses are as they were.
     pub fn stabilize(&mut self, scene: &mut Scene) -> Result<Report, Error> {
         let start = Instant::now();
         let before: Vec<([f64; 3], [f64; 4])> = scene
@@ -87,16 +106,28 @@ impl Stabilizer {
             restore(scene, &before);
         }
         let mut report = result?;
+        if worse_than_input(&report) {
+            log::warn!(
+                "stabilize: the result was worse than the input (depth {:.3e} -> {:.3e}); input poses restored",
+                report.depth_before,
+                report.depth_after
+            );
+            restore(scene, &before);
+            report.restored_input = true;
+            report.depth_after = report.depth_before;
+            report.penetrations_after = report.penetrations_before.clone();
+        }
         let (displacement, moved) = scene_displacement(scene, &com_before);
         report.displacement = displacement;
         report.bodies_moved = moved;
         report.times.total = start.elapsed().as_secs_f64();
         log::info!(
-            "stabilize: {} bodies, {} ({} passes, {} islands solved), depth {:.3e} -> {:.3e} (tol {:.1e}), {} moved, {:.3} ms",
+            "stabilize: {} bodies, {} ({} passes, {} islands solved, {} left), depth {:.3e} -> {:.3e} (tol {:.1e}), {} moved, {:.3} ms",
             scene.len(),
             report.status.name(),
             report.passes,
             report.islands_solved(),
+            report.islands_left.len(),
             report.depth_before,
             report.depth_after,
             report.tolerance,
@@ -113,6 +144,7 @@ impl Stabilizer {
             tolerance: lengths.tolerance,
             target_margin: lengths.target_margin,
             line_search: self.settings.line_search,
+            trust_region: self.settings.trust_region(),
             solver: self.settings.solver.clone(),
             max_steps: 1,
         };
@@ -157,38 +189,55 @@ impl Stabilizer {
                 &mut pass,
             )?;
             report.passes += 1;
-            let all_stalled = self.apply(scene, solutions, &mut report, &mut pass)?;
-            log_pass(report.passes, &pass, &report.stalled_islands, start);
+            let stuck = self.apply(scene, solutions, &mut report, &mut pass)?;
+            log_pass(report.passes, &pass, &report.islands_left, start);
             report.pass_reports.push(pass);
-            if all_stalled {
-                report.status = Status::Stalled;
+            if let Some(status) = stuck {
+                report.status = status;
                 return Ok(report);
             }
         }
     }
 
-    /// Applies the islands' corrections in island order and records them;
-    /// returns whether every island stalled.
+    /// Applies the islands' corrections in island order (a stalled or
+    /// failed island moves nothing) and records them; returns the status
+    /// that ends the call when no island moved.
     fn apply(
         &mut self,
         scene: &mut Scene,
         solutions: Vec<IslandSolution>,
         report: &mut Report,
         pass: &mut PassReport,
-    ) -> Result<bool, Error> {
-        report.stalled_islands = solutions
+    ) -> Result<Option<Status>, Error> {
+        report.islands_left = solutions
             .iter()
-            .filter(|s| s.report.outcome == StepOutcome::Stalled)
-            .map(|s| s.report.bodies.clone())
+            .filter(|s| {
+                matches!(
+                    s.report.outcome,
+                    IslandOutcome::Stalled | IslandOutcome::Failed(_)
+                )
+            })
+            .map(|s| IslandLeft {
+                bodies: s.report.bodies.clone(),
+                outcome: s.report.outcome.clone(),
+            })
             .collect();
-        let all_stalled = report.stalled_islands.len() == solutions.len();
+        let any_moved = solutions.iter().any(|s| s.report.outcome.moved());
+        let any_failed = report
+            .islands_left
+            .iter()
+            .any(|left| matches!(left.outcome, IslandOutcome::Failed(_)));
         for solution in solutions {
             report.times.solve += solution.solve_seconds;
             report.times.line_search += solution.line_search_seconds;
             solution.apply(scene, &mut self.cache)?;
             pass.solved.push(solution.report);
         }
-        Ok(all_stalled)
+        Ok(match (any_moved, any_failed) {
+            (true, _) => None,
+            (false, true) => Some(Status::Unsolved),
+            (false, false) => Some(Status::Stalled),
+        })
     }
 
     /// Forms islands from the detection and solves those that penetrate.
@@ -212,33 +261,41 @@ impl Stabilizer {
                     .any(|&k| -detection.active_values[k] > lengths.tolerance)
             })
             .collect();
-        let results = parallel::map(&penetrating, |island| {
-            solve_island(
-                scene,
-                geometry,
-                island,
-                &detection.active_pairs,
-                &self.cache,
-                &self.settings,
-                lengths,
-                projection,
-            )
-        });
-        results.into_iter().collect()
+        let input = PassInput {
+            scene,
+            geometry,
+            active_pairs: &detection.active_pairs,
+            active_values: &detection.active_values,
+            cache: &self.cache,
+            settings: &self.settings,
+            lengths,
+            projection,
+        };
+        Ok(parallel::map(&penetrating, |island| {
+            solve_island(input, island)
+        }))
     }
 }
 
+/// Whether the call's last detection is worse than its first: a deeper
+/// exact penetration, or a larger merit.
+fn worse_than_input(report: &Report) -> bool {
+    let merit = |penetrations: &[PairPenetration]| Report::merit(penetrations, report.tolerance);
+    report.depth_after > report.depth_before
+        || merit(&report.penetrations_after) > merit(&report.penetrations_before)
+}
+
 /// The debug line of a pass.
-fn log_pass(number: usize, pass: &PassReport, stalled: &[Vec<usize>], start: Instant) {
+fn log_pass(number: usize, pass: &PassReport, left: &[IslandLeft], start: Instant) {
     log::debug!(
         "pass {number}: {} candidates, {} active, {} penetrating, {} islands, \
-         {} solved ({} stalled), deepest {:.3e}, {:.3} ms so far",
+         {} solved ({} left), deepest {:.3e}, {:.3} ms so far",
         pass.candidate_pairs,
         pass.active_pairs,
         pass.penetrating_pairs,
         pass.islands,
         pass.solved.len(),
-        stalled.len(),
+        left.len(),
         pass.deepest,
         start.elapsed().as_secs_f64() * 1e3
     );

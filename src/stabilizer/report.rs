@@ -3,6 +3,7 @@
 
 use super::detection::Detection;
 use super::settings::ResolvedLengths;
+use crate::Error;
 use crate::contact::PenetrationFeatures;
 use crate::projector::StepOutcome;
 use crate::solver::{CrossCheck, Fallback, SolverKind};
@@ -19,8 +20,13 @@ pub enum Status {
     PassLimit,
     /// Every island solved in the last pass stalled (the line search found
     /// no acceptable step); the stalled islands are in
-    /// [`Report::stalled_islands`].
+    /// [`Report::islands_left`].
     Stalled,
+    /// In the last pass no island moved and at least one could not be
+    /// solved at all (every solver failed, or its problem was invalid). The
+    /// other islands' progress and the passes before are kept; the islands
+    /// left and why are in [`Report::islands_left`].
+    Unsolved,
 }
 
 impl Status {
@@ -31,6 +37,7 @@ impl Status {
             Status::Converged => "converged",
             Status::PassLimit => "pass_limit",
             Status::Stalled => "stalled",
+            Status::Unsolved => "unsolved",
         }
     }
 
@@ -38,6 +45,59 @@ impl Status {
     pub fn is_resolved(self) -> bool {
         matches!(self, Status::NothingToDo | Status::Converged)
     }
+}
+
+/// What one island's step did.
+#[derive(Debug, Clone, PartialEq)]
+pub enum IslandOutcome {
+    /// No penetration beyond the tolerance: nothing was done.
+    AlreadySatisfied,
+    /// A step was accepted and applied.
+    Moved,
+    /// The line search found no acceptable step; the island's bodies kept
+    /// their poses.
+    Stalled,
+    /// The island could not be solved (every solver failed, or its problem
+    /// was invalid); its bodies kept their poses.
+    Failed(Error),
+}
+
+impl From<StepOutcome> for IslandOutcome {
+    fn from(outcome: StepOutcome) -> Self {
+        match outcome {
+            StepOutcome::AlreadySatisfied => IslandOutcome::AlreadySatisfied,
+            StepOutcome::Moved => IslandOutcome::Moved,
+            StepOutcome::Stalled => IslandOutcome::Stalled,
+        }
+    }
+}
+
+impl IslandOutcome {
+    /// Whether the island's bodies were moved.
+    pub fn moved(&self) -> bool {
+        matches!(self, IslandOutcome::Moved)
+    }
+
+    /// Why an island was left, as in the scene file report: `stalled`, or
+    /// the error of a failed island.
+    pub fn reason(&self) -> String {
+        match self {
+            IslandOutcome::AlreadySatisfied => "already_satisfied".into(),
+            IslandOutcome::Moved => "moved".into(),
+            IslandOutcome::Stalled => "stalled".into(),
+            IslandOutcome::Failed(error) => format!("failed: {error}"),
+        }
+    }
+}
+
+/// An island left with a penetration: its bodies kept the poses they had
+/// before its step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IslandLeft {
+    /// Dynamic bodies (scene indices, ascending).
+    pub bodies: Vec<usize>,
+    /// [`IslandOutcome::Stalled`] or [`IslandOutcome::Failed`].
+    pub outcome: IslandOutcome,
 }
 
 /// One island solved in one pass.
@@ -55,9 +115,11 @@ pub struct IslandReport {
     pub fallbacks: Vec<Fallback>,
     /// The clarabel/Lemke comparison, when the cross-check is on.
     pub cross_check: Option<CrossCheck>,
-    /// Moved, stalled, or nothing to do.
-    pub outcome: StepOutcome,
-    /// Accepted step length.
+    /// Moved, stalled, failed, or nothing to do.
+    pub outcome: IslandOutcome,
+    /// Factor by which the trust region scaled the solver's correction.
+    pub trust_scale: f64,
+    /// Accepted step length (along the scaled correction).
     pub alpha: Option<f64>,
     /// Trial configurations measured by the line search.
     pub line_search_trials: usize,
@@ -149,9 +211,16 @@ pub struct Report {
     pub displacement: f64,
     /// Number of bodies whose pose changed.
     pub bodies_moved: usize,
-    /// Islands (dynamic bodies, scene indices) whose line search stalled in
-    /// the last pass that solved anything.
-    pub stalled_islands: Vec<Vec<usize>>,
+    /// Islands left in the last pass that solved anything: those whose
+    /// line search stalled or that could not be solved, with the reason.
+    /// Their bodies kept the poses they had before that pass's step.
+    pub islands_left: Vec<IslandLeft>,
+    /// The result was worse than the input (the exact deepest penetration
+    /// or the merit, `sum (depth - tolerance)^2` over the penetrating pairs,
+    /// rose: islands moved into each other) and every pose was put back as
+    /// it was before the call; `depth_after` and `penetrations_after` are
+    /// then the input's.
+    pub restored_input: bool,
     /// Wall time per stage.
     pub times: StageTimes,
 }
@@ -171,7 +240,8 @@ impl Report {
             penetrations_after: Vec::new(),
             displacement: 0.0,
             bodies_moved: 0,
-            stalled_islands: Vec::new(),
+            islands_left: Vec::new(),
+            restored_input: false,
             times: StageTimes::default(),
         }
     }
@@ -187,6 +257,16 @@ impl Report {
         }
         self.depth_after = detection.deepest;
         self.penetrations_after = detection.penetrations.clone();
+    }
+
+    /// The merit of the scene at a detection: `sum (depth - tolerance)^2`
+    /// over the pairs penetrating deeper than the tolerance (the line
+    /// search's merit, over the whole scene).
+    pub fn merit(penetrations: &[PairPenetration], tolerance: f64) -> f64 {
+        penetrations
+            .iter()
+            .map(|p| (p.depth - tolerance).max(0.0).powi(2))
+            .sum()
     }
 
     /// Total number of islands solved over all passes.

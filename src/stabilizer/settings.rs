@@ -8,7 +8,7 @@
 
 use thiserror::Error;
 
-use crate::projector::LineSearchSettings;
+use crate::projector::{LineSearchSettings, TrustRegion};
 use crate::scene::SceneSettings;
 use crate::solver::SolverSettings;
 use crate::vclip::VClipSettings;
@@ -41,6 +41,20 @@ pub struct Settings {
     /// than the deepest vertex alone. Default true (see the README for the
     /// measurement that chose it).
     pub contact_manifold: bool,
+    /// Trust region: the largest rotation of a body in one step, radians.
+    /// The island's whole correction is scaled down (its direction kept) so
+    /// that no body turns further, before the line search; the next pass
+    /// linearizes again. Default 0.2 (11 degrees: the second-order error of
+    /// a contact point at lever `r`, `theta^2 r / 2`, stays within 2% of `r`).
+    /// `f64::INFINITY` turns the limit off.
+    pub step_max_rotation: f64,
+    /// Trust region: the largest translation of a body's centre of mass in
+    /// one step, relative to the body's radius of gyration
+    /// (`sqrt(tr(I) / 2m)`, the half-edge for a cube), applied as
+    /// `step_max_rotation`; a body may always translate by its island's
+    /// deepest penetration. Default 1 (one half-edge per pass beyond that).
+    /// `f64::INFINITY` turns the limit off.
+    pub step_max_translation_relative: f64,
     /// Backtracking line search.
     pub line_search: LineSearchSettings,
     /// Solver choice, cross-check and solver tolerances.
@@ -48,6 +62,12 @@ pub struct Settings {
     /// V-Clip iteration cap and tie tolerance.
     pub vclip: VClipSettings,
 }
+
+/// Default of [`Settings::step_max_rotation`], radians.
+pub const DEFAULT_STEP_MAX_ROTATION: f64 = 0.2;
+
+/// Default of [`Settings::step_max_translation_relative`].
+pub const DEFAULT_STEP_MAX_TRANSLATION_RELATIVE: f64 = 1.0;
 
 impl Default for Settings {
     fn default() -> Self {
@@ -60,6 +80,8 @@ impl Default for Settings {
             target_margin_absolute: None,
             max_passes: 100,
             contact_manifold: true,
+            step_max_rotation: DEFAULT_STEP_MAX_ROTATION,
+            step_max_translation_relative: DEFAULT_STEP_MAX_TRANSLATION_RELATIVE,
             line_search: LineSearchSettings::default(),
             solver: SolverSettings::default(),
             vclip: VClipSettings::default(),
@@ -93,6 +115,14 @@ pub enum SettingsError {
         /// What it must be.
         requirement: &'static str,
     },
+    /// A step limit of the trust region is zero, negative or NaN.
+    #[error("setting `{name}` is {value}: it must be positive (infinite for no limit)")]
+    InvalidLimit {
+        /// The setting's name.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
     /// `max_passes` is zero.
     #[error("setting `max_passes` is 0: at least one pass is needed")]
     ZeroPasses,
@@ -116,6 +146,11 @@ impl Settings {
         if let Some(value) = self.target_margin_absolute {
             non_negative("target_margin_absolute", value)?;
         }
+        positive_or_infinite("step_max_rotation", self.step_max_rotation)?;
+        positive_or_infinite(
+            "step_max_translation_relative",
+            self.step_max_translation_relative,
+        )?;
         if self.max_passes == 0 {
             return Err(SettingsError::ZeroPasses);
         }
@@ -166,6 +201,14 @@ impl Settings {
         self
     }
 
+    /// The per-body step limits of the projection.
+    pub fn trust_region(&self) -> TrustRegion {
+        TrustRegion {
+            max_rotation: self.step_max_rotation,
+            max_translation_relative: self.step_max_translation_relative,
+        }
+    }
+
     /// The lengths for a scene of length scale `scale`.
     pub fn resolve(&self, scale: f64) -> ResolvedLengths {
         ResolvedLengths {
@@ -204,5 +247,14 @@ fn non_negative(name: &'static str, value: f64) -> Result<(), SettingsError> {
             value,
             requirement: "non-negative",
         })
+    }
+}
+
+/// A step limit: positive, possibly infinite (no limit), never NaN.
+fn positive_or_infinite(name: &'static str, value: f64) -> Result<(), SettingsError> {
+    if value > 0.0 {
+        Ok(())
+    } else {
+        Err(SettingsError::InvalidLimit { name, value })
     }
 }

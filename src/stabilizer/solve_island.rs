@@ -1,5 +1,10 @@
 //! One projection step for one island, computed without touching the
 //! scene; the caller applies the results in island order.
+//!
+//! An island that cannot be solved (every solver failed, or its problem is
+//! invalid) is not an error of the call: its solution moves nothing and
+//! says why ([`IslandOutcome::Failed`]), so that the other islands and the
+//! passes already made keep their progress.
 
 use crate::Error;
 use crate::broad_phase::BodyPair;
@@ -10,7 +15,7 @@ use crate::scene::Scene;
 use crate::vclip::VClip;
 
 use super::island_provider::{IslandProvider, SceneGeometry};
-use super::report::IslandReport;
+use super::report::{IslandOutcome, IslandReport};
 use super::settings::{ResolvedLengths, Settings};
 
 /// The outcome of one island's step, to apply to the scene.
@@ -38,18 +43,85 @@ impl IslandSolution {
     }
 }
 
-/// One projection step on `island`, whose pairs index `active_pairs`.
-#[allow(clippy::too_many_arguments)]
-pub fn solve_island(
-    scene: &Scene,
-    geometry: SceneGeometry,
-    island: &Island,
-    active_pairs: &[BodyPair],
-    cache: &WarmStartCache,
-    settings: &Settings,
-    lengths: &ResolvedLengths,
-    projection: &ProjectionSettings,
-) -> Result<IslandSolution, Error> {
+/// The shared input of every island's step in one pass.
+#[derive(Clone, Copy)]
+pub struct PassInput<'a> {
+    /// The scene at the pass's poses.
+    pub scene: &'a Scene,
+    /// Shapes and poses of every body.
+    pub geometry: SceneGeometry<'a>,
+    /// The pass's active pairs (islands index them).
+    pub active_pairs: &'a [BodyPair],
+    /// Signed value (distance, or minus the exact depth) of each active pair.
+    pub active_values: &'a [f64],
+    /// V-Clip warm starts.
+    pub cache: &'a WarmStartCache,
+    /// The stabilizer's settings.
+    pub settings: &'a Settings,
+    /// Resolved lengths.
+    pub lengths: &'a ResolvedLengths,
+    /// The projection's settings.
+    pub projection: &'a ProjectionSettings,
+}
+
+/// One projection step on `island`; a failure moves nothing and is
+/// reported in the solution.
+pub fn solve_island(input: PassInput, island: &Island) -> IslandSolution {
+    solve_island_or_fail(input, island).unwrap_or_else(|error| {
+        log::debug!(
+            "island of {} bodies (first {}) not solved: {error}",
+            island.bodies.len(),
+            island.bodies[0]
+        );
+        let depth = island
+            .pairs
+            .iter()
+            .map(|&k| -input.active_values[k])
+            .fold(0.0, f64::max);
+        IslandSolution::failed(island, depth, error)
+    })
+}
+
+impl IslandSolution {
+    /// The solution of an island that could not be solved: nothing moves.
+    fn failed(island: &Island, depth: f64, error: Error) -> Self {
+        IslandSolution {
+            report: IslandReport {
+                bodies: island.bodies.clone(),
+                pairs: island.pairs.len(),
+                constraints: 0,
+                solver: None,
+                fallbacks: Vec::new(),
+                cross_check: None,
+                outcome: IslandOutcome::Failed(error),
+                trust_scale: 1.0,
+                alpha: None,
+                line_search_trials: 0,
+                depth_before: depth,
+                depth_after: depth,
+                displacement: 0.0,
+            },
+            states: Vec::new(),
+            warm_starts: WarmStartCache::default(),
+            solve_seconds: 0.0,
+            line_search_seconds: 0.0,
+        }
+    }
+}
+
+/// One projection step on `island`, whose pairs index the pass's active
+/// pairs.
+fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolution, Error> {
+    let PassInput {
+        scene,
+        geometry,
+        active_pairs,
+        active_values: _,
+        cache,
+        settings,
+        lengths,
+        projection,
+    } = input;
     let pairs: Vec<BodyPair> = island.pairs.iter().map(|&k| active_pairs[k]).collect();
     let pair_count = pairs.len();
     let mut provider = IslandProvider::new(
@@ -90,7 +162,8 @@ pub fn solve_island(
             solver: solution.map(|s| s.solver),
             fallbacks: solution.map(|s| s.fallbacks.clone()).unwrap_or_default(),
             cross_check: solution.and_then(|s| s.cross_check.clone()),
-            outcome: step.outcome,
+            outcome: step.outcome.into(),
+            trust_scale: step.trust_scale,
             alpha: step.alpha,
             line_search_trials: step.line_search_trials,
             depth_before: step.depth_before,

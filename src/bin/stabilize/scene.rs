@@ -2,8 +2,10 @@
 //! section 6). The output is the input scene (same bodies, order, names and
 //! shapes) with corrected poses and a `report` object; fed back in, it is a
 //! no-op. Exit 0 when no penetration deeper than the tolerance remains, 1
-//! when one does (pass limit, stall, or every solver failed), 2 on bad
-//! input; on bad input no output file is written.
+//! when one does (pass limit, stall, or an island no solver could solve:
+//! the output is written with the progress made, and the report and stderr
+//! name the islands left and why), 2 on bad input; on bad input no output
+//! file is written.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -11,7 +13,7 @@ use std::process::ExitCode;
 use clap::Args;
 use constraint_stabilization::io::report_json::report_to_json;
 use constraint_stabilization::io::scene_file::{read_scene, write_scene};
-use constraint_stabilization::{Error, Settings, Stabilizer};
+use constraint_stabilization::{Settings, Stabilizer};
 
 use crate::exit;
 
@@ -38,7 +40,6 @@ pub fn run(args: &SceneArgs) -> ExitCode {
     };
     let report = match stabilizer.stabilize(&mut scene) {
         Ok(report) => report,
-        Err(error @ Error::Solver(_)) => return exit::not_solved(&error),
         Err(error) => return exit::bad_input(&error),
     };
     let json = report_to_json(&report, &scene);
@@ -54,6 +55,16 @@ pub fn run(args: &SceneArgs) -> ExitCode {
         report.tolerance,
         report.bodies_moved
     );
+    for left in &report.islands_left {
+        eprintln!(
+            "stabilize: island of bodies {:?} left: {}",
+            left.bodies,
+            left.outcome.reason()
+        );
+    }
+    if report.restored_input {
+        eprintln!("stabilize: the result was worse than the input: input poses written");
+    }
     if report.status.is_resolved() {
         ExitCode::SUCCESS
     } else {
