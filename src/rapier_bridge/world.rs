@@ -137,7 +137,7 @@ mod tests {
             MassSpec::Fixed,
         );
         ground.rotation_xyzw = [0.0, 0.0, 0.0, 1.0];
-        Scene::from_descs(vec![
+        let descs = [
             ground,
             desc(
                 "box",
@@ -153,8 +153,12 @@ mod tests {
                 [-0.4, 0.3, 0.8],
                 MassSpec::Density(700.0),
             ),
-        ])
-        .expect("valid scene")
+        ];
+        let mut scene = Scene::new();
+        for desc in descs {
+            scene.add_body(desc).expect("valid body");
+        }
+        scene
     }
 
     /// The world read back through the bridge is the scene: fixed flags,
