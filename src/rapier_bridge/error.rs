@@ -18,6 +18,17 @@ pub enum BridgeError {
         /// What is wrong with it.
         source: SceneError,
     },
+    /// A scene body has no Rapier counterpart ([`super::world_from_scene`]):
+    /// a pose or shape that does not fit in f32, a hull Rapier cannot build.
+    #[error("scene body {index} ({name}): {reason}")]
+    SceneBody {
+        /// Its index in the scene.
+        index: usize,
+        /// Its name.
+        name: String,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// The stabilizer failed (its settings, or no solver succeeded); the
     /// world is as it was.
     #[error("stabilizer: {0}")]

@@ -64,6 +64,9 @@
 //! - `bridge.rs`: [`RapierBridge`]: read, stabilize, write back.
 //! - `report.rs`: [`BridgeReport`], [`SkippedCollider`], [`SkipReason`].
 //! - `error.rs`: [`BridgeError`].
+//! - `world.rs`: [`world_from_scene`]: the Rapier world of a scene (the
+//!   inverse of the read), for comparing a call with a Rapier step of the
+//!   same scene.
 
 mod body_map;
 mod bridge;
@@ -71,9 +74,11 @@ mod collider_shape;
 mod convert;
 mod error;
 mod report;
+mod world;
 
 pub use body_map::{BodyMap, MappedCollider};
 pub use bridge::RapierBridge;
 pub use convert::{pose_from_f64, pose_to_f64};
 pub use error::BridgeError;
 pub use report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
+pub use world::{GRAVITY_Z_UP, SceneWorld, world_from_scene};

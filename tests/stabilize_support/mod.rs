@@ -210,6 +210,23 @@ pub fn parry_shapes(scene: &Scene) -> Vec<ParryPolyhedron> {
 /// along a face: parry 0.57, true 0.99), which would hide a residual.
 pub fn penetration_residual(scene: &Scene) -> (f64, Option<(usize, usize)>) {
     let shapes = parry_shapes(scene);
+    deepest_over_pairs(scene, |a, b| {
+        parry_pair_depth(scene, &shapes, a, b).max(sat_depth(scene, a, b))
+    })
+}
+
+/// The deepest brute-force separating-axis depth [`sat_depth`] of the
+/// scene and the pair it is in (no parry): the exact deepest penetration.
+pub fn sat_deepest(scene: &Scene) -> (f64, Option<(usize, usize)>) {
+    deepest_over_pairs(scene, |a, b| sat_depth(scene, a, b))
+}
+
+/// The largest `depth(a, b)` over the pairs `a < b` with a dynamic body
+/// whose world AABBs (from the exact world vertices) overlap, and the pair.
+fn deepest_over_pairs(
+    scene: &Scene,
+    depth: impl Fn(usize, usize) -> f64,
+) -> (f64, Option<(usize, usize)>) {
     let aabbs: Vec<_> = scene.bodies().iter().map(|b| b.world_aabb()).collect();
     let overlap = |a: usize, b: usize| {
         let ((min_a, max_a), (min_b, max_b)) = (aabbs[a], aabbs[b]);
@@ -222,9 +239,9 @@ pub fn penetration_residual(scene: &Scene) -> (f64, Option<(usize, usize)>) {
             if both_fixed || !overlap(a, b) {
                 continue;
             }
-            let depth = parry_pair_depth(scene, &shapes, a, b).max(sat_depth(scene, a, b));
-            if depth > worst.0 {
-                worst = (depth, Some((a, b)));
+            let d = depth(a, b);
+            if d > worst.0 {
+                worst = (d, Some((a, b)));
             }
         }
     }

@@ -1,0 +1,211 @@
+//! [`world_from_scene`]: the Rapier world of a scene, the inverse of what
+//! [`super::RapierBridge`] reads.
+//!
+//! Each scene body becomes one rigid body (fixed or dynamic) placed at the
+//! body's user pose, with one collider of the same shape at the identity
+//! offset (collider frame = body frame = the scene's shape frame):
+//!
+//! | scene body | Rapier |
+//! |---|---|
+//! | fixed | `RigidBodyBuilder::fixed()` |
+//! | dynamic, mass `m` | `RigidBodyBuilder::dynamic()`, collider with `mass(m)` (uniform density over the shape, so the same inertia) |
+//! | `Shape::Cuboid` | `ColliderBuilder::cuboid` with the half extents |
+//! | `Shape::ConvexHull` | `ColliderBuilder::convex_hull` of the points |
+//!
+//! Every number is rounded to f32 (Rapier's default build); poses as in
+//! [`super::pose_from_f64`]. The world has Rapier's default integration
+//! parameters (60 Hz) and the given gravity; the bodies start at rest,
+//! awake. A scene read back through the bridge equals the scene but for
+//! that rounding (and a hull's interior points, which Rapier drops).
+
+use nalgebra::Vector3;
+use rapier3d::dynamics::{RigidBodyBuilder, RigidBodyHandle};
+use rapier3d::geometry::{ColliderBuilder, ColliderHandle};
+use rapier3d::math::Vector;
+use rapier3d::pipeline::PhysicsWorld;
+
+use super::convert::pose_from_f64;
+use super::error::BridgeError;
+use crate::body::Shape;
+use crate::scene::Scene;
+
+/// Standard gravity along `-z` (m/s^2): the engine states of
+/// `tests/data/engine/` are z up.
+pub const GRAVITY_Z_UP: Vector3<f64> = Vector3::new(0.0, 0.0, -9.81);
+
+/// A Rapier world built from a scene, with the handles of each scene body.
+#[derive(Default)]
+pub struct SceneWorld {
+    /// The world: bodies, colliders, pipeline, default integration
+    /// parameters, the given gravity.
+    pub world: PhysicsWorld,
+    /// `bodies[i]`: the rigid body of scene body `i`.
+    pub bodies: Vec<RigidBodyHandle>,
+    /// `colliders[i]`: the collider of scene body `i`.
+    pub colliders: Vec<ColliderHandle>,
+}
+
+/// The Rapier world of `scene` (see the module doc); an error names a body
+/// whose pose or shape does not fit in f32, or whose hull Rapier cannot
+/// build.
+pub fn world_from_scene(scene: &Scene, gravity: Vector3<f64>) -> Result<SceneWorld, BridgeError> {
+    let mut out = SceneWorld {
+        world: PhysicsWorld {
+            gravity: f32_vector(&gravity),
+            ..PhysicsWorld::default()
+        },
+        ..SceneWorld::default()
+    };
+    for (index, body) in scene.bodies().iter().enumerate() {
+        let invalid = |reason: &str| BridgeError::SceneBody {
+            index,
+            name: body.name().to_owned(),
+            reason: reason.to_owned(),
+        };
+        let pose = pose_from_f64(&body.user_pose());
+        if !(pose.translation.is_finite() && pose.rotation.is_finite()) {
+            return Err(invalid("pose not finite in f32"));
+        }
+        let collider = match body.shape() {
+            Shape::Cuboid { half_extents } => {
+                let h = f32_vector(half_extents);
+                ColliderBuilder::cuboid(h.x, h.y, h.z)
+            }
+            Shape::ConvexHull { points } => {
+                let points: Vec<Vector> = points.iter().map(|p| f32_vector(&p.coords)).collect();
+                ColliderBuilder::convex_hull(&points)
+                    .ok_or_else(|| invalid("Rapier cannot build the hull of its points"))?
+            }
+        };
+        let (rigid_body, collider) = match body.mass() {
+            None => (RigidBodyBuilder::fixed(), collider),
+            Some(mass) => (RigidBodyBuilder::dynamic(), collider.mass(mass.mass as f32)),
+        };
+        let (body_handle, collider_handle) = out.world.insert(rigid_body.pose(pose), collider);
+        out.bodies.push(body_handle);
+        out.colliders.push(collider_handle);
+    }
+    Ok(out)
+}
+
+/// Components rounded to f32.
+fn f32_vector(v: &Vector3<f64>) -> Vector {
+    Vector::new(v.x as f32, v.y as f32, v.z as f32)
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{Point3, UnitQuaternion};
+
+    use super::*;
+    use crate::body::{BodyDesc, MassSpec};
+    use crate::rapier_bridge::RapierBridge;
+    use crate::stabilizer::Settings;
+
+    /// f32 rounding of numbers of order 1, a few ulps.
+    const F32_TOLERANCE: f64 = 1e-6;
+
+    fn desc(name: &str, shape: Shape, translation: [f64; 3], mass: MassSpec) -> BodyDesc {
+        let rotation = UnitQuaternion::from_euler_angles(0.3, -0.2, 0.7);
+        let q = rotation.quaternion();
+        BodyDesc {
+            name: name.into(),
+            shape,
+            translation: Vector3::from(translation),
+            rotation_xyzw: [q.i, q.j, q.k, q.w],
+            mass,
+        }
+    }
+
+    fn scene() -> Scene {
+        let hull: Vec<Point3<f64>> = [
+            [0.5, 0.25, 0.0],
+            [0.9, 0.2, 0.1],
+            [0.6, 0.7, -0.1],
+            [0.55, 0.3, 0.5],
+            [0.7, 0.4, 0.2],
+        ]
+        .iter()
+        .map(|&p| Point3::from(p))
+        .collect();
+        let mut ground = desc(
+            "ground",
+            Shape::Cuboid {
+                half_extents: Vector3::new(3.0, 3.0, 0.5),
+            },
+            [0.0, 0.0, -0.5],
+            MassSpec::Fixed,
+        );
+        ground.rotation_xyzw = [0.0, 0.0, 0.0, 1.0];
+        let descs = [
+            ground,
+            desc(
+                "box",
+                Shape::Cuboid {
+                    half_extents: Vector3::new(0.1, 0.2, 0.3),
+                },
+                [0.2, -0.1, 0.4],
+                MassSpec::Mass(2.5),
+            ),
+            desc(
+                "hull",
+                Shape::ConvexHull { points: hull },
+                [-0.4, 0.3, 0.8],
+                MassSpec::Density(700.0),
+            ),
+        ];
+        let mut scene = Scene::new();
+        for desc in descs {
+            scene.add_body(desc).expect("valid body");
+        }
+        scene
+    }
+
+    /// The world read back through the bridge is the scene: fixed flags,
+    /// shapes, user poses and masses equal up to f32 rounding; gravity and
+    /// Rapier's default time step.
+    #[test]
+    fn world_read_back_through_the_bridge_is_the_scene() {
+        let scene = scene();
+        let built = world_from_scene(&scene, GRAVITY_Z_UP).expect("valid world");
+        assert_eq!(built.world.gravity, Vector::new(0.0, 0.0, -9.81));
+        assert_eq!(built.world.integration_parameters.dt, 1.0 / 60.0);
+        assert_eq!(built.colliders.len(), scene.len());
+        let mut bridge = RapierBridge::new(Settings::default()).expect("valid settings");
+        let sync = bridge
+            .sync(&built.world.bodies, &built.world.colliders)
+            .expect("the world is read");
+        assert!(sync.skipped.is_empty());
+        let read = bridge.scene();
+        assert_eq!(read.len(), scene.len());
+        for (i, (a, b)) in scene.bodies().iter().zip(read.bodies()).enumerate() {
+            assert_eq!(bridge.body_map().entries()[i].collider, built.colliders[i]);
+            assert_eq!(a.is_fixed(), b.is_fixed(), "body {i}");
+            let (pa, pb) = (a.user_pose(), b.user_pose());
+            assert!((pa.translation.vector - pb.translation.vector).norm() <= F32_TOLERANCE);
+            assert!(pa.rotation.angle_to(&pb.rotation) <= F32_TOLERANCE);
+            let mass = |body: &crate::body::Body| body.mass().map(|m| m.mass);
+            if let (Some(ma), Some(mb)) = (mass(a), mass(b)) {
+                assert!(
+                    (ma - mb).abs() <= F32_TOLERANCE * ma,
+                    "body {i}: {ma} vs {mb}"
+                );
+            }
+            match (a.shape(), b.shape()) {
+                (Shape::Cuboid { half_extents: ha }, Shape::Cuboid { half_extents: hb }) => {
+                    assert!((ha - hb).norm() <= F32_TOLERANCE);
+                }
+                (Shape::ConvexHull { points: pa }, Shape::ConvexHull { points: pb }) => {
+                    for p in pb {
+                        let nearest = pa.iter().map(|q| (p - q).norm()).fold(f64::MAX, f64::min);
+                        assert!(nearest <= F32_TOLERANCE, "hull point {p} not given");
+                    }
+                    let volume = |s: &Shape| s.build().expect("hull").volume();
+                    let (va, vb) = (volume(a.shape()), volume(b.shape()));
+                    assert!((va - vb).abs() <= F32_TOLERANCE * va);
+                }
+                (sa, sb) => panic!("body {i}: shape {sa:?} read back as {sb:?}"),
+            }
+        }
+    }
+}
