@@ -8,7 +8,6 @@ mod stabilize_support;
 use constraint_stabilization::body::{BodyDesc, MassSpec};
 use constraint_stabilization::contact::manifold::manifold;
 use constraint_stabilization::contact::{self, BodyGeometry, PairQuery, PenetrationFeatures};
-use constraint_stabilization::io::scene_file::read_scene;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::vclip::{VClip, VClipSettings};
 use constraint_stabilization::{Settings, Stabilizer, Status};
@@ -234,7 +233,10 @@ fn crossed_edges_are_separated_by_the_mass_weighted_split_of_the_depth() {
 /// depth makes the call return at once with the measured depth), equals the
 /// brute-force separating-axis depth over every pair with a dynamic body.
 #[test]
+#[cfg(feature = "serde")]
 fn engine_states_report_the_brute_force_deepest_penetration() {
+    use crate::stabilize_support::sat_deepest;
+    use constraint_stabilization::io::scene_file::read_scene;
     let folder = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/engine");
     let mut files: Vec<_> = std::fs::read_dir(folder)
         .expect("engine states folder")
@@ -245,7 +247,7 @@ fn engine_states_report_the_brute_force_deepest_penetration() {
     assert!(files.len() >= 14, "{files:?}");
     for path in files {
         let mut scene = read_scene(&path).expect("valid scene");
-        let brute = brute_force_deepest(&scene);
+        let (brute, _) = sat_deepest(&scene);
         let settings = Settings {
             tolerance_absolute: Some(1.0),
             ..Settings::default()
@@ -267,39 +269,4 @@ fn engine_states_report_the_brute_force_deepest_penetration() {
             report.depth_before
         );
     }
-}
-
-/// The largest separating-axis depth over pairs with a dynamic body whose
-/// world-vertex boxes overlap.
-fn brute_force_deepest(scene: &Scene) -> f64 {
-    let boxes: Vec<(Vector3<f64>, Vector3<f64>)> = scene
-        .bodies()
-        .iter()
-        .map(|b| {
-            let pose = b.com_pose();
-            b.polyhedron().vertices().iter().fold(
-                (
-                    Vector3::repeat(f64::INFINITY),
-                    Vector3::repeat(f64::NEG_INFINITY),
-                ),
-                |(lo, hi), v| {
-                    let p = (pose * v).coords;
-                    (lo.inf(&p), hi.sup(&p))
-                },
-            )
-        })
-        .collect();
-    let overlap = |i: usize, j: usize| {
-        (0..3).all(|k| boxes[i].0[k] <= boxes[j].1[k] && boxes[j].0[k] <= boxes[i].1[k])
-    };
-    let mut deepest: f64 = 0.0;
-    for i in 0..scene.len() {
-        for j in i + 1..scene.len() {
-            let both_fixed = scene.bodies()[i].is_fixed() && scene.bodies()[j].is_fixed();
-            if !both_fixed && overlap(i, j) {
-                deepest = deepest.max(sat_depth(scene, i, j));
-            }
-        }
-    }
-    deepest
 }
