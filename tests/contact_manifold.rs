@@ -20,6 +20,7 @@ const POINT_AGREEMENT: f64 = 1e-12;
 
 /// Agreement of the reported deepest penetration of an engine state with
 /// the brute force, relative to the scene's deepest depth.
+#[cfg(feature = "serde")]
 const ENGINE_DEPTH_AGREEMENT_RELATIVE: f64 = 1e-9;
 
 /// Contact margin of the manifold tests (larger than any separation below,

@@ -603,6 +603,7 @@ const RELATIVE_MOTION: f64 = 0.01;
 /// tolerance but below the depth before (the passes made are kept). The same scene converges
 /// when allowed more passes, so the limit is what stopped it.
 #[test]
+#[cfg(feature = "demo")]
 fn the_pass_limit_is_reported() {
     let mut converged = demo_scene(100, DEMO_SEED);
     let (full, _) = stabilize_default(&mut converged);
@@ -636,6 +637,7 @@ fn the_pass_limit_is_reported() {
 /// local search stopped at a face far from the contact, the line search
 /// found no step); it starts from two faces since and converges.
 #[test]
+#[cfg(feature = "demo")]
 fn demo_of_1000_bodies_seed_1_converges_with_two_refinement_starts() {
     let mut scene = demo_scene(1000, 1);
     let (report, residual) = stabilize_default(&mut scene);
