@@ -11,6 +11,9 @@
 
 #![allow(dead_code)]
 
+#[path = "../sat_support/mod.rs"]
+mod sat;
+
 use constraint_stabilization::body::{BodyDesc, MassSpec, Shape};
 use constraint_stabilization::geometry::ConvexPolyhedron;
 use constraint_stabilization::geometry::isometry_to_parry;
@@ -266,15 +269,16 @@ pub fn sat_depth(scene: &Scene, a: usize, b: usize) -> f64 {
 
 /// The smallest overlap of the projections of two posed polyhedra over
 /// every face normal of both and every cross product of an edge of each
-/// (brute force): the exact penetration depth when positive; when negative,
-/// some axis separates the bodies (by at least that gap).
+/// (brute force, [`sat::sat_axes`]): the exact penetration depth when
+/// positive; when negative, some axis separates the bodies (by at least
+/// that gap).
 pub fn sat_overlap(
     poly_a: &ConvexPolyhedron,
     pose_a: &Isometry3<f64>,
     poly_b: &ConvexPolyhedron,
     pose_b: &Isometry3<f64>,
 ) -> f64 {
-    sat_axis(poly_a, pose_a, poly_b, pose_b).0
+    sat::sat_axes(poly_a, pose_a, poly_b, pose_b).all
 }
 
 /// [`sat_overlap`] and the axis that realizes it, oriented from B towards A
@@ -285,63 +289,9 @@ pub fn sat_axis(
     poly_b: &ConvexPolyhedron,
     pose_b: &Isometry3<f64>,
 ) -> (f64, Vector3<f64>) {
-    let world = |poly: &ConvexPolyhedron, pose: &Isometry3<f64>| -> Vec<Vector3<f64>> {
-        poly.vertices().iter().map(|v| (pose * v).coords).collect()
-    };
-    let (points_a, points_b) = (world(poly_a, pose_a), world(poly_b, pose_b));
-    let faces = |poly: &ConvexPolyhedron, pose: &Isometry3<f64>| -> Vec<Vector3<f64>> {
-        poly.faces()
-            .iter()
-            .map(|f| pose.rotation * f.plane.normal)
-            .collect()
-    };
-    let edges = |poly: &ConvexPolyhedron, pose: &Isometry3<f64>| -> Vec<Vector3<f64>> {
-        poly.edges()
-            .iter()
-            .map(|e| pose.rotation * e.direction)
-            .collect()
-    };
-    let (edges_a, edges_b) = (edges(poly_a, pose_a), edges(poly_b, pose_b));
-    let span = |points: &[Vector3<f64>], axis: &Vector3<f64>| {
-        points
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                let h = axis.dot(p);
-                (lo.min(h), hi.max(h))
-            })
-    };
-    // Moving A along +axis separates after max_b - min_a, along -axis
-    // after max_a - min_b.
-    let overlap = |axis: &Vector3<f64>| {
-        let (min_a, max_a) = span(&points_a, axis);
-        let (min_b, max_b) = span(&points_b, axis);
-        let (along, against) = (max_b - min_a, max_a - min_b);
-        if along <= against {
-            (along, *axis)
-        } else {
-            (against, -axis)
-        }
-    };
-    let edge_axes: Vec<Vector3<f64>> = edges_a
-        .iter()
-        .flat_map(|da| {
-            edges_b
-                .iter()
-                .filter_map(move |db| da.cross(db).try_normalize(PARALLEL_SINE))
-        })
-        .collect();
-    faces(poly_a, pose_a)
-        .into_iter()
-        .chain(faces(poly_b, pose_b))
-        .chain(edge_axes)
-        .map(|axis| overlap(&axis))
-        .fold((f64::INFINITY, Vector3::zeros()), |best, next| {
-            if next.0 < best.0 { next } else { best }
-        })
+    let axes = sat::sat_axes(poly_a, pose_a, poly_b, pose_b);
+    (axes.all, axes.axis)
 }
-
-/// Edge pairs closer to parallel than this sine give no axis of their own.
-const PARALLEL_SINE: f64 = 1e-9;
 
 /// Stabilizes with `settings`, checks that no pose became non-finite and
 /// returns the report and the residual ([`penetration_residual`]).

@@ -2,6 +2,9 @@
 //! parry3d-f64 oracle (GJK distance, intersection test, EPA contact).
 #![allow(dead_code)]
 
+#[path = "../sat_support/mod.rs"]
+mod sat;
+
 use constraint_stabilization::geometry::{ConvexPolyhedron, isometry_to_parry};
 use constraint_stabilization::vclip::{BodyRole, DeepestVertex, Outcome, VClipResult};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -230,62 +233,25 @@ fn segment_distance(p0: &Point3<f64>, p1: &Point3<f64>, q0: &Point3<f64>, q1: &P
     best
 }
 
-/// Edge pairs whose directions have `|u × v| <= PARALLEL_EDGES |u| |v|` are
-/// parallel: their cross product is no axis (the faces cover it).
-pub const PARALLEL_EDGES: f64 = 1e-12;
+/// Used by `vclip_warm`; not by every crate that includes this module.
+#[allow(unused_imports)]
+pub use sat::PARALLEL_EDGES;
 
 /// Exact penetration depth of two convex polyhedra by brute force over
-/// separating axes (world frame): the smallest overlap of their projections
-/// over every face normal of either body and every cross product of an edge
-/// of A with an edge of B (the normals of the Minkowski difference's faces
-/// are among these). `faces` is the minimum over face normals only (the
-/// best that a vertex–face answer can reach); `all` adds the edge pairs.
-/// Both are 0 when some axis separates. Cost O((F + E_A E_B)(V_A + V_B)):
-/// for hulls of a few dozen points.
+/// separating axes ([`sat::sat_axes`], the suite's one oracle): `faces` is
+/// the minimum over face normals only (the best that a vertex–face answer
+/// can reach); `all` adds the edge pairs. Both are 0 when some axis
+/// separates.
 pub fn separating_axis_depth(
     a: &ConvexPolyhedron,
     pose_a: &Isometry3<f64>,
     b: &ConvexPolyhedron,
     pose_b: &Isometry3<f64>,
 ) -> AxisDepths {
-    let world = |poly: &ConvexPolyhedron, pose: &Isometry3<f64>| -> Vec<Vector3<f64>> {
-        poly.vertices().iter().map(|p| (pose * p).coords).collect()
-    };
-    let (va, vb) = (world(a, pose_a), world(b, pose_b));
-    let overlap = |n: &Vector3<f64>| -> f64 {
-        let range = |vs: &[Vector3<f64>]| {
-            vs.iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                    let x = n.dot(v);
-                    (lo.min(x), hi.max(x))
-                })
-        };
-        let ((lo_a, hi_a), (lo_b, hi_b)) = (range(&va), range(&vb));
-        (hi_a - lo_b).min(hi_b - lo_a)
-    };
-    let face_normals = a
-        .faces()
-        .iter()
-        .map(|f| pose_a.rotation * f.plane.normal)
-        .chain(b.faces().iter().map(|f| pose_b.rotation * f.plane.normal));
-    let faces = face_normals
-        .map(|n| overlap(&n))
-        .fold(f64::INFINITY, f64::min);
-    let mut all = faces;
-    for ea in a.edges() {
-        let u = va[ea.head] - va[ea.tail];
-        for eb in b.edges() {
-            let v = vb[eb.head] - vb[eb.tail];
-            let n = u.cross(&v);
-            let norm = n.norm();
-            if norm > PARALLEL_EDGES * u.norm() * v.norm() {
-                all = all.min(overlap(&(n / norm)));
-            }
-        }
-    }
+    let axes = sat::sat_axes(a, pose_a, b, pose_b);
     AxisDepths {
-        faces: faces.max(0.0),
-        all: all.max(0.0),
+        faces: axes.faces.max(0.0),
+        all: axes.all.max(0.0),
     }
 }
 
