@@ -50,6 +50,12 @@ use crate::projector::BodyState;
 /// quaternion is normalized before use.
 pub const UNIT_QUATERNION_TOLERANCE: f64 = 1e-3;
 
+/// Departure of a quaternion's norm from 1 that counts as rounding: a
+/// rotation set through [`Body::set_com_pose`] within it is stored as
+/// given, beyond it renormalized (products of unit quaternions drift by a
+/// few ulps each).
+pub const UNIT_QUATERNION_ROUNDING: f64 = 8.0 * f64::EPSILON;
+
 /// A convex shape in the user's representation, kept so that output files
 /// repeat it unchanged.
 #[derive(Debug, Clone, PartialEq)]
@@ -310,6 +316,15 @@ impl Body {
         }
         check_translation(&com_pose.translation.vector)?;
         let rotation = unit_rotation(xyzw_of(&com_pose.rotation))?;
+        // A rotation that is unit to rounding is kept bit for bit, so that
+        // the pose stored is the pose the stabilizer measured (its narrow-
+        // phase answers stay valid); one that drifted is renormalized.
+        let drift = (com_pose.rotation.quaternion().norm() - 1.0).abs();
+        let rotation = if drift <= UNIT_QUATERNION_ROUNDING {
+            com_pose.rotation
+        } else {
+            rotation
+        };
         let offset_world = rotation * self.polyhedron.shape_origin_offset();
         self.translation_user = com_pose.translation.vector - offset_world;
         self.rotation_user_xyzw = xyzw_of(&rotation);

@@ -24,6 +24,7 @@ pub mod error;
 pub mod geometry;
 pub mod io;
 pub mod island;
+mod parallel;
 pub mod projector;
 #[cfg(feature = "rapier")]
 pub mod rapier_bridge;

@@ -2,10 +2,10 @@
 //! providers whose exact answers are known in closed form.
 
 use approx::assert_relative_eq;
+use constraint_stabilization::contact::contact_row;
 use constraint_stabilization::projector::{
     BodyInertia, BodyState, ConstraintProvider, ConstraintRow, LineSearchSettings, Measurement,
-    ProjectionSettings, ProjectionStatus, StepOutcome, TrustRegion, contact_row, project,
-    projection_step,
+    ProjectionSettings, ProjectionStatus, StepOutcome, TrustRegion, project, projection_step,
 };
 use constraint_stabilization::solver::SolverSettings;
 use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3, Vector6};

@@ -25,21 +25,36 @@
 //!   normal comes from the closest features (a face normal, or the cross
 //!   product of two edges), else from the centres of mass.
 //!
-//! Files: `gauss_map` (arcs on the sphere), `penetration` (exact depth),
-//! `manifold` (contact points), `warm_start` (the cache of V-Clip's last
-//! feature pairs), this file (queries and rows).
+//! This room owns contacts, from the scene to the rows:
+//! - `detection`: broad phase and narrow phase over the scene;
+//! - this file: one pair's query (V-Clip, then the exact depth) and its rows;
+//! - `penetration` (exact depth), `gauss_map` (arcs on the sphere),
+//!   `manifold` (contact points), `contact_row` (a row's Jacobian);
+//! - `island_contacts`: the constraint provider of an island, which
+//!   re-queries its pairs at the line search's trial configurations;
+//! - `memo` (the answers of a call, so that V-Clip runs once per pair per
+//!   configuration) and `warm_start` (V-Clip's last feature pairs, kept
+//!   across calls).
 
+mod contact_row;
+mod detection;
 pub mod gauss_map;
+mod island_contacts;
 pub mod manifold;
+mod memo;
 pub mod penetration;
 mod warm_start;
 
 use nalgebra::{Isometry3, Point3, Vector3};
 
 use crate::geometry::{ConvexPolyhedron, Feature};
-use crate::projector::{ConstraintRow, ContactSide, contact_row};
+use crate::projector::ConstraintRow;
 use crate::vclip::{FeaturePair, Outcome, VClip, VClipError, VClipResult};
+pub use contact_row::{ContactSide, contact_row};
+pub use detection::{Detection, DetectionLengths, PairPenetration, detect};
+pub use island_contacts::{ContactOptions, IslandContacts, SceneGeometry};
 pub use manifold::{ContactPoint, Manifold};
+pub use memo::{PosedQuery, QueryMemo};
 pub use penetration::{
     ContactAxis, Penetration, PenetrationFeatures, minimum_translation, widest_separation,
 };

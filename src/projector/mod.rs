@@ -28,18 +28,16 @@
 //! V-Clip are one provider; analytic providers test it alone.
 
 mod configuration;
-mod contact_row;
 mod line_search;
 mod provider;
 mod step;
 mod trust_region;
 
 pub use configuration::{BodyInertia, BodyState, Configuration, moved_configuration};
-pub use contact_row::{ContactSide, contact_row};
 pub use line_search::{LineSearchOutcome, LineSearchSettings, line_search};
 pub use provider::{ConstraintProvider, ConstraintRow, Measurement};
 pub use step::{
-    ProjectionSettings, ProjectionStatus, ProjectionSummary, StepOutcome, StepReport, project,
-    projection_step,
+    Plan, PlannedStep, ProjectionSettings, ProjectionStatus, ProjectionSummary, StepOutcome,
+    StepReport, plan_step, project, projection_step, take_step,
 };
 pub use trust_region::{TrustRegion, radius_of_gyration};

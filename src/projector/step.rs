@@ -14,7 +14,9 @@ use std::time::Instant;
 
 use super::line_search::{LineSearchOutcome, LineSearchSettings, line_search};
 use super::trust_region::TrustRegion;
-use super::{BodyInertia, BodyState, ConstraintProvider, ConstraintRow};
+use nalgebra::DVector;
+
+use super::{BodyInertia, BodyState, ConstraintProvider, ConstraintRow, Measurement};
 use crate::solver::{
     BodyMetric, JacobianRow, ProjectionQp, ProjectionSolution, SolverError, SolverSettings,
     solve_projection,
@@ -101,47 +103,114 @@ pub struct ProjectionSummary {
     pub steps: Vec<StepReport>,
 }
 
-/// One projection step on `configuration` (moved in place only if a step is
-/// accepted). On a solver error the configuration is unchanged.
-pub fn projection_step<P: ConstraintProvider + ?Sized>(
+/// A step solved but not yet taken: the correction and what the line search
+/// needs. [`plan_step`] makes it, [`take_step`] searches along it; in between
+/// the caller may look at the multipliers (the stabilizer checks whether
+/// bodies held still would be pushed).
+#[derive(Debug, Clone)]
+pub struct PlannedStep {
+    /// The constraints measured at the configuration.
+    pub before: Measurement,
+    /// The solver's result.
+    pub solution: ProjectionSolution,
+    /// The linearized constraints.
+    pub rows: Vec<ConstraintRow>,
+    /// Factor by which the trust region scaled the solver's correction.
+    pub trust_scale: f64,
+    /// The scaled correction.
+    pub dq: DVector<f64>,
+    /// Wall time of linearization and solver, seconds.
+    pub solve_seconds: f64,
+}
+
+/// What [`plan_step`] found.
+#[derive(Debug, Clone)]
+pub enum Plan {
+    /// No penetration beyond the tolerance (the deepest one measured):
+    /// nothing to do.
+    Satisfied(f64),
+    /// A correction to search along.
+    Step(Box<PlannedStep>),
+}
+
+/// Measures, linearizes and solves at `configuration` (not moved).
+pub fn plan_step<P: ConstraintProvider + ?Sized>(
     provider: &mut P,
-    configuration: &mut Vec<BodyState>,
+    configuration: &[BodyState],
     inertias: &[BodyInertia],
     settings: &ProjectionSettings,
-) -> Result<StepReport, SolverError> {
+) -> Result<Plan, SolverError> {
     let before = provider.measure(configuration);
     let depth_before = before.deepest_penetration();
-    let mut report = StepReport {
-        outcome: StepOutcome::AlreadySatisfied,
-        constraints: 0,
-        solution: None,
-        trust_scale: 1.0,
-        alpha: None,
-        line_search_trials: 0,
-        depth_before,
-        depth_after: depth_before,
-        displacement: 0.0,
-        solve_seconds: 0.0,
-        line_search_seconds: 0.0,
-    };
     if depth_before <= settings.tolerance {
-        return Ok(report);
+        return Ok(Plan::Satisfied(depth_before));
     }
     let solve_start = Instant::now();
     let rows = provider.linearize(configuration);
-    report.constraints = rows.len();
     let qp = projection_qp(configuration, inertias, &rows, settings.target_margin);
     let solution = solve_projection(&qp, &settings.solver)?;
-    report.trust_scale = settings
+    let trust_scale = settings
         .trust_region
         .scale(&solution.dq, inertias, depth_before);
-    let dq = &(&solution.dq * report.trust_scale);
-    report.solve_seconds = solve_start.elapsed().as_secs_f64();
+    let dq = &solution.dq * trust_scale;
+    Ok(Plan::Step(Box::new(PlannedStep {
+        before,
+        rows,
+        trust_scale,
+        dq,
+        solve_seconds: solve_start.elapsed().as_secs_f64(),
+        solution,
+    })))
+}
+
+impl StepReport {
+    /// The report of a step that found nothing to do at depth `depth`.
+    pub fn satisfied(depth: f64) -> Self {
+        StepReport {
+            outcome: StepOutcome::AlreadySatisfied,
+            constraints: 0,
+            solution: None,
+            trust_scale: 1.0,
+            alpha: None,
+            line_search_trials: 0,
+            depth_before: depth,
+            depth_after: depth,
+            displacement: 0.0,
+            solve_seconds: 0.0,
+            line_search_seconds: 0.0,
+        }
+    }
+}
+
+/// Line search along a planned step; moves `configuration` in place if a
+/// step is accepted.
+pub fn take_step<P: ConstraintProvider + ?Sized>(
+    provider: &mut P,
+    configuration: &mut Vec<BodyState>,
+    plan: PlannedStep,
+    settings: &ProjectionSettings,
+) -> StepReport {
+    let PlannedStep {
+        before,
+        solution,
+        rows,
+        trust_scale,
+        dq,
+        solve_seconds,
+    } = plan;
+    let constraints = rows.len();
+    let mut report = StepReport {
+        outcome: StepOutcome::Stalled,
+        constraints,
+        trust_scale,
+        solve_seconds,
+        ..StepReport::satisfied(before.deepest_penetration())
+    };
     let line_search_start = Instant::now();
     let search = line_search(
         provider,
         configuration,
-        dq,
+        &dq,
         &before,
         settings.tolerance,
         &settings.line_search,
@@ -157,17 +226,16 @@ pub fn projection_step<P: ConstraintProvider + ?Sized>(
             report.alpha = Some(alpha);
             report.line_search_trials = trials;
             report.depth_after = measurement.deepest_penetration();
-            report.displacement = alpha * report.trust_scale * solution.residuals.displacement;
+            report.displacement = alpha * trust_scale * solution.residuals.displacement;
             *configuration = moved;
         }
         LineSearchOutcome::Rejected { trials } => {
-            report.outcome = StepOutcome::Stalled;
             report.line_search_trials = trials;
         }
     }
     report.line_search_seconds = line_search_start.elapsed().as_secs_f64();
     log::debug!(
-        "projection step: {} rows, {:?}, trust scale {:.3e}, alpha {:?} after {} trials, depth {:e} -> {:e}",
+        "projection step: {} rows, {:?}, trust scale {:.3e}, alpha {:?} after {} trials, depth {:.3e} -> {:.3e}",
         report.constraints,
         solution.solver,
         report.trust_scale,
@@ -177,7 +245,24 @@ pub fn projection_step<P: ConstraintProvider + ?Sized>(
         report.depth_after
     );
     report.solution = Some(solution);
-    Ok(report)
+    report
+}
+
+/// One projection step on `configuration` (moved in place only if a step is
+/// accepted): [`plan_step`], then [`take_step`]. On a solver error the
+/// configuration is unchanged.
+pub fn projection_step<P: ConstraintProvider + ?Sized>(
+    provider: &mut P,
+    configuration: &mut Vec<BodyState>,
+    inertias: &[BodyInertia],
+    settings: &ProjectionSettings,
+) -> Result<StepReport, SolverError> {
+    Ok(
+        match plan_step(provider, configuration, inertias, settings)? {
+            Plan::Satisfied(depth) => StepReport::satisfied(depth),
+            Plan::Step(plan) => take_step(provider, configuration, *plan, settings),
+        },
+    )
 }
 
 /// Projection steps until no penetration beyond the tolerance remains, a

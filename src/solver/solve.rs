@@ -112,6 +112,11 @@ pub struct SolverSettings {
     /// 173 vs 27 ms at 500. Lemke's dense tableau grows as `n^3`, clarabel's
     /// sparse factorization about linearly.
     pub auto_lemke_max_rows: usize,
+    /// When the first solver fails, try the others (in the order of the
+    /// module docs). Default true. The stabilizer turns it off for the
+    /// trial regions of an island, whose failure only means that the
+    /// region must grow (`stabilizer/region.rs`).
+    pub fall_back: bool,
     /// clarabel settings (both forms).
     pub clarabel: ClarabelSettings,
     /// Lemke settings.
@@ -128,6 +133,7 @@ impl Default for SolverSettings {
             tol_residual: 1e-6,
             length_scale: 0.0,
             auto_lemke_max_rows: 160,
+            fall_back: true,
             clarabel: ClarabelSettings::default(),
             lemke: LemkeSettings::default(),
             pgs: PgsSettings::default(),
@@ -227,7 +233,7 @@ fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind>
         SolverChoice::Lemke => SolverKind::Lemke,
         SolverChoice::Pgs => SolverKind::Pgs,
     };
-    if first == SolverKind::Trivial {
+    if first == SolverKind::Trivial || !settings.fall_back {
         return vec![first];
     }
     let fallbacks = if qp.num_rows() <= settings.auto_lemke_max_rows {

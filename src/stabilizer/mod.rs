@@ -30,9 +30,7 @@
 //! pose is put back and the report says so; on an error (invalid input)
 //! every pose is as it was before the call.
 
-mod detection;
-mod island_provider;
-mod parallel;
+mod region;
 mod report;
 mod settings;
 mod solve_island;
@@ -48,13 +46,14 @@ pub use report::{
 pub use settings::{ResolvedLengths, Settings, SettingsError};
 
 use crate::Error;
-use crate::contact::WarmStartCache;
+use crate::contact::{
+    Detection, DetectionLengths, QueryMemo, SceneGeometry, WarmStartCache, detect,
+};
 use crate::island::islands;
+use crate::parallel;
 use crate::projector::ProjectionSettings;
 use crate::scene::Scene;
 use crate::vclip::VClip;
-use detection::{Detection, detect};
-use island_provider::SceneGeometry;
 use solve_island::{IslandSolution, PassInput, solve_island};
 
 /// The error type of a stabilization call.
@@ -155,13 +154,25 @@ impl Stabilizer {
             .collect();
         let mut report = Report::new(&lengths);
         self.cache.forget_dropped_shapes();
+        let mut memo = QueryMemo::default();
+        let detection_lengths = DetectionLengths {
+            tolerance: lengths.tolerance,
+            contact_margin: lengths.contact_margin,
+        };
         loop {
             let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
             let geometry = SceneGeometry {
                 shapes: &shapes,
                 poses: &poses,
             };
-            let detection = detect(scene, geometry, &mut self.cache, &vclip, &lengths)?;
+            let detection = detect(
+                scene,
+                geometry,
+                &mut self.cache,
+                &mut memo,
+                &vclip,
+                detection_lengths,
+            )?;
             report.record_detection(&detection);
             let mut pass = pass_report(&detection, lengths.tolerance);
             let finished = if detection.deepest <= lengths.tolerance {
@@ -189,7 +200,7 @@ impl Stabilizer {
                 &mut pass,
             )?;
             report.passes += 1;
-            let stuck = self.apply(scene, solutions, &mut report, &mut pass)?;
+            let stuck = self.apply(scene, solutions, &mut memo, &mut report, &mut pass)?;
             log_pass(report.passes, &pass, &report.islands_left, start);
             report.pass_reports.push(pass);
             if let Some(status) = stuck {
@@ -206,6 +217,7 @@ impl Stabilizer {
         &mut self,
         scene: &mut Scene,
         solutions: Vec<IslandSolution>,
+        memo: &mut QueryMemo,
         report: &mut Report,
         pass: &mut PassReport,
     ) -> Result<Option<Status>, Error> {
@@ -230,7 +242,12 @@ impl Stabilizer {
         for solution in solutions {
             report.times.solve += solution.solve_seconds;
             report.times.line_search += solution.line_search_seconds;
+            report.times.narrow_phase += solution.query_seconds;
+            report.pair_queries += solution.queries;
             solution.apply(scene, &mut self.cache)?;
+            for (pair, answer) in &solution.answers {
+                memo.insert(*pair, *answer);
+            }
             pass.solved.push(solution.report);
         }
         Ok(match (any_moved, any_failed) {
@@ -266,7 +283,7 @@ impl Stabilizer {
             geometry,
             active_pairs: &detection.active_pairs,
             active_values: &detection.active_values,
-            cache: &self.cache,
+            active_queries: &detection.active_queries,
             settings: &self.settings,
             lengths,
             projection,
@@ -288,9 +305,10 @@ fn worse_than_input(report: &Report) -> bool {
 /// The debug line of a pass.
 fn log_pass(number: usize, pass: &PassReport, left: &[IslandLeft], start: Instant) {
     log::debug!(
-        "pass {number}: {} candidates, {} active, {} penetrating, {} islands, \
+        "pass {number}: {} candidates ({} queried), {} active, {} penetrating, {} islands, \
          {} solved ({} left), deepest {:.3e}, {:.3} ms so far",
         pass.candidate_pairs,
+        pass.queried_pairs,
         pass.active_pairs,
         pass.penetrating_pairs,
         pass.islands,
@@ -304,6 +322,7 @@ fn log_pass(number: usize, pass: &PassReport, left: &[IslandLeft], start: Instan
 fn pass_report(detection: &Detection, tolerance: f64) -> PassReport {
     PassReport {
         candidate_pairs: detection.candidates,
+        queried_pairs: detection.queried,
         penetrating_pairs: detection.penetrating(tolerance),
         active_pairs: detection.active_pairs.len(),
         islands: 0,

@@ -1,10 +1,10 @@
 //! What a stabilization call did: status, passes, islands, solvers,
 //! line-search steps, penetration before and after, displacement, times.
 
-use super::detection::Detection;
 use super::settings::ResolvedLengths;
 use crate::Error;
-use crate::contact::PenetrationFeatures;
+use crate::contact::Detection;
+pub use crate::contact::PairPenetration;
 use crate::projector::StepOutcome;
 use crate::solver::{CrossCheck, Fallback, SolverKind};
 
@@ -107,6 +107,13 @@ pub struct IslandReport {
     pub bodies: Vec<usize>,
     /// Body pairs of the island (penetrating or within the contact margin).
     pub pairs: usize,
+    /// Bodies moved by the step: the region that still penetrated, grown
+    /// while the answer pushed bodies held still (all of `bodies` when
+    /// [`super::Settings::solve_whole_islands`]); 0 if not solved.
+    pub region_bodies: usize,
+    /// Problems solved to find that region (1 when the first one pushed
+    /// no held body).
+    pub region_rounds: usize,
     /// Linearized constraint rows.
     pub constraints: usize,
     /// The solver that produced the correction (`None` if nothing solved).
@@ -137,6 +144,9 @@ pub struct IslandReport {
 pub struct PassReport {
     /// Candidate pairs from the broad phase.
     pub candidate_pairs: usize,
+    /// Candidate pairs queried by the narrow phase (the others had not
+    /// moved since their last answer).
+    pub queried_pairs: usize,
     /// Pairs penetrating deeper than the tolerance.
     pub penetrating_pairs: usize,
     /// Pairs within the contact margin (penetrating or not).
@@ -148,20 +158,6 @@ pub struct PassReport {
     /// The islands solved in this pass (those with a penetration deeper than
     /// the tolerance), in ascending order of their smallest body.
     pub solved: Vec<IslandReport>,
-}
-
-/// One penetrating pair as a detection found it: the feature pair of its
-/// minimum translation and its exact depth.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PairPenetration {
-    /// First body (scene index, the smaller).
-    pub body_a: usize,
-    /// Second body (scene index).
-    pub body_b: usize,
-    /// Vertex–face (either body's face) or edge–edge.
-    pub features: PenetrationFeatures,
-    /// Exact penetration depth (separating axes).
-    pub depth: f64,
 }
 
 /// Wall time per stage, seconds, summed over passes (and over islands for
@@ -222,6 +218,10 @@ pub struct Report {
     /// then the input's.
     pub restored_input: bool,
     /// Wall time per stage.
+    /// Narrow-phase queries (V-Clip and, when penetrating, the exact
+    /// depth) run by the call: detections and line-search trials. A pair is
+    /// queried once per configuration of its two bodies.
+    pub pair_queries: usize,
     pub times: StageTimes,
 }
 
@@ -242,6 +242,7 @@ impl Report {
             bodies_moved: 0,
             islands_left: Vec::new(),
             restored_input: false,
+            pair_queries: 0,
             times: StageTimes::default(),
         }
     }
@@ -251,6 +252,7 @@ impl Report {
     pub(crate) fn record_detection(&mut self, detection: &Detection) {
         self.times.broad_phase += detection.broad_phase_seconds;
         self.times.narrow_phase += detection.narrow_phase_seconds;
+        self.pair_queries += detection.queried;
         if self.pass_reports.is_empty() {
             self.depth_before = detection.deepest;
             self.penetrations_before = detection.penetrations.clone();

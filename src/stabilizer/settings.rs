@@ -41,6 +41,12 @@ pub struct Settings {
     /// than the deepest vertex alone. Default true (see the README for the
     /// measurement that chose it).
     pub contact_manifold: bool,
+    /// Solve every body of a penetrating island in every pass. Default
+    /// false: a pass solves the bodies of the pairs that still penetrate,
+    /// grown while the answer pushes bodies held still (see
+    /// `stabilizer/region.rs`), which gives the whole island's answer to
+    /// within the tolerance at the cost of the part that moves.
+    pub solve_whole_islands: bool,
     /// Trust region: the largest rotation of a body in one step, radians.
     /// The island's whole correction is scaled down (its direction kept) so
     /// that no body turns further, before the line search; the next pass
@@ -80,6 +86,7 @@ impl Default for Settings {
             target_margin_absolute: None,
             max_passes: 100,
             contact_manifold: true,
+            solve_whole_islands: false,
             step_max_rotation: DEFAULT_STEP_MAX_ROTATION,
             step_max_translation_relative: DEFAULT_STEP_MAX_TRANSLATION_RELATIVE,
             line_search: LineSearchSettings::default(),

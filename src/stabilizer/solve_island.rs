@@ -1,6 +1,10 @@
 //! One projection step for one island, computed without touching the
 //! scene; the caller applies the results in island order.
 //!
+//! The step moves the island's [`Region`]: the bodies that still penetrate,
+//! grown while the answer pushes bodies held still (see [`super::region`]),
+//! up to the whole island.
+//!
 //! An island that cannot be solved (every solver failed, or its problem is
 //! invalid) is not an error of the call: its solution moves nothing and
 //! says why ([`IslandOutcome::Failed`]), so that the other islands and the
@@ -8,13 +12,18 @@
 
 use crate::Error;
 use crate::broad_phase::BodyPair;
-use crate::contact::WarmStartCache;
+use crate::contact::{
+    ContactOptions, IslandContacts, PairQuery, PosedQuery, SceneGeometry, WarmStartCache,
+};
 use crate::island::{Island, IslandError};
-use crate::projector::{BodyInertia, BodyState, ProjectionSettings, StepOutcome, projection_step};
+use crate::projector::{
+    BodyInertia, BodyState, Plan, PlannedStep, ProjectionSettings, StepReport, plan_step, take_step,
+};
 use crate::scene::Scene;
+use crate::solver::SolverSettings;
 use crate::vclip::VClip;
 
-use super::island_provider::{IslandProvider, SceneGeometry};
+use super::region::{Region, pushed_bodies};
 use super::report::{IslandOutcome, IslandReport};
 use super::settings::{ResolvedLengths, Settings};
 
@@ -22,14 +31,21 @@ use super::settings::{ResolvedLengths, Settings};
 pub struct IslandSolution {
     /// What happened, for the report.
     pub report: IslandReport,
-    /// New centre-of-mass states of the island's bodies (empty unless moved).
+    /// New centre-of-mass states of the moved bodies (empty unless moved).
     pub states: Vec<(usize, BodyState)>,
-    /// V-Clip warm starts of the island's pairs after the step.
+    /// V-Clip warm starts of the solved pairs after the step.
     pub warm_starts: WarmStartCache,
+    /// Narrow-phase answers at the accepted configuration (empty unless
+    /// moved), for the next detection.
+    pub answers: Vec<(BodyPair, PosedQuery)>,
     /// Linearization and solver time, seconds.
     pub solve_seconds: f64,
-    /// Line-search time, seconds.
+    /// Line-search time apart from its queries, seconds.
     pub line_search_seconds: f64,
+    /// Time of the island's own narrow-phase queries, seconds.
+    pub query_seconds: f64,
+    /// Number of those queries.
+    pub queries: usize,
 }
 
 impl IslandSolution {
@@ -54,8 +70,8 @@ pub struct PassInput<'a> {
     pub active_pairs: &'a [BodyPair],
     /// Signed value (distance, or minus the exact depth) of each active pair.
     pub active_values: &'a [f64],
-    /// V-Clip warm starts.
-    pub cache: &'a WarmStartCache,
+    /// Narrow-phase answer of each active pair at the pass's poses.
+    pub active_queries: &'a [PairQuery],
     /// The stabilizer's settings.
     pub settings: &'a Settings,
     /// Resolved lengths.
@@ -89,6 +105,8 @@ impl IslandSolution {
             report: IslandReport {
                 bodies: island.bodies.clone(),
                 pairs: island.pairs.len(),
+                region_bodies: 0,
+                region_rounds: 0,
                 constraints: 0,
                 solver: None,
                 fallbacks: Vec::new(),
@@ -103,61 +121,234 @@ impl IslandSolution {
             },
             states: Vec::new(),
             warm_starts: WarmStartCache::default(),
+            answers: Vec::new(),
             solve_seconds: 0.0,
             line_search_seconds: 0.0,
+            query_seconds: 0.0,
+            queries: 0,
         }
     }
+}
+
+/// One round of an island's step: the region's contacts, its configuration
+/// at the pass's poses and its plan.
+struct Round<'a> {
+    contacts: IslandContacts<'a>,
+    configuration: Vec<BodyState>,
+    plan: Result<Plan, Error>,
+}
+
+/// The region's problem: its contacts (every island pair with a body in
+/// the region) and the plan at the pass's poses.
+fn plan_region<'a>(
+    input: PassInput<'a>,
+    island: &Island,
+    bodies: Vec<usize>,
+) -> Result<Round<'a>, Error> {
+    let moving = |body: usize| bodies.binary_search(&body).is_ok();
+    let (pairs, answers): (Vec<BodyPair>, Vec<PairQuery>) = island
+        .pairs
+        .iter()
+        .map(|&k| (input.active_pairs[k], input.active_queries[k]))
+        .filter(|(pair, _)| moving(pair.body_a) || moving(pair.body_b))
+        .unzip();
+    let (configuration, inertias) = island_state(input.scene, &bodies)?;
+    let options = ContactOptions {
+        vclip: VClip::new(input.settings.vclip),
+        margin: input.lengths.contact_margin,
+        manifold: input.settings.contact_manifold,
+    };
+    let mut contacts = IslandContacts::new(
+        input.geometry,
+        bodies,
+        pairs,
+        answers,
+        configuration.clone(),
+        options,
+    );
+    // A region short of the whole island has one solver and no fallback:
+    // its failure only means that it must grow.
+    let whole = contacts_cover_island(island, contacts.bodies());
+    let trial_settings;
+    let projection = if whole {
+        input.projection
+    } else {
+        trial_settings = ProjectionSettings {
+            solver: SolverSettings {
+                fall_back: false,
+                ..input.projection.solver.clone()
+            },
+            ..input.projection.clone()
+        };
+        &trial_settings
+    };
+    let plan = plan_step(&mut contacts, &configuration, &inertias, projection).map_err(Error::from);
+    Ok(Round {
+        contacts,
+        configuration,
+        plan,
+    })
+}
+
+/// Whether `bodies` are all the island's dynamic bodies.
+fn contacts_cover_island(island: &Island, bodies: &[usize]) -> bool {
+    bodies.len() == island.bodies.len()
+}
+
+/// The region of the first round: the penetrating pairs' bodies, or the
+/// whole island when the settings ask for it.
+fn first_region(input: PassInput, island: &Island) -> Region {
+    if input.settings.solve_whole_islands {
+        return Region::whole(&island.bodies);
+    }
+    let island_pairs: Vec<BodyPair> = island
+        .pairs
+        .iter()
+        .map(|&k| input.active_pairs[k])
+        .collect();
+    let penetrating: Vec<BodyPair> = island
+        .pairs
+        .iter()
+        .filter(|&&k| -input.active_values[k] > input.lengths.tolerance)
+        .map(|&k| input.active_pairs[k])
+        .collect();
+    Region::new(&island.bodies, &island_pairs, &penetrating)
+}
+
+/// Plans rounds on a growing region until its answer pushes no held body
+/// (or the region is the whole island).
+fn plan_island<'a>(
+    input: PassInput<'a>,
+    island: &Island,
+) -> Result<(Round<'a>, usize, f64), Error> {
+    let mut region = first_region(input, island);
+    let mut rounds = 0;
+    let mut solve_seconds = 0.0;
+    loop {
+        rounds += 1;
+        let round = plan_region(input, island, region.bodies())?;
+        if let Ok(Plan::Step(step)) = &round.plan {
+            solve_seconds += step.solve_seconds;
+        }
+        let pushed = match &round.plan {
+            _ if region.is_whole() => return Ok((round, rounds, solve_seconds)),
+            Ok(Plan::Satisfied(_)) => return Ok((round, rounds, solve_seconds)),
+            Ok(Plan::Step(step)) => {
+                let pushed = pushed_by(input, &region, &round.contacts, step);
+                if pushed.is_empty() {
+                    return Ok((round, rounds, solve_seconds));
+                }
+                pushed
+            }
+            Err(error) => {
+                log::debug!(
+                    "island (first body {}): region of {} bodies not solved ({error}); growing",
+                    island.bodies[0],
+                    round.contacts.bodies().len()
+                );
+                Vec::new()
+            }
+        };
+        log::debug!(
+            "island (first body {}): region of {} bodies pushes {} held bodies; growing",
+            island.bodies[0],
+            round.contacts.bodies().len(),
+            pushed.len()
+        );
+        region.grow(&pushed);
+    }
+}
+
+/// The held bodies that a region's planned step pushes beyond the
+/// tolerance.
+fn pushed_by(
+    input: PassInput,
+    region: &Region,
+    contacts: &IslandContacts,
+    step: &PlannedStep,
+) -> Vec<usize> {
+    let mass = |body: usize| {
+        input
+            .scene
+            .body(body)
+            .ok()
+            .and_then(|b| b.mass())
+            .map_or(f64::INFINITY, |m| m.mass)
+    };
+    pushed_bodies(
+        region,
+        contacts.pairs(),
+        &step.rows,
+        contacts.row_pairs(),
+        step.solution.lambda.as_slice(),
+        mass,
+        input.lengths.tolerance,
+    )
 }
 
 /// One projection step on `island`, whose pairs index the pass's active
 /// pairs.
 fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolution, Error> {
-    let PassInput {
-        scene,
-        geometry,
-        active_pairs,
-        active_values: _,
-        cache,
-        settings,
-        lengths,
-        projection,
-    } = input;
-    let pairs: Vec<BodyPair> = island.pairs.iter().map(|&k| active_pairs[k]).collect();
-    let pair_count = pairs.len();
-    let mut provider = IslandProvider::new(
-        geometry,
-        &island.bodies,
-        pairs,
-        cache,
-        VClip::new(settings.vclip),
-        lengths.contact_margin,
-        settings.contact_manifold,
-    );
-    let (mut configuration, inertias) = island_state(scene, &island.bodies)?;
-    let step = projection_step(&mut provider, &mut configuration, &inertias, projection)?;
+    let (round, rounds, solve_seconds) = plan_island(input, island)?;
+    let Round {
+        mut contacts,
+        mut configuration,
+        plan,
+    } = round;
+    let step = match plan? {
+        Plan::Satisfied(depth) => StepReport::satisfied(depth),
+        Plan::Step(step) => take_step(&mut contacts, &mut configuration, *step, input.projection),
+    };
+    Ok(finish(
+        island,
+        rounds,
+        contacts,
+        configuration,
+        step,
+        solve_seconds,
+    ))
+}
+
+/// The solution of an island from its last round's step.
+fn finish(
+    island: &Island,
+    rounds: usize,
+    contacts: IslandContacts,
+    configuration: Vec<BodyState>,
+    step: StepReport,
+    solve_seconds: f64,
+) -> IslandSolution {
     let mut warm_starts = WarmStartCache::default();
-    provider.record_warm_starts(&mut warm_starts);
-    let states = if step.outcome == StepOutcome::Moved {
-        island.bodies.iter().copied().zip(configuration).collect()
+    contacts.record_warm_starts(&mut warm_starts);
+    let moved = step.outcome == crate::projector::StepOutcome::Moved;
+    let bodies = contacts.bodies();
+    let (states, answers) = if moved {
+        let states = bodies.iter().copied().zip(configuration).collect();
+        (states, contacts.answers())
     } else {
-        Vec::new()
+        (Vec::new(), Vec::new())
     };
     let solution = step.solution.as_ref();
     log::debug!(
-        "island of {} bodies (first {}): {} pairs, {} rows, {:?}, alpha {:?}, depth {:.3e} -> {:.3e}",
+        "island of {} bodies (first {}): solved {} of them ({} rounds), {} pairs, {} rows, {:?}, alpha {:?}, depth {:.3e} -> {:.3e}",
         island.bodies.len(),
         island.bodies[0],
-        pair_count,
+        bodies.len(),
+        rounds,
+        contacts.pairs().len(),
         step.constraints,
         solution.map(|s| s.solver),
         step.alpha,
         step.depth_before,
         step.depth_after
     );
-    Ok(IslandSolution {
+    let query_seconds = contacts.query_seconds();
+    IslandSolution {
         report: IslandReport {
             bodies: island.bodies.clone(),
-            pairs: pair_count,
+            pairs: contacts.pairs().len(),
+            region_bodies: bodies.len(),
+            region_rounds: rounds,
             constraints: step.constraints,
             solver: solution.map(|s| s.solver),
             fallbacks: solution.map(|s| s.fallbacks.clone()).unwrap_or_default(),
@@ -172,9 +363,12 @@ fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolut
         },
         states,
         warm_starts,
-        solve_seconds: step.solve_seconds,
-        line_search_seconds: step.line_search_seconds,
-    })
+        answers,
+        solve_seconds,
+        line_search_seconds: (step.line_search_seconds - query_seconds).max(0.0),
+        query_seconds,
+        queries: contacts.queries(),
+    }
 }
 
 /// States and inertias of the island's dynamic bodies.

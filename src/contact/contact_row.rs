@@ -18,7 +18,7 @@
 
 use nalgebra::{Point3, Vector3, Vector6};
 
-use super::ConstraintRow;
+use crate::projector::ConstraintRow;
 
 /// A body's side of a contact: its index in the configuration and its
 /// centre of mass, or `None` for a fixed body.

@@ -1,0 +1,182 @@
+//! Detection over the whole scene: broad phase, then the narrow phase on
+//! every candidate pair, classified against the tolerance and the contact
+//! margin.
+//!
+//! A pair whose two bodies have not moved since its last answer in this call
+//! (the [`QueryMemo`]) is not queried again; every other pair runs V-Clip,
+//! warm-started from the pair's last feature pair ([`WarmStartCache`]).
+
+use std::time::Instant;
+
+use nalgebra::Isometry3;
+
+use super::island_contacts::{SceneGeometry, shape_pair};
+use super::memo::{PosedQuery, QueryMemo};
+use super::{BodyGeometry, PairQuery, PenetrationFeatures, WarmStartCache, query};
+use crate::Error;
+use crate::broad_phase::{self, BodyPair};
+use crate::parallel;
+use crate::scene::Scene;
+use crate::vclip::{FeaturePair, VClip};
+
+/// One penetrating pair as a detection found it: the feature pair of its
+/// minimum translation and its exact depth.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairPenetration {
+    /// First body (scene index, the smaller).
+    pub body_a: usize,
+    /// Second body (scene index).
+    pub body_b: usize,
+    /// Vertex–face (either body's face) or edge–edge.
+    pub features: PenetrationFeatures,
+    /// Exact penetration depth (separating axes).
+    pub depth: f64,
+}
+
+/// The pairs that matter after one detection.
+#[derive(Debug, Clone, Default)]
+pub struct Detection {
+    /// Candidate pairs from the broad phase.
+    pub candidates: usize,
+    /// Candidate pairs queried (the others were answered by the memo).
+    pub queried: usize,
+    /// Pairs penetrating or within the contact margin, ascending.
+    pub active_pairs: Vec<BodyPair>,
+    /// Signed value (distance, or minus depth) of each active pair.
+    pub active_values: Vec<f64>,
+    /// Narrow-phase answer of each active pair, at the detection's poses.
+    pub active_queries: Vec<PairQuery>,
+    /// Deepest penetration over all pairs (0 if none).
+    pub deepest: f64,
+    /// The pairs penetrating deeper than the tolerance, ascending.
+    pub penetrations: Vec<PairPenetration>,
+    /// Broad-phase wall time, seconds.
+    pub broad_phase_seconds: f64,
+    /// Narrow-phase wall time, seconds.
+    pub narrow_phase_seconds: f64,
+}
+
+impl Detection {
+    /// Number of active pairs penetrating deeper than `tolerance`.
+    pub fn penetrating(&self, tolerance: f64) -> usize {
+        self.active_values
+            .iter()
+            .filter(|&&v| -v > tolerance)
+            .count()
+    }
+}
+
+/// Lengths that classify the pairs of a detection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DetectionLengths {
+    /// Depth above which a pair counts as penetrating.
+    pub tolerance: f64,
+    /// Separated pairs closer than this are active (join islands and rows).
+    pub contact_margin: f64,
+}
+
+/// Broad and narrow phase at the scene's current poses; updates the warm
+/// starts and the memo.
+pub fn detect(
+    scene: &Scene,
+    geometry: SceneGeometry,
+    cache: &mut WarmStartCache,
+    memo: &mut QueryMemo,
+    vclip: &VClip,
+    lengths: DetectionLengths,
+) -> Result<Detection, Error> {
+    let broad_start = Instant::now();
+    let candidates = broad_phase::candidate_pairs(scene, lengths.contact_margin)?;
+    let broad_phase_seconds = broad_start.elapsed().as_secs_f64();
+    let narrow_start = Instant::now();
+    let poses_of = |pair: BodyPair| [&geometry.poses[pair.body_a], &geometry.poses[pair.body_b]];
+    let mut answers: Vec<Option<PairQuery>> = candidates
+        .iter()
+        .map(|&pair| memo.get(pair, poses_of(pair)).copied())
+        .collect();
+    let to_query: Vec<usize> = (0..candidates.len())
+        .filter(|&i| answers[i].is_none())
+        .collect();
+    let queried = parallel::map(&to_query, |&i| {
+        let pair = candidates[i];
+        let start = cache.get(pair, shape_pair(geometry.shapes, pair));
+        query_pair(geometry, pair, vclip, start)
+    });
+    for (&i, result) in to_query.iter().zip(queried) {
+        let result = result?;
+        let pair = candidates[i];
+        cache.insert(
+            pair,
+            shape_pair(geometry.shapes, pair),
+            result.vclip.final_pair,
+        );
+        let [pose_a, pose_b] = poses_of(pair);
+        let poses = [*pose_a, *pose_b];
+        memo.insert(
+            pair,
+            PosedQuery {
+                poses,
+                query: result,
+            },
+        );
+        answers[i] = Some(result);
+    }
+    let mut detection = Detection {
+        candidates: candidates.len(),
+        queried: to_query.len(),
+        broad_phase_seconds,
+        ..Detection::default()
+    };
+    for (pair, answer) in candidates.into_iter().zip(answers) {
+        // Every pair has an answer: from the memo, or queried just above.
+        if let Some(result) = answer {
+            detection.record(pair, result, lengths);
+        }
+    }
+    detection.narrow_phase_seconds = narrow_start.elapsed().as_secs_f64();
+    Ok(detection)
+}
+
+impl Detection {
+    /// Classifies one pair's answer.
+    fn record(&mut self, pair: BodyPair, result: PairQuery, lengths: DetectionLengths) {
+        let value = result.signed_value();
+        self.deepest = self.deepest.max(-value);
+        if let Some(penetration) = result.penetration.filter(|p| p.depth() > lengths.tolerance) {
+            log::debug!(
+                "penetration ({}, {}): {} depth {:.3e}",
+                pair.body_a,
+                pair.body_b,
+                penetration.features().kind(),
+                penetration.depth()
+            );
+            self.penetrations.push(PairPenetration {
+                body_a: pair.body_a,
+                body_b: pair.body_b,
+                features: penetration.features(),
+                depth: penetration.depth(),
+            });
+        }
+        if value < lengths.contact_margin {
+            self.active_pairs.push(pair);
+            self.active_values.push(value);
+            self.active_queries.push(result);
+        }
+    }
+}
+
+fn query_pair(
+    geometry: SceneGeometry,
+    pair: BodyPair,
+    vclip: &VClip,
+    start: Option<FeaturePair>,
+) -> Result<PairQuery, Error> {
+    let body = |index: usize, pose: &Isometry3<f64>| BodyGeometry {
+        shape: &geometry.shapes[index],
+        pose: *pose,
+        configuration_index: None,
+    };
+    let a = body(pair.body_a, &geometry.poses[pair.body_a]);
+    let b = body(pair.body_b, &geometry.poses[pair.body_b]);
+    Ok(query(vclip, &a, &b, start)?)
+}
