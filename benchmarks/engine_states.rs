@@ -93,6 +93,9 @@ struct Row {
     answer: Answer,
     repeats: usize,
     call: f64,
+    /// The same call with [`whole_islands`], interleaved with it.
+    whole_call: f64,
+    whole_passes: usize,
     stages: StageTimes,
     step: f64,
     first_step: f64,
@@ -195,10 +198,19 @@ fn rayon_threads() -> usize {
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
+/// The settings of the side-by-side call: every pass solves whole islands
+/// (the behaviour before regions).
+fn whole_islands() -> Settings {
+    Settings {
+        solve_whole_islands: true,
+        ..Settings::default()
+    }
+}
+
 /// One call (fresh stabilizer, fresh copy): result, outer wall time, scene.
-fn call(scene: &Scene) -> (Result<Report, String>, f64, Scene) {
+fn call(scene: &Scene, settings: Settings) -> (Result<Report, String>, f64, Scene) {
     let mut work = scene.clone();
-    let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
+    let mut stabilizer = Stabilizer::new(settings).expect("valid settings");
     let start = Instant::now();
     let report = stabilizer.stabilize(&mut work).map_err(|e| e.to_string());
     (report, start.elapsed().as_secs_f64(), work)
@@ -217,7 +229,10 @@ fn steps(scene: &Scene) -> Vec<f64> {
 }
 
 fn measure(case: &Case, quick: bool) -> Row {
-    let (report, first_seconds, after) = call(&case.scene);
+    let (report, first_seconds, after) = call(&case.scene, Settings::default());
+    let whole_passes = call(&case.scene, whole_islands())
+        .0
+        .map_or(0, |report| report.passes);
     let answer = judge(&case.scene, report, &after);
     let (budget, max_repeats) = if quick {
         (QUICK_BUDGET_SECONDS, QUICK_MAX_REPEATS)
@@ -227,6 +242,7 @@ fn measure(case: &Case, quick: bool) -> Row {
     let repeats = ((budget / first_seconds.max(1e-9)).ceil() as usize)
         .clamp(MIN_REPEATS.min(max_repeats), max_repeats);
     let mut calls = Vec::with_capacity(repeats);
+    let mut whole_calls = Vec::with_capacity(repeats);
     let mut stage_runs: Vec<StageTimes> = Vec::with_capacity(repeats);
     let mut step_times = Vec::with_capacity(repeats * STEPS);
     let mut first_steps = Vec::with_capacity(repeats);
@@ -239,8 +255,9 @@ fn measure(case: &Case, quick: bool) -> Row {
         if r % 2 == 1 {
             time_steps();
         }
-        let (report, seconds, _) = call(&case.scene);
+        let (report, seconds, _) = call(&case.scene, Settings::default());
         calls.push(seconds);
+        whole_calls.push(call(&case.scene, whole_islands()).1);
         if let Ok(report) = report {
             stage_runs.push(report.times);
         }
@@ -257,6 +274,8 @@ fn measure(case: &Case, quick: bool) -> Row {
         answer,
         repeats,
         call: common::median(&calls),
+        whole_call: common::median(&whole_calls),
+        whole_passes,
         stages: StageTimes {
             broad_phase: stage(|t| t.broad_phase),
             narrow_phase: stage(|t| t.narrow_phase),
@@ -344,9 +363,14 @@ fn status(answer: &Answer) -> String {
 /// more digits; the Markdown's "bodies (dyn)" is two CSV columns).
 fn cells(row: &Row) -> Vec<(String, String)> {
     let a = &row.answer;
-    let (passes, before, after) = match &a.report {
-        Ok(r) => (r.passes.to_string(), r.depth_before, r.depth_after),
-        Err(_) => ("-".into(), f64::NAN, f64::NAN),
+    let (passes, before, after, queries) = match &a.report {
+        Ok(r) => (
+            r.passes.to_string(),
+            r.depth_before,
+            r.depth_after,
+            r.pair_queries.to_string(),
+        ),
+        Err(_) => ("-".into(), f64::NAN, f64::NAN, "-".into()),
     };
     let sci = |x: f64| (format!("{x:.2e}"), format!("{x:.6e}"));
     let fixed = |x: f64, digits: usize| (format!("{x:.digits$}"), format!("{x:.6}"));
@@ -358,6 +382,7 @@ fn cells(row: &Row) -> Vec<(String, String)> {
             format!("{},{}", row.bodies, row.dynamic),
         ),
         (passes.clone(), passes),
+        (queries.clone(), queries),
         (status(a), format!("\"{}\"", status(a).replace('"', "'"))),
         sci(before),
         sci(after),
@@ -375,6 +400,8 @@ fn cells(row: &Row) -> Vec<(String, String)> {
     ] {
         cells.push(fixed(seconds * 1e3, 2));
     }
+    cells.push((row.whole_passes.to_string(), row.whole_passes.to_string()));
+    cells.push(fixed(row.whole_call * 1e3, 2));
     cells.push(fixed(row.step * 1e3, 3));
     cells.push(fixed(row.first_step * 1e3, 3));
     cells.push(fixed(row.call / row.step, 0));
@@ -411,9 +438,14 @@ fn write_tables(
          island (goal: at most 1; islands of the broad phase, AABB overlap at margin 0, of the \
          input). Stage times are medians \
          over the repeats (ms; summed over islands, so they may exceed the call with several \
-         threads). On an error the call restored the poses: `after` is the input's.\n\n\
-         | state | bodies (dyn) | passes | status | before | after | brute after | move mm | rot deg | move/2Σd | broad ms | narrow ms | solve ms | line search ms | call ms | step ms | 1st step ms | ratio | repeats |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+         threads; the narrow phase counts every query, the line search's trials included). \
+         `queries` = narrow-phase queries of the call (`Report::pair_queries`). `whole` = the \
+         same call solving every body of a penetrating island in every pass \
+         (`solve_whole_islands`, the behaviour before regions), interleaved with the default \
+         call: its passes and median time. On an error the call restored the poses: `after` \
+         is the input's.\n\n\
+         | state | bodies (dyn) | passes | queries | status | before | after | brute after | move mm | rot deg | move/2Σd | broad ms | narrow ms | solve ms | line search ms | call ms | whole passes | whole ms | step ms | 1st step ms | ratio | repeats |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
         if quick {
             "--quick (fewer repeats, no pile of 1,000)"
         } else {
@@ -421,9 +453,9 @@ fn write_tables(
         },
     );
     let mut csv = String::from(
-        "state,bodies,dynamic,passes,status,depth_before,depth_after,brute_after,\
+        "state,bodies,dynamic,passes,queries,status,depth_before,depth_after,brute_after,\
          max_translation_mm,max_rotation_deg,worst_motion_ratio,broad_ms,narrow_ms,solve_ms,\
-         line_search_ms,call_ms,step_ms,first_step_ms,ratio,repeats\n",
+         line_search_ms,call_ms,whole_passes,whole_ms,step_ms,first_step_ms,ratio,repeats\n",
     );
     for row in rows {
         let cells = cells(row);
