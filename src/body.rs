@@ -162,6 +162,9 @@ pub enum BodyError {
     /// The density is not a finite positive number.
     #[error("density is {0}: it must be finite and positive")]
     InvalidDensity(f64),
+    /// The friction coefficient is negative or not finite.
+    #[error("friction is {0}: it must be finite and nonnegative")]
+    InvalidFriction(f64),
     /// The mass, density or inertia derived from the given one and the
     /// volume is zero or not finite (an extreme value or a tiny shape).
     #[error("{given:?} with volume {volume} gives no usable mass properties")]
@@ -187,6 +190,7 @@ impl BodyError {
                 ..
             } => "mass",
             BodyError::InvalidDensity(_) | BodyError::DegenerateMass { .. } => "density",
+            BodyError::InvalidFriction(_) => "friction",
         }
     }
 }
@@ -203,6 +207,7 @@ pub struct Body {
     translation_user: Vector3<f64>,
     rotation_user_xyzw: [f64; 4],
     com_pose: Isometry3<f64>,
+    friction: Option<f64>,
 }
 
 impl Body {
@@ -231,7 +236,25 @@ impl Body {
             translation_user: desc.translation,
             rotation_user_xyzw: desc.rotation_xyzw,
             com_pose,
+            friction: None,
         })
+    }
+
+    /// The body's own friction coefficient, if it has one (else the
+    /// stabilizer's [`crate::Settings::friction`] applies). A pair's
+    /// coefficient is the mean of its two bodies' (Rapier's default rule).
+    pub fn friction(&self) -> Option<f64> {
+        self.friction
+    }
+
+    /// Sets (or, with `None`, clears) the body's friction coefficient,
+    /// which must be finite and nonnegative.
+    pub fn set_friction(&mut self, mu: Option<f64>) -> Result<(), BodyError> {
+        if let Some(mu) = mu.filter(|mu| !(mu.is_finite() && *mu >= 0.0)) {
+            return Err(BodyError::InvalidFriction(mu));
+        }
+        self.friction = mu;
+        Ok(())
     }
 
     /// The body's label.

@@ -20,6 +20,7 @@ fn settings(target_margin: f64) -> ProjectionSettings {
         trust_region: TrustRegion::UNLIMITED,
         solver: SolverSettings::default(),
         max_steps: 20,
+        friction_directions: 4,
     }
 }
 
@@ -216,10 +217,12 @@ fn line_search_stops_an_overshoot_into_a_clear_constraint() {
                 ConstraintRow {
                     phi: c[0].position.z,
                     blocks: blocks(1.0),
+                    friction: None,
                 },
                 ConstraintRow {
                     phi: ceiling,
                     blocks: blocks(-1.0),
+                    friction: None,
                 },
             ]
         }

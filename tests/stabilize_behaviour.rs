@@ -145,17 +145,6 @@ fn bodies_outside_solved_islands_keep_their_poses() {
     assert_eq!(report.bodies_moved, scene.len() - outside.len());
 }
 
-/// FNV-1a over the bits of every user pose.
-#[cfg(all(feature = "demo", feature = "parallel"))]
-fn pose_hash(scene: &Scene) -> u64 {
-    pose_bits(scene)
-        .iter()
-        .flatten()
-        .fold(0xcbf2_9ce4_8422_2325, |h, &bits| {
-            (h ^ bits).wrapping_mul(0x0000_0100_0000_01b3)
-        })
-}
-
 /// Needs the demo scene, and rayon's thread pools (feature `parallel`).
 #[test]
 #[cfg(all(feature = "demo", feature = "parallel"))]

@@ -18,7 +18,7 @@
 
 use nalgebra::{Point3, Vector3, Vector6};
 
-use crate::projector::ConstraintRow;
+use crate::projector::{ConstraintRow, RowFriction};
 
 /// A body's side of a contact: its index in the configuration and its
 /// centre of mass, or `None` for a fixed body.
@@ -43,7 +43,47 @@ pub fn contact_row(
     ConstraintRow {
         phi: normal.dot(&(p_a - p_b)),
         blocks,
+        friction: None,
     }
+}
+
+/// The row of [`contact_row`] with Coulomb friction `mu` (`mu > 0`): the
+/// Jacobians of the relative displacement at the contact along the two
+/// tangents of [`tangent_basis`], by the same formula with `t` for `n`
+/// (`d/dq (t . (p_a - p_b))` for points carried by the bodies).
+pub fn contact_row_with_friction(
+    p_a: &Point3<f64>,
+    p_b: &Point3<f64>,
+    normal: &Vector3<f64>,
+    side_a: ContactSide,
+    side_b: ContactSide,
+    mu: f64,
+) -> ConstraintRow {
+    let mut row = contact_row(p_a, p_b, normal, side_a, side_b);
+    let [t1, t2] = tangent_basis(normal);
+    let tangent = |t: &Vector3<f64>| contact_row(p_a, p_b, t, side_a, side_b).blocks;
+    row.friction = Some(RowFriction {
+        mu,
+        tangents: [tangent(&t1), tangent(&t2)],
+    });
+    row
+}
+
+/// Two unit tangents `t_1, t_2` with `(t_1, t_2, n)` right-handed and
+/// orthonormal; `t_1` is `n x e` for the world axis `e` least aligned with
+/// `n` (a deterministic choice, far from degenerate).
+pub fn tangent_basis(normal: &Vector3<f64>) -> [Vector3<f64>; 2] {
+    let abs = normal.abs();
+    let axis = if abs.x <= abs.y && abs.x <= abs.z {
+        Vector3::x()
+    } else if abs.y <= abs.z {
+        Vector3::y()
+    } else {
+        Vector3::z()
+    };
+    let t1 = normal.cross(&axis).normalize();
+    let t2 = normal.cross(&t1);
+    [t1, t2]
 }
 
 /// `[n; r x n]`.

@@ -19,7 +19,7 @@ use std::time::Instant;
 use nalgebra::Isometry3;
 
 use super::memo::PosedQuery;
-use super::{BodyGeometry, PairQuery, WarmStartCache, contact_rows, query};
+use super::{BodyGeometry, ContactFriction, PairQuery, WarmStartCache, contact_rows, query};
 use crate::broad_phase::BodyPair;
 use crate::geometry::ConvexPolyhedron;
 use crate::projector::{BodyState, ConstraintProvider, ConstraintRow, Measurement};
@@ -47,6 +47,8 @@ pub struct ContactOptions {
     pub margin: f64,
     /// Up to four rows per face contact (else the deepest point only).
     pub manifold: bool,
+    /// Rows no further apart than this get friction (when the pair has).
+    pub friction_max_gap: f64,
 }
 
 /// Contacts of one island.
@@ -55,6 +57,8 @@ pub struct IslandContacts<'a> {
     /// Moving bodies, ascending scene indices (configuration order).
     bodies: Vec<usize>,
     pairs: Vec<BodyPair>,
+    /// Friction coefficient of each pair.
+    friction: Vec<f64>,
     /// Answers at `answered_at` (`None` for a failed query).
     answers: Vec<Option<PairQuery>>,
     answered_at: Vec<BodyState>,
@@ -68,12 +72,14 @@ pub struct IslandContacts<'a> {
 
 impl<'a> IslandContacts<'a> {
     /// The contacts of `pairs` (each with at least one body in `bodies`),
-    /// whose answers at `configuration` (the bodies' poses in `scene`) are
-    /// `answers`.
+    /// with friction coefficients `friction`, whose answers at
+    /// `configuration` (the bodies' poses in `scene`) are `answers`.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         scene: SceneGeometry<'a>,
         bodies: Vec<usize>,
         pairs: Vec<BodyPair>,
+        friction: Vec<f64>,
         answers: Vec<PairQuery>,
         configuration: Vec<BodyState>,
         options: ContactOptions,
@@ -83,6 +89,7 @@ impl<'a> IslandContacts<'a> {
             scene,
             bodies,
             pairs,
+            friction,
             answers: answers.into_iter().map(Some).collect(),
             answered_at: configuration,
             warm_starts,
@@ -199,7 +206,12 @@ impl ConstraintProvider for IslandContacts<'_> {
             let a = self.geometry(pair.body_a, configuration);
             let b = self.geometry(pair.body_b, configuration);
             let options = &self.options;
-            let pair_rows = contact_rows(result, &a, &b, options.margin, options.manifold);
+            let friction = ContactFriction {
+                mu: self.friction[k],
+                max_gap: options.friction_max_gap,
+            };
+            let pair_rows =
+                contact_rows(result, &a, &b, options.margin, options.manifold, friction);
             if let Some(penetration) = &result.penetration {
                 let (exact, reference) = (&penetration.exact, &penetration.reference);
                 log::trace!(

@@ -50,7 +50,7 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use crate::geometry::{ConvexPolyhedron, Feature};
 use crate::projector::ConstraintRow;
 use crate::vclip::{FeaturePair, Outcome, VClip, VClipError, VClipResult};
-pub use contact_row::{ContactSide, contact_row};
+pub use contact_row::{ContactSide, contact_row, contact_row_with_friction, tangent_basis};
 pub use detection::{Detection, DetectionLengths, PairPenetration, detect};
 pub use island_contacts::{ContactOptions, IslandContacts, SceneGeometry};
 pub use manifold::{ContactPoint, Manifold};
@@ -134,15 +134,52 @@ pub fn query(
     })
 }
 
+/// Coulomb friction of a pair's rows: coefficient `mu`, given to the rows
+/// whose points are no further apart than `max_gap` (resting or
+/// penetrating contacts; a contact that is open has no friction).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactFriction {
+    /// Friction coefficient (0: frictionless rows).
+    pub mu: f64,
+    /// Largest separation `phi` of a row that gets friction.
+    pub max_gap: f64,
+}
+
+impl ContactFriction {
+    /// No friction.
+    pub const NONE: ContactFriction = ContactFriction {
+        mu: 0.0,
+        max_gap: 0.0,
+    };
+
+    /// The row of a contact point, with friction if it applies.
+    fn row(
+        &self,
+        p_a: &Point3<f64>,
+        p_b: &Point3<f64>,
+        normal: &Vector3<f64>,
+        a: &BodyGeometry,
+        b: &BodyGeometry,
+    ) -> ConstraintRow {
+        if self.mu > 0.0 && normal.dot(&(p_a - p_b)) <= self.max_gap {
+            contact_row_with_friction(p_a, p_b, normal, a.side(), b.side(), self.mu)
+        } else {
+            contact_row(p_a, p_b, normal, a.side(), b.side())
+        }
+    }
+}
+
 /// The constraint rows of a pair with narrow-phase answer `query` (no row
 /// for a separated pair at or beyond `margin`). `manifold = false` keeps
-/// the deepest point of a penetration only.
+/// the deepest point of a penetration only. Rows get `friction` where it
+/// applies ([`ContactFriction`]).
 pub fn contact_rows(
     query: &PairQuery,
     a: &BodyGeometry,
     b: &BodyGeometry,
     margin: f64,
     manifold: bool,
+    friction: ContactFriction,
 ) -> Vec<ConstraintRow> {
     let near = match (&query.penetration, &query.vclip.outcome) {
         (Some(penetration), _) => Some(*penetration),
@@ -163,12 +200,12 @@ pub fn contact_rows(
             .points
             .iter()
             .map(|point| {
-                contact_row(
+                friction.row(
                     &point.point_a_world,
                     &point.point_b_world,
                     &point.normal_world,
-                    a.side(),
-                    b.side(),
+                    a,
+                    b,
                 )
             })
             .collect();
@@ -187,13 +224,7 @@ pub fn contact_rows(
                 witness_b_world,
                 *distance,
             );
-            vec![contact_row(
-                witness_a_world,
-                witness_b_world,
-                &normal,
-                a.side(),
-                b.side(),
-            )]
+            vec![friction.row(witness_a_world, witness_b_world, &normal, a, b)]
         }
         _ => Vec::new(),
     }

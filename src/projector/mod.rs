@@ -28,6 +28,7 @@
 //! V-Clip are one provider; analytic providers test it alone.
 
 mod configuration;
+pub mod friction;
 mod line_search;
 mod provider;
 mod step;
@@ -35,7 +36,7 @@ mod trust_region;
 
 pub use configuration::{BodyInertia, BodyState, Configuration, moved_configuration};
 pub use line_search::{LineSearchOutcome, LineSearchSettings, line_search};
-pub use provider::{ConstraintProvider, ConstraintRow, Measurement};
+pub use provider::{ConstraintProvider, ConstraintRow, Measurement, RowFriction};
 pub use step::{
     Plan, PlannedStep, ProjectionSettings, ProjectionStatus, ProjectionSummary, StepOutcome,
     StepReport, plan_step, project, projection_step, take_step,

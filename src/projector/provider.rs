@@ -18,6 +18,21 @@ pub struct ConstraintRow {
     /// Non-zero blocks of `J`: (body index in the configuration, `[d phi / d x;
     /// d phi / d theta]`).
     pub blocks: Vec<(usize, Vector6<f64>)>,
+    /// Coulomb friction of a resting contact (`None`: frictionless), see
+    /// [`super::friction`].
+    pub friction: Option<RowFriction>,
+}
+
+/// The friction of one contact row: coefficient and the Jacobians of the
+/// relative tangential displacement along two unit tangents `t_1, t_2`
+/// orthogonal to the normal (blocks in the same bodies and order as the
+/// row's).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RowFriction {
+    /// Friction coefficient `mu > 0`.
+    pub mu: f64,
+    /// Blocks of `J_t1` and `J_t2`.
+    pub tangents: [Vec<(usize, Vector6<f64>)>; 2],
 }
 
 /// The true (not linearized) state of the constraints at a configuration.

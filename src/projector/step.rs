@@ -12,6 +12,7 @@
 
 use std::time::Instant;
 
+use super::friction::pyramid_rows;
 use super::line_search::{LineSearchOutcome, LineSearchSettings, line_search};
 use super::trust_region::TrustRegion;
 use nalgebra::DVector;
@@ -40,6 +41,9 @@ pub struct ProjectionSettings {
     pub solver: SolverSettings,
     /// Largest number of steps of [`project`].
     pub max_steps: usize,
+    /// Directions `K` of the friction pyramid of rows with friction
+    /// ([`super::friction`]).
+    pub friction_directions: usize,
 }
 
 /// What a step did.
@@ -115,6 +119,10 @@ pub struct PlannedStep {
     pub solution: ProjectionSolution,
     /// The linearized constraints.
     pub rows: Vec<ConstraintRow>,
+    /// The problem solved: the rows, then the friction pyramid's rows.
+    pub qp: ProjectionQp,
+    /// For each row of `qp`, the index in `rows` of its contact row.
+    pub qp_parents: Vec<usize>,
     /// Factor by which the trust region scaled the solver's correction.
     pub trust_scale: f64,
     /// The scaled correction.
@@ -147,7 +155,13 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
     }
     let solve_start = Instant::now();
     let rows = provider.linearize(configuration);
-    let qp = projection_qp(configuration, inertias, &rows, settings.target_margin);
+    let (qp, qp_parents) = projection_qp(
+        configuration,
+        inertias,
+        &rows,
+        settings.target_margin,
+        settings.friction_directions,
+    );
     let solution = solve_projection(&qp, &settings.solver)?;
     let trust_scale = settings
         .trust_region
@@ -156,6 +170,8 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
     Ok(Plan::Step(Box::new(PlannedStep {
         before,
         rows,
+        qp,
+        qp_parents,
         trust_scale,
         dq,
         solve_seconds: solve_start.elapsed().as_secs_f64(),
@@ -197,6 +213,7 @@ pub fn take_step<P: ConstraintProvider + ?Sized>(
         trust_scale,
         dq,
         solve_seconds,
+        ..
     } = plan;
     let constraints = rows.len();
     let mut report = StepReport {
@@ -292,13 +309,17 @@ pub fn project<P: ConstraintProvider + ?Sized>(
     })
 }
 
-/// The projection QP of `rows` at `configuration`.
+/// The projection QP of `rows` at `configuration`: the rows with target
+/// `target_margin`, then the friction pyramid of the rows with friction
+/// (target 0; [`super::friction`]); and for each of its rows the
+/// index of its contact row in `rows`.
 pub(crate) fn projection_qp(
     configuration: &[BodyState],
     inertias: &[BodyInertia],
     rows: &[ConstraintRow],
     target_margin: f64,
-) -> ProjectionQp {
+    friction_directions: usize,
+) -> (ProjectionQp, Vec<usize>) {
     let bodies = configuration
         .iter()
         .zip(inertias)
@@ -307,15 +328,26 @@ pub(crate) fn projection_qp(
             inertia_world: inertia.inertia_world(&state.rotation),
         })
         .collect();
-    ProjectionQp {
+    let (pyramid, pyramid_phi, pyramid_parents) =
+        pyramid_rows(rows, target_margin, friction_directions);
+    let mut qp_rows: Vec<JacobianRow> = rows
+        .iter()
+        .map(|row| JacobianRow {
+            blocks: row.blocks.clone(),
+        })
+        .collect();
+    let mut phi: Vec<f64> = rows.iter().map(|row| row.phi).collect();
+    let mut target = vec![target_margin; rows.len()];
+    let mut parents: Vec<usize> = (0..rows.len()).collect();
+    phi.extend(pyramid_phi);
+    target.resize(rows.len() + pyramid.len(), 0.0);
+    qp_rows.extend(pyramid);
+    parents.extend(pyramid_parents);
+    let qp = ProjectionQp {
         bodies,
-        rows: rows
-            .iter()
-            .map(|row| JacobianRow {
-                blocks: row.blocks.clone(),
-            })
-            .collect(),
-        phi: rows.iter().map(|row| row.phi).collect(),
-        target: vec![target_margin; rows.len()],
-    }
+        rows: qp_rows,
+        phi,
+        target,
+    };
+    (qp, parents)
 }

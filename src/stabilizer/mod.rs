@@ -146,6 +146,7 @@ impl Stabilizer {
             trust_region: self.settings.trust_region(),
             solver: self.settings.solver.clone(),
             max_steps: 1,
+            friction_directions: self.settings.friction_directions,
         };
         let shapes: Vec<_> = scene
             .bodies()

@@ -28,7 +28,7 @@
 use nalgebra::Vector3;
 
 use crate::broad_phase::BodyPair;
-use crate::projector::ConstraintRow;
+use crate::solver::JacobianRow;
 
 /// The growth of a region inside its island.
 #[derive(Debug, Clone)]
@@ -139,12 +139,14 @@ impl Region {
 
 /// The held bodies that the region's answer pushes by more than
 /// `tolerance`, ascending: `|sum_k lambda_k n_k| / m_j` over the rows of
-/// pairs between the region and held body `j` (module docs). `row_pairs`
+/// pairs between the region and held body `j` (module docs; for a row of
+/// the friction pyramid, `n_k` is the linear part of its facet, so
+/// tangential forces count too). `row_pairs`
 /// gives each row's pair, `mass` a held body's mass.
 pub fn pushed_bodies(
     region: &Region,
     pairs: &[BodyPair],
-    rows: &[ConstraintRow],
+    rows: &[JacobianRow],
     row_pairs: &[usize],
     lambda: &[f64],
     mass: impl Fn(usize) -> f64,

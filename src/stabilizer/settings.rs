@@ -41,6 +41,19 @@ pub struct Settings {
     /// than the deepest vertex alone. Default true (see the README for the
     /// measurement that chose it).
     pub contact_manifold: bool,
+    /// Coulomb friction coefficient of a body that has none of its own
+    /// ([`crate::body::Body::set_friction`]); a pair's coefficient is the
+    /// mean of its two bodies'. Rows of resting and penetrating contacts
+    /// (separation at most the tolerance) get the friction pyramid of
+    /// [`crate::projector::friction`]: a contact slides at most `mu` times
+    /// its normal correction. Default 0: frictionless, the seed's
+    /// projection bit for bit (the Rapier bridge reads each collider's
+    /// friction instead).
+    pub friction: f64,
+    /// Directions `K` of the friction pyramid (at least 3). Default 4
+    /// (the pyramid exceeds the cone by at most 41 % in its corners; 8
+    /// gives 8 % for twice the rows).
+    pub friction_directions: usize,
     /// Solve every body of a penetrating island in every pass. Default
     /// false: a pass solves the bodies of the pairs that still penetrate,
     /// grown while the answer pushes bodies held still (see
@@ -86,6 +99,8 @@ impl Default for Settings {
             target_margin_absolute: None,
             max_passes: 100,
             contact_manifold: true,
+            friction: 0.0,
+            friction_directions: crate::projector::friction::DEFAULT_FRICTION_DIRECTIONS,
             solve_whole_islands: false,
             step_max_rotation: DEFAULT_STEP_MAX_ROTATION,
             step_max_translation_relative: DEFAULT_STEP_MAX_TRANSLATION_RELATIVE,
@@ -136,7 +151,13 @@ pub enum SettingsError {
     /// A line-search factor is outside its range.
     #[error("line search: {0}")]
     LineSearch(&'static str),
+    /// Fewer than three friction pyramid directions (no pyramid).
+    #[error("setting `friction_directions` is {0}: at least 3 are needed")]
+    FrictionDirections(usize),
 }
+
+/// The fewest directions of a friction pyramid (a triangle).
+pub const MIN_FRICTION_DIRECTIONS: usize = 3;
 
 impl Settings {
     /// Checks every field.
@@ -160,6 +181,10 @@ impl Settings {
         )?;
         if self.max_passes == 0 {
             return Err(SettingsError::ZeroPasses);
+        }
+        non_negative("friction", self.friction)?;
+        if self.friction_directions < MIN_FRICTION_DIRECTIONS {
+            return Err(SettingsError::FrictionDirections(self.friction_directions));
         }
         // The solvers' residual check `residual > tol` never fails for a
         // NaN tolerance: any candidate would be accepted.

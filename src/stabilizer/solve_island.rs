@@ -152,16 +152,22 @@ fn plan_region<'a>(
         .map(|&k| (input.active_pairs[k], input.active_queries[k]))
         .filter(|(pair, _)| moving(pair.body_a) || moving(pair.body_b))
         .unzip();
+    let friction = pairs
+        .iter()
+        .map(|pair| pair_friction(input, *pair))
+        .collect();
     let (configuration, inertias) = island_state(input.scene, &bodies)?;
     let options = ContactOptions {
         vclip: VClip::new(input.settings.vclip),
         margin: input.lengths.contact_margin,
         manifold: input.settings.contact_manifold,
+        friction_max_gap: input.lengths.tolerance,
     };
     let mut contacts = IslandContacts::new(
         input.geometry,
         bodies,
         pairs,
+        friction,
         answers,
         configuration.clone(),
         options,
@@ -188,6 +194,20 @@ fn plan_region<'a>(
         configuration,
         plan,
     })
+}
+
+/// The friction coefficient of a pair: the mean of its bodies' own
+/// coefficients or, for a body without one, the settings'.
+fn pair_friction(input: PassInput, pair: BodyPair) -> f64 {
+    let of = |body: usize| {
+        input
+            .scene
+            .body(body)
+            .ok()
+            .and_then(|b| b.friction())
+            .unwrap_or(input.settings.friction)
+    };
+    0.5 * (of(pair.body_a) + of(pair.body_b))
 }
 
 /// Whether `bodies` are all the island's dynamic bodies.
@@ -275,11 +295,13 @@ fn pushed_by(
             .and_then(|b| b.mass())
             .map_or(f64::INFINITY, |m| m.mass)
     };
+    let row_pairs = contacts.row_pairs();
+    let qp_row_pairs: Vec<usize> = step.qp_parents.iter().map(|&row| row_pairs[row]).collect();
     pushed_bodies(
         region,
         contacts.pairs(),
-        &step.rows,
-        contacts.row_pairs(),
+        &step.qp.rows,
+        &qp_row_pairs,
         step.solution.lambda.as_slice(),
         mass,
         input.lengths.tolerance,

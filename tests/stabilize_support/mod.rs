@@ -293,6 +293,16 @@ pub fn sat_axis(
     (axes.all, axes.axis)
 }
 
+/// FNV-1a over the bits of every user pose.
+pub fn pose_hash(scene: &Scene) -> u64 {
+    pose_bits(scene)
+        .iter()
+        .flatten()
+        .fold(0xcbf2_9ce4_8422_2325, |h, &bits| {
+            (h ^ bits).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+}
+
 /// Stabilizes with `settings`, checks that no pose became non-finite and
 /// returns the report and the residual ([`penetration_residual`]).
 pub fn stabilize_with(scene: &mut Scene, settings: Settings) -> (Report, f64) {
