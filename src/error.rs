@@ -45,4 +45,18 @@ pub enum Error {
     /// A corrected pose was rejected by its body (the poses are as they were).
     #[error("body: {0}")]
     Body(#[from] BodyError),
+    /// A velocity projection was given a velocity list of the wrong length.
+    #[error("{velocities} velocities for a scene of {bodies} bodies")]
+    VelocityCount {
+        /// Velocities given.
+        velocities: usize,
+        /// Bodies of the scene.
+        bodies: usize,
+    },
+    /// A velocity component is NaN or infinite.
+    #[error("the velocity of body {body} is not finite")]
+    NonFiniteVelocity {
+        /// The body's scene index.
+        body: usize,
+    },
 }

@@ -39,6 +39,6 @@ pub use line_search::{LineSearchOutcome, LineSearchSettings, line_search};
 pub use provider::{ConstraintProvider, ConstraintRow, Measurement, RowFriction};
 pub use step::{
     Plan, PlannedStep, ProjectionSettings, ProjectionStatus, ProjectionSummary, StepOutcome,
-    StepReport, plan_step, project, projection_step, take_step,
+    StepReport, plan_step, project, projection_qp, projection_step, take_step,
 };
 pub use trust_region::{TrustRegion, radius_of_gyration};

@@ -313,7 +313,7 @@ pub fn project<P: ConstraintProvider + ?Sized>(
 /// `target_margin`, then the friction pyramid of the rows with friction
 /// (target 0; [`super::friction`]); and for each of its rows the
 /// index of its contact row in `rows`.
-pub(crate) fn projection_qp(
+pub fn projection_qp(
     configuration: &[BodyState],
     inertias: &[BodyInertia],
     rows: &[ConstraintRow],

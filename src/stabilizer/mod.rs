@@ -34,6 +34,7 @@ mod region;
 mod report;
 mod settings;
 mod solve_island;
+mod velocity;
 
 use std::time::Instant;
 
@@ -44,6 +45,7 @@ pub use report::{
     Status,
 };
 pub use settings::{ResolvedLengths, Settings, SettingsError};
+pub use velocity::{BodyVelocity, VelocityReport};
 
 use crate::Error;
 use crate::contact::{
@@ -65,6 +67,9 @@ pub type StabilizeError = Error;
 pub struct Stabilizer {
     settings: Settings,
     cache: WarmStartCache,
+    /// The last detection of the last call, with the poses it was made at
+    /// (for [`Stabilizer::project_velocities`] at those poses).
+    last_detection: Option<(Vec<Isometry3<f64>>, Detection)>,
 }
 
 impl Stabilizer {
@@ -74,6 +79,7 @@ impl Stabilizer {
         Ok(Stabilizer {
             settings,
             cache: WarmStartCache::default(),
+            last_detection: None,
         })
     }
 
@@ -136,6 +142,39 @@ impl Stabilizer {
         Ok(report)
     }
 
+    /// The detection at the scene's current poses: the last call's if it
+    /// was made at them, else a new one.
+    fn detect_at(&mut self, scene: &Scene) -> Result<(Detection, ResolvedLengths), Error> {
+        let lengths = self.settings.resolve(scene_scale(scene));
+        let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
+        if let Some((at, detection)) = &self.last_detection {
+            if *at == poses {
+                return Ok((detection.clone(), lengths));
+            }
+        }
+        let shapes: Vec<_> = scene
+            .bodies()
+            .iter()
+            .map(|b| b.polyhedron().clone())
+            .collect();
+        let geometry = SceneGeometry {
+            shapes: &shapes,
+            poses: &poses,
+        };
+        let detection = detect(
+            scene,
+            geometry,
+            &mut self.cache,
+            &mut QueryMemo::default(),
+            &VClip::new(self.settings.vclip),
+            DetectionLengths {
+                tolerance: lengths.tolerance,
+                contact_margin: lengths.contact_margin,
+            },
+        )?;
+        Ok((detection, lengths))
+    }
+
     fn run(&mut self, scene: &mut Scene, start: Instant) -> Result<Report, Error> {
         let lengths = self.settings.resolve(scene_scale(scene));
         let vclip = VClip::new(self.settings.vclip);
@@ -190,6 +229,7 @@ impl Stabilizer {
             if let Some(status) = finished {
                 report.pass_reports.push(pass);
                 report.status = status;
+                self.last_detection = Some((poses, detection));
                 return Ok(report);
             }
             let solutions = self.solve_pass(

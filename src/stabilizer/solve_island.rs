@@ -154,14 +154,14 @@ fn plan_region<'a>(
         .unzip();
     let friction = pairs
         .iter()
-        .map(|pair| pair_friction(input, *pair))
+        .map(|pair| pair_friction(input.scene, input.settings, *pair))
         .collect();
     let (configuration, inertias) = island_state(input.scene, &bodies)?;
     let options = ContactOptions {
         vclip: VClip::new(input.settings.vclip),
         margin: input.lengths.contact_margin,
         manifold: input.settings.contact_manifold,
-        friction_max_gap: input.lengths.tolerance,
+        friction_max_gap: input.lengths.tolerance + input.lengths.target_margin,
     };
     let mut contacts = IslandContacts::new(
         input.geometry,
@@ -198,14 +198,13 @@ fn plan_region<'a>(
 
 /// The friction coefficient of a pair: the mean of its bodies' own
 /// coefficients or, for a body without one, the settings'.
-fn pair_friction(input: PassInput, pair: BodyPair) -> f64 {
+pub(super) fn pair_friction(scene: &Scene, settings: &Settings, pair: BodyPair) -> f64 {
     let of = |body: usize| {
-        input
-            .scene
+        scene
             .body(body)
             .ok()
             .and_then(|b| b.friction())
-            .unwrap_or(input.settings.friction)
+            .unwrap_or(settings.friction)
     };
     0.5 * (of(pair.body_a) + of(pair.body_b))
 }

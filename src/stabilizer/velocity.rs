@@ -1,0 +1,239 @@
+//! Velocity consistency: after the poses are corrected, the velocities that
+//! would drive the bodies back into their contacts are removed by the same
+//! mass-weighted projection, at the velocity level.
+//!
+//! Positions alone leave an engine's body with the velocity it had: a heavy
+//! box lifted out of the boxes it crushed keeps falling into them, and
+//! needs a larger lift every step. For the contacts of the corrected
+//! islands (pairs touching or penetrating at the corrected poses), with
+//! `J` the same contact rows as the position projection and `v` the bodies'
+//! velocities (`[v_com; omega]`, world frame),
+//!
+//! ```text
+//! minimize 1/2 (v' - v)^T M (v' - v)   subject to   J_k v' >= 0
+//! ```
+//!
+//! the smallest change of kinetic energy metric that removes every approach
+//! velocity; with friction, the pyramid of [`crate::projector::friction`]
+//! with `dv` for `dq` and the approach speed `max(0, -J_k v)` as the
+//! required normal change: removing an approach adds no sliding. It is the
+//! position problem with `phi_k = J_k v`, target 0, so it is solved by the
+//! same solvers ([`crate::solver::solve_projection`]). Fixed bodies
+//! (kinematic ones included) are taken at rest. Velocities of bodies in
+//! islands that are not asked for, or that need no change, are left bit
+//! for bit.
+
+use nalgebra::{DVector, Vector3, Vector6};
+
+use super::Stabilizer;
+use crate::Error;
+use crate::broad_phase::BodyPair;
+use crate::contact::{BodyGeometry, ContactFriction, Detection, contact_rows};
+use crate::island::islands;
+use crate::projector::{BodyInertia, BodyState, ConstraintRow, projection_qp};
+use crate::scene::Scene;
+use crate::solver::solve_projection;
+
+/// A body's velocity: of its centre of mass, and its angular velocity,
+/// both in the world frame.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BodyVelocity {
+    /// Velocity of the centre of mass (length per time).
+    pub linear: Vector3<f64>,
+    /// Angular velocity (radians per time).
+    pub angular: Vector3<f64>,
+}
+
+/// What [`Stabilizer::project_velocities`] did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct VelocityReport {
+    /// Contact rows of the islands asked for.
+    pub contacts: usize,
+    /// Islands whose velocities were projected (some contact approaching).
+    pub islands_solved: usize,
+    /// Islands whose projection failed (their velocities left as they were).
+    pub islands_failed: usize,
+    /// Largest approach speed `max(0, -J_k v)` over those contacts, before.
+    pub approach_before: f64,
+    /// The same after.
+    pub approach_after: f64,
+}
+
+impl Stabilizer {
+    /// Removes the approach velocities at the contacts of the islands of
+    /// `bodies` (scene indices, typically the bodies the last call moved)
+    /// at the scene's current poses (module docs). `velocities` has one
+    /// entry per scene body; fixed bodies' entries are ignored. An island
+    /// whose projection fails keeps its velocities (counted in the report).
+    pub fn project_velocities(
+        &mut self,
+        scene: &Scene,
+        velocities: &mut [BodyVelocity],
+        bodies: &[usize],
+    ) -> Result<VelocityReport, Error> {
+        if velocities.len() != scene.len() {
+            return Err(Error::VelocityCount {
+                velocities: velocities.len(),
+                bodies: scene.len(),
+            });
+        }
+        if let Some((index, _)) = velocities.iter().enumerate().find(|(_, v)| {
+            !(v.linear
+                .iter()
+                .chain(v.angular.iter())
+                .all(|x| x.is_finite()))
+        }) {
+            return Err(Error::NonFiniteVelocity { body: index });
+        }
+        let (detection, lengths) = self.detect_at(scene)?;
+        let contact_gap = lengths.tolerance + lengths.target_margin;
+        let mut report = VelocityReport::default();
+        let fixed = scene.fixed_flags();
+        let touching: Vec<usize> = (0..detection.active_pairs.len())
+            .filter(|&k| detection.active_values[k] <= contact_gap)
+            .collect();
+        let pairs: Vec<BodyPair> = touching
+            .iter()
+            .map(|&k| detection.active_pairs[k])
+            .collect();
+        for island in islands(&fixed, &pairs)? {
+            if !island.bodies.iter().any(|b| bodies.contains(b)) {
+                continue;
+            }
+            let island_pairs: Vec<usize> = island.pairs.iter().map(|&i| touching[i]).collect();
+            self.project_island(
+                scene,
+                velocities,
+                &island.bodies,
+                &island_pairs,
+                &detection,
+                contact_gap,
+                &mut report,
+            );
+        }
+        Ok(report)
+    }
+
+    /// One island's velocity projection.
+    #[allow(clippy::too_many_arguments)]
+    fn project_island(
+        &self,
+        scene: &Scene,
+        velocities: &mut [BodyVelocity],
+        bodies: &[usize],
+        pairs: &[usize],
+        detection: &Detection,
+        contact_gap: f64,
+        report: &mut VelocityReport,
+    ) {
+        let settings = &self.settings;
+        let geometry = |body: usize| {
+            let b = &scene.bodies()[body];
+            BodyGeometry {
+                shape: b.polyhedron(),
+                pose: *b.com_pose(),
+                configuration_index: bodies.binary_search(&body).ok(),
+            }
+        };
+        let mut rows: Vec<ConstraintRow> = Vec::new();
+        for &k in pairs {
+            let pair = detection.active_pairs[k];
+            let (a, b) = (geometry(pair.body_a), geometry(pair.body_b));
+            let friction = ContactFriction {
+                mu: super::solve_island::pair_friction(scene, settings, pair),
+                max_gap: contact_gap,
+            };
+            let query = &detection.active_queries[k];
+            let pair_rows = contact_rows(
+                query,
+                &a,
+                &b,
+                contact_gap,
+                settings.contact_manifold,
+                friction,
+            );
+            rows.extend(pair_rows.into_iter().filter(|row| row.phi <= contact_gap));
+        }
+        let v = island_velocity(velocities, bodies);
+        for row in &mut rows {
+            row.phi = row
+                .blocks
+                .iter()
+                .map(|(i, block)| block.dot(&v.fixed_rows::<6>(6 * i)))
+                .sum();
+        }
+        report.contacts += rows.len();
+        let approach = |rows: &[ConstraintRow]| rows.iter().fold(0.0, |m: f64, r| m.max(-r.phi));
+        let before = approach(&rows);
+        report.approach_before = report.approach_before.max(before);
+        if before <= 0.0 {
+            return;
+        }
+        let (configuration, inertias): (Vec<BodyState>, Vec<BodyInertia>) = bodies
+            .iter()
+            .filter_map(|&body| {
+                let b = &scene.bodies()[body];
+                let mass = b.mass()?;
+                let pose = b.com_pose();
+                Some((
+                    BodyState {
+                        position: pose.translation.vector.into(),
+                        rotation: pose.rotation,
+                    },
+                    BodyInertia {
+                        mass: mass.mass,
+                        inertia_body: mass.inertia_body,
+                    },
+                ))
+            })
+            .unzip();
+        let (qp, _) = projection_qp(
+            &configuration,
+            &inertias,
+            &rows,
+            0.0,
+            settings.friction_directions,
+        );
+        match solve_projection(&qp, &settings.solver) {
+            Ok(solution) => {
+                report.islands_solved += 1;
+                let v_new = &v + &solution.dq;
+                for row in &mut rows {
+                    row.phi = row
+                        .blocks
+                        .iter()
+                        .map(|(i, block)| block.dot(&v_new.fixed_rows::<6>(6 * i)))
+                        .sum();
+                }
+                report.approach_after = report.approach_after.max(approach(&rows));
+                for (i, &body) in bodies.iter().enumerate() {
+                    let block: Vector6<f64> = v_new.fixed_rows::<6>(6 * i).into_owned();
+                    velocities[body] = BodyVelocity {
+                        linear: block.fixed_rows::<3>(0).into_owned(),
+                        angular: block.fixed_rows::<3>(3).into_owned(),
+                    };
+                }
+            }
+            Err(error) => {
+                log::debug!(
+                    "velocity projection of the island of body {} failed: {error}",
+                    bodies[0]
+                );
+                report.islands_failed += 1;
+                report.approach_after = report.approach_after.max(before);
+            }
+        }
+    }
+}
+
+/// The stacked `[v; omega]` of an island's bodies.
+fn island_velocity(velocities: &[BodyVelocity], bodies: &[usize]) -> DVector<f64> {
+    let mut v = DVector::zeros(6 * bodies.len());
+    for (i, &body) in bodies.iter().enumerate() {
+        v.fixed_rows_mut::<3>(6 * i)
+            .copy_from(&velocities[body].linear);
+        v.fixed_rows_mut::<3>(6 * i + 3)
+            .copy_from(&velocities[body].angular);
+    }
+    v
+}

@@ -1,0 +1,181 @@
+//! Velocity consistency (issue 10): the approach velocities at the
+//! contacts of corrected islands are removed by the mass-weighted
+//! projection at the velocity level. Closed form on a single contact; a
+//! stack whose heavy top body stops; bystanders untouched.
+
+mod stabilize_support;
+
+use constraint_stabilization::body::MassSpec;
+use constraint_stabilization::stabilizer::BodyVelocity;
+use constraint_stabilization::{Settings, Stabilizer};
+use nalgebra::{Matrix3, Point3, Vector3, Vector6};
+use stabilize_support::{IDENTITY_XYZW, cuboid, ground, hull, scene_of};
+
+/// A tetrahedron standing on one vertex at the origin, on the ground.
+fn tetrahedron_on_a_vertex() -> constraint_stabilization::scene::Scene {
+    let points = vec![
+        Point3::new(0.0, 0.0, 0.0),
+        Point3::new(1.0, 1.0, 0.0),
+        Point3::new(-1.0, 1.1, 0.5),
+        Point3::new(0.2, 1.2, -1.0),
+    ];
+    scene_of(&[
+        ground(),
+        hull(
+            "tetra",
+            points,
+            [0.0; 3],
+            IDENTITY_XYZW,
+            MassSpec::Mass(2.0),
+        ),
+    ])
+}
+
+#[test]
+fn a_single_contact_loses_exactly_its_approach_velocity() {
+    let scene = tetrahedron_on_a_vertex();
+    let body = &scene.bodies()[1];
+    let mass = body.mass().expect("dynamic");
+    let pose = body.com_pose();
+    let rotation = pose.rotation.to_rotation_matrix();
+    let inertia: Matrix3<f64> =
+        rotation.matrix() * mass.inertia_body * rotation.matrix().transpose();
+    let inverse_inertia = inertia.try_inverse().expect("positive definite");
+    let velocity = BodyVelocity {
+        linear: Vector3::new(0.3, -1.0, 0.2),
+        angular: Vector3::new(0.1, 0.0, -0.2),
+    };
+    // Closed form: one row J = [n; r x n] at the vertex, n = y:
+    // dv = -M^-1 J^T (J v) / (J M^-1 J^T).
+    let n = Vector3::y();
+    let r = -pose.translation.vector;
+    let jv = n.dot(&velocity.linear) + r.cross(&n).dot(&velocity.angular);
+    let angular_part = inverse_inertia * r.cross(&n);
+    let a = 1.0 / mass.mass + r.cross(&n).dot(&angular_part);
+    let lambda = -jv / a;
+    let expected_linear = velocity.linear + n * (lambda / mass.mass);
+    let expected_angular = velocity.angular + angular_part * lambda;
+
+    let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
+    let mut velocities = vec![BodyVelocity::default(), velocity];
+    let report = stabilizer
+        .project_velocities(&scene, &mut velocities, &[1])
+        .expect("projects");
+    assert_eq!(report.contacts, 1, "{report:?}");
+    assert_eq!(report.islands_solved, 1);
+    let got = velocities[1];
+    println!("{got:?} vs {expected_linear:?} {expected_angular:?}");
+    assert!((got.linear - expected_linear).norm() <= 1e-12 * velocity.linear.norm());
+    assert!((got.angular - expected_angular).norm() <= 1e-12 * velocity.angular.norm());
+    let jv_after = n.dot(&got.linear) + r.cross(&n).dot(&got.angular);
+    assert!(jv_after.abs() <= 1e-12, "{jv_after:e}");
+    assert!((report.approach_before - 1.0 * -jv.min(0.0)).abs() <= 1e-15);
+    assert!(report.approach_after <= 1e-12);
+
+    // With friction, removing the approach adds no sliding at the contact:
+    // the tangential velocity of the vertex is unchanged.
+    let settings = Settings {
+        friction: 0.5,
+        ..Settings::default()
+    };
+    let mut stabilizer = Stabilizer::new(settings).expect("valid settings");
+    let mut velocities = vec![BodyVelocity::default(), velocity];
+    stabilizer
+        .project_velocities(&scene, &mut velocities, &[1])
+        .expect("projects");
+    let point_velocity = |v: &BodyVelocity| v.linear + v.angular.cross(&r);
+    let before = point_velocity(&velocity);
+    let after = point_velocity(&velocities[1]);
+    assert!(after.y.abs() <= 1e-9, "normal velocity left {:e}", after.y);
+    let slide = Vector3::new(after.x - before.x, 0.0, after.z - before.z).norm();
+    assert!(slide <= 1e-9, "tangential velocity changed by {slide:e}");
+}
+
+#[test]
+fn a_heavy_box_falling_on_light_ones_stops_and_bystanders_keep_their_velocity() {
+    let mut descs = vec![ground()];
+    for (i, x) in [-1.0, 1.0].iter().enumerate() {
+        descs.push(cuboid(
+            &format!("light{i}"),
+            [0.5, 0.5, 0.5],
+            [*x, 0.5, 0.0],
+            IDENTITY_XYZW,
+            MassSpec::Mass(1.0),
+        ));
+    }
+    descs.push(cuboid(
+        "heavy",
+        [1.5, 0.5, 0.5],
+        [0.0, 1.5, 0.0],
+        IDENTITY_XYZW,
+        MassSpec::Mass(1000.0),
+    ));
+    descs.push(cuboid(
+        "bystander",
+        [0.5, 0.5, 0.5],
+        [10.0, 0.5, 0.0],
+        IDENTITY_XYZW,
+        MassSpec::Mass(1.0),
+    ));
+    let scene = scene_of(&descs);
+    let falling = BodyVelocity {
+        linear: Vector3::new(0.0, -0.5, 0.0),
+        angular: Vector3::zeros(),
+    };
+    let sinking = BodyVelocity {
+        linear: Vector3::new(0.1, -0.2, 0.0),
+        angular: Vector3::new(0.0, 0.3, 0.0),
+    };
+    let mut velocities = vec![
+        BodyVelocity::default(),
+        BodyVelocity::default(),
+        BodyVelocity::default(),
+        falling,
+        sinking,
+    ];
+    let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
+    let report = stabilizer
+        .project_velocities(&scene, &mut velocities, &[3])
+        .expect("projects");
+    println!("{report:?}: {velocities:?}");
+    assert_eq!(report.islands_solved, 1);
+    let v: Vector6<f64> = Vector6::new(
+        velocities[3].linear.x,
+        velocities[3].linear.y,
+        velocities[3].linear.z,
+        velocities[3].angular.x,
+        velocities[3].angular.y,
+        velocities[3].angular.z,
+    );
+    assert!(v.norm() <= 1e-9, "heavy box still moves: {v:?}");
+    for light in &velocities[1..3] {
+        assert!(
+            light.linear.norm() + light.angular.norm() <= 1e-9,
+            "{light:?}"
+        );
+    }
+    // The bystander's island was not asked for: bit for bit.
+    assert_eq!(velocities[4], sinking);
+    assert!(report.approach_after <= 1e-9);
+}
+
+#[test]
+fn bad_velocities_are_typed_errors() {
+    let scene = tetrahedron_on_a_vertex();
+    let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
+    let mut short = vec![BodyVelocity::default()];
+    assert!(
+        stabilizer
+            .project_velocities(&scene, &mut short, &[1])
+            .is_err()
+    );
+    let mut nan = vec![BodyVelocity::default(); 2];
+    nan[1].angular.x = f64::NAN;
+    let before = nan.clone();
+    assert!(
+        stabilizer
+            .project_velocities(&scene, &mut nan, &[1])
+            .is_err()
+    );
+    assert!(nan[1].angular.x.is_nan() && nan[0] == before[0]);
+}
