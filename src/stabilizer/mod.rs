@@ -147,10 +147,8 @@ impl Stabilizer {
     fn detect_at(&mut self, scene: &Scene) -> Result<(Detection, ResolvedLengths), Error> {
         let lengths = self.settings.resolve(scene_scale(scene));
         let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
-        if let Some((at, detection)) = &self.last_detection {
-            if *at == poses {
-                return Ok((detection.clone(), lengths));
-            }
+        if let Some((_, detection)) = self.last_detection.as_ref().filter(|(at, _)| *at == poses) {
+            return Ok((detection.clone(), lengths));
         }
         let shapes: Vec<_> = scene
             .bodies()
