@@ -24,14 +24,11 @@ use constraint_stabilization::io::scene_file::write_scene;
 use constraint_stabilization::rapier_bridge::RapierBridge;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::verify::{ParryPenetration, parry_penetration};
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use rapier3d::prelude::*;
 
-/// Quantum of every generated length (m): exact in f32.
-const LENGTH_QUANTUM: f32 = 1.0 / 1024.0;
-const DENSITY: f32 = 1000.0;
-const STEP_SECONDS: f64 = 1.0 / 60.0;
+#[path = "common/rapier_scenes.rs"]
+mod scenes;
+use scenes::STEP_SECONDS;
 
 /// A written state: the scene and what Rapier said about it.
 struct State {
@@ -105,90 +102,6 @@ fn write(path: &Path, state: &State, notes: &mut String) -> Result<(), Box<dyn s
     Ok(())
 }
 
-fn world() -> PhysicsWorld {
-    PhysicsWorld {
-        gravity: Vector::new(0.0, 0.0, -9.81),
-        ..PhysicsWorld::default()
-    }
-}
-
-fn quantize(x: f32) -> f32 {
-    (x / LENGTH_QUANTUM).round() * LENGTH_QUANTUM
-}
-
-fn random_rotation(rng: &mut ChaCha8Rng) -> Rotation {
-    let q = Rotation::from_xyzw(
-        rng.random_range(-1.0..1.0),
-        rng.random_range(-1.0..1.0),
-        rng.random_range(-1.0..1.0),
-        rng.random_range(-1.0..1.0),
-    );
-    q.normalize()
-}
-
-/// The fixed ground (top face at z = 0) and, if `half_width > 0`, four walls
-/// of a square bin: colliders of one fixed body.
-fn ground_and_bin(world: &mut PhysicsWorld, half_width: f32) {
-    let fixed = world.insert_body(RigidBodyBuilder::fixed());
-    let floor = ColliderBuilder::cuboid(half_width.max(1.0) + 1.0, half_width.max(1.0) + 1.0, 0.5)
-        .translation(Vector::new(0.0, 0.0, -0.5));
-    world.insert_collider(floor, Some(fixed));
-    if half_width <= 0.0 {
-        return;
-    }
-    let (wall_half, wall_height) = (0.05, 1.0);
-    for (x, y, hx, hy) in [
-        (
-            half_width + wall_half,
-            0.0,
-            wall_half,
-            half_width + 2.0 * wall_half,
-        ),
-        (
-            -half_width - wall_half,
-            0.0,
-            wall_half,
-            half_width + 2.0 * wall_half,
-        ),
-        (0.0, half_width + wall_half, half_width, wall_half),
-        (0.0, -half_width - wall_half, half_width, wall_half),
-    ] {
-        let wall = ColliderBuilder::cuboid(hx, hy, wall_height).translation(Vector::new(
-            x,
-            y,
-            wall_height,
-        ));
-        world.insert_collider(wall, Some(fixed));
-    }
-}
-
-/// A random box (half extents 3-8 cm) or hull (8-12 points at radii 4-8 cm).
-fn random_collider(rng: &mut ChaCha8Rng, hull: bool) -> ColliderBuilder {
-    if !hull {
-        let mut h = || quantize(rng.random_range(0.03..0.08));
-        return ColliderBuilder::cuboid(h(), h(), h()).density(DENSITY);
-    }
-    loop {
-        let count = rng.random_range(8..=12);
-        let radius = rng.random_range(0.04..0.08);
-        let points: Vec<Vector> = (0..count)
-            .map(|_| {
-                let d = Vector::new(
-                    rng.random_range(-1.0..1.0),
-                    rng.random_range(-1.0..1.0),
-                    rng.random_range(-1.0..1.0),
-                )
-                .normalize_or(Vector::X);
-                let p = d * radius * rng.random_range(0.8..1.0);
-                Vector::new(quantize(p.x), quantize(p.y), quantize(p.z))
-            })
-            .collect();
-        if let Some(builder) = ColliderBuilder::convex_hull(&points) {
-            return builder.density(DENSITY);
-        }
-    }
-}
-
 /// Bodies dropped from a grid above a bin, alternately boxes and hulls,
 /// simulated for `steps` steps.
 fn settled_pile(
@@ -198,66 +111,22 @@ fn settled_pile(
     steps: usize,
     seed: u64,
 ) -> Result<State, Box<dyn std::error::Error>> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut world = world();
-    ground_and_bin(&mut world, bin_half_width);
-    let spacing = 0.3;
-    let per_row = ((2.0 * bin_half_width - 0.1) / spacing).floor() as usize;
-    for i in 0..count {
-        let (col, row, layer) = (
-            i % per_row,
-            (i / per_row) % per_row,
-            i / (per_row * per_row),
-        );
-        let translation = Vector::new(
-            -bin_half_width + 0.15 + col as f32 * spacing,
-            -bin_half_width + 0.15 + row as f32 * spacing,
-            0.2 + layer as f32 * spacing,
-        );
-        let body = RigidBodyBuilder::dynamic()
-            .pose(Pose::from_parts(translation, random_rotation(&mut rng)));
-        world.insert(body, random_collider(&mut rng, i % 2 == 1));
-    }
+    let mut world = scenes::pile_world(count, bin_half_width, seed);
     for _ in 0..steps {
         world.step();
     }
     state(stem, &world, steps)
 }
 
-/// Four 1 kg boxes (20 cm, yaws within 5 degrees) under a box `ratio`
-/// times heavier; the state at the deepest penetration in the first 0.5 s.
+/// Four 1 kg boxes under a box `ratio` times heavier; the state at the
+/// deepest penetration in the first 0.5 s.
 fn heavy_on_stack(stem: &str, ratio: f32, seed: u64) -> Result<State, Box<dyn std::error::Error>> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut world = world();
-    ground_and_bin(&mut world, 0.0);
-    for level in 0..5 {
-        let yaw = rng.random_range(-5.0f32..5.0).to_radians();
-        let mass = if level == 4 { ratio } else { 1.0 };
-        let body = RigidBodyBuilder::dynamic().pose(Pose::from_parts(
-            Vector::new(0.0, 0.0, 0.1 + level as f32 * 0.2005),
-            Rotation::from_rotation_z(yaw),
-        ));
-        world.insert(body, ColliderBuilder::cuboid(0.1, 0.1, 0.1).mass(mass));
-    }
-    deepest_within(stem, world, 30)
+    deepest_within(stem, scenes::heavy_stack_world(ratio, seed).0, 30)
 }
 
 /// 55 boxes of 20 cm in a plane, base of 10, settled for 2 s.
 fn pyramid(stem: &str) -> Result<State, Box<dyn std::error::Error>> {
-    let mut world = world();
-    ground_and_bin(&mut world, 0.0);
-    for row in 0..10 {
-        let count = 10 - row;
-        for i in 0..count {
-            let x = (i as f32 - (count - 1) as f32 / 2.0) * 0.201;
-            let z = 0.1 + row as f32 * 0.2005;
-            let body = RigidBodyBuilder::dynamic().translation(Vector::new(x, 0.0, z));
-            world.insert(
-                body,
-                ColliderBuilder::cuboid(0.1, 0.1, 0.1).density(DENSITY),
-            );
-        }
-    }
+    let mut world = scenes::pyramid_world().0;
     for _ in 0..120 {
         world.step();
     }
@@ -268,47 +137,13 @@ fn pyramid(stem: &str) -> Result<State, Box<dyn std::error::Error>> {
 /// the state at the deepest penetration in the first second (the
 /// projectile's impact).
 fn thrown_box(stem: &str, seed: u64) -> Result<State, Box<dyn std::error::Error>> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut world = world();
-    ground_and_bin(&mut world, 0.0);
-    for level in 0..6 {
-        let yaw = rng.random_range(-3.0f32..3.0).to_radians();
-        let body = RigidBodyBuilder::dynamic().pose(Pose::from_parts(
-            Vector::new(0.0, 0.0, 0.1 + level as f32 * 0.2005),
-            Rotation::from_rotation_z(yaw),
-        ));
-        world.insert(
-            body,
-            ColliderBuilder::cuboid(0.1, 0.1, 0.1).density(DENSITY),
-        );
-    }
-    let projectile = RigidBodyBuilder::dynamic()
-        .translation(Vector::new(-1.5, 0.0, 0.75))
-        .linvel(Vector::new(15.0, 0.0, 0.0))
-        .angvel(Vector::new(3.0, 8.0, 5.0));
-    world.insert(
-        projectile,
-        ColliderBuilder::cuboid(0.06, 0.06, 0.06).mass(2.0),
-    );
-    deepest_within(stem, world, 60)
+    deepest_within(stem, scenes::thrown_box_world(seed).0, 60)
 }
 
 /// 50 boxes and 30 hulls in a column falling onto the ground; the step of
 /// the first 3 s with the most penetrating pairs.
 fn jumble(stem: &str, seed: u64) -> Result<State, Box<dyn std::error::Error>> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut world = world();
-    ground_and_bin(&mut world, 0.0);
-    for i in 0..80 {
-        let translation = Vector::new(
-            rng.random_range(-0.02..0.02) + (i % 2) as f32 * 0.3,
-            rng.random_range(-0.02..0.02) + ((i / 2) % 2) as f32 * 0.3,
-            0.3 + (i / 4) as f32 * 0.3,
-        );
-        let body = RigidBodyBuilder::dynamic()
-            .pose(Pose::from_parts(translation, random_rotation(&mut rng)));
-        world.insert(body, random_collider(&mut rng, i % 8 >= 5));
-    }
+    let mut world = scenes::jumble_world(seed);
     let mut best: Option<State> = None;
     for step in 1..=180 {
         world.step();
