@@ -60,11 +60,11 @@ fn scenes() -> Vec<Scene> {
         },
         Scene {
             name: "stack_1to100",
-            build: || scenes::heavy_stack_world(100.0, 3),
+            build: || scenes::aligned_heavy_stack_world(100.0),
         },
         Scene {
             name: "stack_1to1000",
-            build: || scenes::heavy_stack_world(1000.0, 4),
+            build: || scenes::aligned_heavy_stack_world(1000.0),
         },
         Scene {
             name: "thrown_box",
@@ -87,16 +87,26 @@ enum Run {
     Plain,
     Coupled,
     Positions,
+    Friction,
+    FrictionVelocity,
 }
 
 impl Run {
-    const ALL: [Run; 3] = [Run::Plain, Run::Coupled, Run::Positions];
+    const ALL: [Run; 5] = [
+        Run::Plain,
+        Run::Coupled,
+        Run::Positions,
+        Run::Friction,
+        Run::FrictionVelocity,
+    ];
 
     fn name(self) -> &'static str {
         match self {
             Run::Plain => "plain",
             Run::Coupled => "coupled",
             Run::Positions => "positions",
+            Run::Friction => "friction",
+            Run::FrictionVelocity => "friction+velocity",
         }
     }
 
@@ -105,6 +115,8 @@ impl Run {
             Run::Plain => RGBColor(200, 60, 40),
             Run::Coupled => RGBColor(30, 110, 200),
             Run::Positions => RGBColor(120, 120, 120),
+            Run::Friction => RGBColor(40, 160, 60),
+            Run::FrictionVelocity => RGBColor(150, 50, 170),
         }
     }
 
@@ -113,6 +125,10 @@ impl Run {
             Run::Plain => return None,
             Run::Coupled => Settings::default(),
             Run::Positions => Settings::default(),
+            Run::Friction | Run::FrictionVelocity => Settings {
+                friction: 0.5,
+                ..Settings::default()
+            },
         };
         Some(RapierBridge::new(settings).expect("valid settings"))
     }
@@ -185,6 +201,65 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
+/// Prototype of the velocity coupling: the approach velocities of the
+/// islands of every dynamic body removed.
+fn project_velocities(bridge: &RapierBridge, world: &mut PhysicsWorld) {
+    use constraint_stabilization::stabilizer::BodyVelocity;
+    let scene = bridge.scene();
+    let entries = bridge.body_map().entries();
+    let mut velocities = vec![BodyVelocity::default(); scene.len()];
+    let mut moved = Vec::new();
+    for (i, entry) in entries.iter().enumerate() {
+        if let (true, Some(h)) = (entry.is_dynamic(), entry.body) {
+            let b = &world.bodies[h];
+            let (v, w) = (b.linvel(), b.angvel());
+            velocities[i] = BodyVelocity {
+                linear: nalgebra::Vector3::new(v.x.into(), v.y.into(), v.z.into()),
+                angular: nalgebra::Vector3::new(w.x.into(), w.y.into(), w.z.into()),
+            };
+            moved.push(i);
+        }
+    }
+    let mut settings = bridge.stabilizer().settings().clone();
+    if let Ok(mu) = std::env::var("WW_VMU") {
+        settings.friction = mu.parse().expect("mu");
+    }
+    let mut stabilizer = constraint_stabilization::Stabilizer::new(settings).expect("settings");
+    match stabilizer.project_velocities(
+        scene,
+        &mut velocities,
+        &moved,
+        &constraint_stabilization::stabilizer::VelocityOptions {
+            time_step: Some(scenes::STEP_SECONDS),
+            friction: std::env::var("WW_VMU").is_ok(),
+        },
+    ) {
+        Ok(report) => {
+            if std::env::var("WW_DEBUG").is_ok() {
+                eprintln!("velocity: {report:?}");
+            }
+        }
+        Err(error) => {
+            eprintln!("velocity projection failed: {error}");
+            return;
+        }
+    }
+    for &i in &moved {
+        if let Some(h) = entries[i].body {
+            let v = velocities[i];
+            let b = &mut world.bodies[h];
+            b.set_linvel(
+                Vector::new(v.linear.x as f32, v.linear.y as f32, v.linear.z as f32),
+                false,
+            );
+            b.set_angvel(
+                Vector::new(v.angular.x as f32, v.angular.y as f32, v.angular.z as f32),
+                false,
+            );
+        }
+    }
+}
+
 /// Runs `steps` steps of a fresh copy of the scene's world.
 fn simulate(
     scene: &Scene,
@@ -205,14 +280,44 @@ fn simulate(
         world.step();
         let rapier_ms = t.elapsed().as_secs_f64() * 1e3;
         let (mut call_ms, mut call_failed) = (0.0, false);
+        let debug = std::env::var("WW_DEBUG")
+            .ok()
+            .and_then(|s| s.parse::<usize>().ok())
+            .is_some_and(|from| step >= from && step < from + 3);
+        let before: Vec<Vector> = tracked
+            .iter()
+            .map(|&h| world.bodies[h].translation())
+            .collect();
         if let Some(bridge) = bridge.as_mut() {
             let t = Instant::now();
             let result = bridge.stabilize(&mut world.bodies, &world.colliders);
-            call_ms = t.elapsed().as_secs_f64() * 1e3;
             call_failed = match result {
                 Ok(report) => report.stabilizer.is_some_and(|r| !r.status.is_resolved()),
                 Err(_) => true,
             };
+            if run == Run::FrictionVelocity {
+                project_velocities(bridge, &mut world);
+            }
+            call_ms = t.elapsed().as_secs_f64() * 1e3;
+        }
+        if debug {
+            for (i, (&h, b)) in tracked.iter().zip(&before).enumerate() {
+                let a = world.bodies[h].translation();
+                let v = world.bodies[h].linvel();
+                eprintln!(
+                    "{} step {step} body {i}: after step ({:.5} {:.5} {:.5}) call moved ({:.2e} {:.2e} {:.2e}) v ({:.3} {:.3} {:.3})",
+                    run.name(),
+                    b.x,
+                    b.y,
+                    b.z,
+                    a.x - b.x,
+                    a.y - b.y,
+                    a.z - b.z,
+                    v.x,
+                    v.y,
+                    v.z
+                );
+            }
         }
         measure.sync(&world.bodies, &world.colliders)?;
         let depth = stabilize_support::sat_deepest(measure.scene()).0;

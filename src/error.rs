@@ -53,6 +53,9 @@ pub enum Error {
         /// Bodies of the scene.
         bodies: usize,
     },
+    /// A time step is zero, negative or not finite.
+    #[error("time step {0}: it must be finite and positive")]
+    InvalidTimeStep(f64),
     /// A velocity component is NaN or infinite.
     #[error("the velocity of body {body} is not finite")]
     NonFiniteVelocity {

@@ -6,7 +6,7 @@
 mod stabilize_support;
 
 use constraint_stabilization::body::MassSpec;
-use constraint_stabilization::stabilizer::BodyVelocity;
+use constraint_stabilization::stabilizer::{BodyVelocity, VelocityOptions};
 use constraint_stabilization::{Settings, Stabilizer};
 use nalgebra::{Matrix3, Point3, Vector3, Vector6};
 use stabilize_support::{IDENTITY_XYZW, cuboid, ground, hull, scene_of};
@@ -59,7 +59,7 @@ fn a_single_contact_loses_exactly_its_approach_velocity() {
     let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
     let mut velocities = vec![BodyVelocity::default(), velocity];
     let report = stabilizer
-        .project_velocities(&scene, &mut velocities, &[1])
+        .project_velocities(&scene, &mut velocities, &[1], &VelocityOptions::default())
         .expect("projects");
     assert_eq!(report.contacts, 1, "{report:?}");
     assert_eq!(report.islands_solved, 1);
@@ -80,8 +80,12 @@ fn a_single_contact_loses_exactly_its_approach_velocity() {
     };
     let mut stabilizer = Stabilizer::new(settings).expect("valid settings");
     let mut velocities = vec![BodyVelocity::default(), velocity];
+    let options = VelocityOptions {
+        friction: true,
+        ..VelocityOptions::default()
+    };
     stabilizer
-        .project_velocities(&scene, &mut velocities, &[1])
+        .project_velocities(&scene, &mut velocities, &[1], &options)
         .expect("projects");
     let point_velocity = |v: &BodyVelocity| v.linear + v.angular.cross(&r);
     let before = point_velocity(&velocity);
@@ -135,7 +139,7 @@ fn a_heavy_box_falling_on_light_ones_stops_and_bystanders_keep_their_velocity() 
     ];
     let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
     let report = stabilizer
-        .project_velocities(&scene, &mut velocities, &[3])
+        .project_velocities(&scene, &mut velocities, &[3], &VelocityOptions::default())
         .expect("projects");
     println!("{report:?}: {velocities:?}");
     assert_eq!(report.islands_solved, 1);
@@ -166,7 +170,7 @@ fn bad_velocities_are_typed_errors() {
     let mut short = vec![BodyVelocity::default()];
     assert!(
         stabilizer
-            .project_velocities(&scene, &mut short, &[1])
+            .project_velocities(&scene, &mut short, &[1], &VelocityOptions::default())
             .is_err()
     );
     let mut nan = vec![BodyVelocity::default(); 2];
@@ -174,8 +178,59 @@ fn bad_velocities_are_typed_errors() {
     let before = nan.clone();
     assert!(
         stabilizer
-            .project_velocities(&scene, &mut nan, &[1])
+            .project_velocities(&scene, &mut nan, &[1], &VelocityOptions::default())
             .is_err()
     );
     assert!(nan[1].angular.x.is_nan() && nan[0] == before[0]);
+}
+
+/// With the engine's time step, a body falling onto the ground from a gap
+/// within the contact margin is slowed to close the gap in one step, not
+/// stopped in the air: `v' = -gap / h`.
+#[test]
+fn a_speculative_contact_lets_the_gap_close_in_one_step() {
+    let gap = 5e-3;
+    let h = 1.0 / 60.0;
+    let scene = scene_of(&[
+        ground(),
+        cuboid(
+            "box",
+            [0.5, 0.5, 0.5],
+            [0.0, 0.5 + gap, 0.0],
+            IDENTITY_XYZW,
+            MassSpec::Mass(1.0),
+        ),
+    ]);
+    let falling = BodyVelocity {
+        linear: Vector3::new(0.0, -1.0, 0.0),
+        angular: Vector3::zeros(),
+    };
+    let options = VelocityOptions {
+        time_step: Some(h),
+        ..VelocityOptions::default()
+    };
+    let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
+    let mut velocities = vec![BodyVelocity::default(), falling];
+    let report = stabilizer
+        .project_velocities(&scene, &mut velocities, &[1], &options)
+        .expect("projects");
+    assert_eq!(report.islands_solved, 1, "{report:?}");
+    let v = velocities[1];
+    assert!((v.linear.y + gap / h).abs() <= 1e-9, "{v:?}");
+    assert!(v.linear.x.abs() + v.linear.z.abs() + v.angular.norm() <= 1e-9, "{v:?}");
+    // Without the time step the box is not in contact: untouched.
+    let mut velocities = vec![BodyVelocity::default(), falling];
+    let report = stabilizer
+        .project_velocities(&scene, &mut velocities, &[1], &VelocityOptions::default())
+        .expect("projects");
+    assert_eq!((report.contacts, velocities[1]), (0, falling));
+    let bad = VelocityOptions {
+        time_step: Some(0.0),
+        ..VelocityOptions::default()
+    };
+    assert!(
+        stabilizer
+            .project_velocities(&scene, &mut velocities, &[1], &bad)
+            .is_err()
+    );
 }

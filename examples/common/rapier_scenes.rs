@@ -148,6 +148,25 @@ pub fn heavy_stack_world(ratio: f32, seed: u64) -> (PhysicsWorld, Vec<RigidBodyH
     (world, handles)
 }
 
+/// Four 1 kg boxes of 20 cm in an aligned column (1 mm apart), under a box
+/// `ratio` times heavier: handles of the bodies, bottom to top.
+pub fn aligned_heavy_stack_world(ratio: f32) -> (PhysicsWorld, Vec<RigidBodyHandle>) {
+    let mut world = world();
+    ground_and_bin(&mut world, 0.0);
+    let mut handles = Vec::new();
+    for level in 0..5 {
+        let mass = if level == 4 { ratio } else { 1.0 };
+        let body = RigidBodyBuilder::dynamic().translation(Vector::new(
+            0.0,
+            0.0,
+            0.1 + level as f32 * 0.201,
+        ));
+        let (handle, _) = world.insert(body, ColliderBuilder::cuboid(0.1, 0.1, 0.1).mass(mass));
+        handles.push(handle);
+    }
+    (world, handles)
+}
+
 /// 55 boxes of 20 cm in a plane, base of 10: handles, bottom row first.
 pub fn pyramid_world() -> (PhysicsWorld, Vec<RigidBodyHandle>) {
     let mut world = world();

@@ -45,7 +45,7 @@ pub use report::{
     Status,
 };
 pub use settings::{ResolvedLengths, Settings, SettingsError};
-pub use velocity::{BodyVelocity, VelocityReport};
+pub use velocity::{BodyVelocity, VelocityOptions, VelocityReport};
 
 use crate::Error;
 use crate::contact::{

@@ -13,8 +13,13 @@
 //! minimize 1/2 (v' - v)^T M (v' - v)   subject to   J_k v' >= 0
 //! ```
 //!
-//! the smallest change of kinetic energy metric that removes every approach
-//! velocity; with friction, the pyramid of [`crate::projector::friction`]
+//! the smallest change in the kinetic-energy metric that removes every
+//! approach velocity. Given the engine's time step `h`, the contacts within
+//! the contact margin count too, as speculative contacts: a pair with gap
+//! `phi >= 0` may close at most that gap in one step, `J_k v' >= -phi / h`
+//! (so a body falling onto another is slowed to land, not stopped in the
+//! air); without it only touching contacts (`phi` within the tolerance and
+//! target margin) count, with `J_k v' >= 0`; with friction, the pyramid of [`crate::projector::friction`]
 //! with `dv` for `dq` and the approach speed `max(0, -J_k v)` as the
 //! required normal change: removing an approach adds no sliding. It is the
 //! position problem with `phi_k = J_k v`, target 0, so it is solved by the
@@ -44,6 +49,23 @@ pub struct BodyVelocity {
     pub angular: Vector3<f64>,
 }
 
+/// Options of [`Stabilizer::project_velocities`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct VelocityOptions {
+    /// The engine's time step `h`: contacts within the contact margin count
+    /// as speculative contacts, `J_k v' >= -phi / h` (module docs). `None`:
+    /// touching contacts only.
+    pub time_step: Option<f64>,
+    /// Apply the friction pyramid to the velocity change (the settings'
+    /// friction coefficients). Default false: measured in
+    /// `examples/with_and_without.rs`, the frictionless velocity projection
+    /// keeps the heavy stacks standing and the friction-aware one does not
+    /// (the pyramid lets a contact whose normal velocity is raised beyond
+    /// its approach slide by `mu` times the excess, and a tilted stack then
+    /// creeps; README).
+    pub friction: bool,
+}
+
 /// What [`Stabilizer::project_velocities`] did.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct VelocityReport {
@@ -62,15 +84,18 @@ pub struct VelocityReport {
 impl Stabilizer {
     /// Removes the approach velocities at the contacts of the islands of
     /// `bodies` (scene indices, typically the bodies the last call moved)
-    /// at the scene's current poses (module docs). `velocities` has one
-    /// entry per scene body; fixed bodies' entries are ignored. An island
-    /// whose projection fails keeps its velocities (counted in the report).
+    /// at the scene's current poses (module docs), as `options` say.
+    /// `velocities` has one entry per scene body; fixed bodies' entries are
+    /// ignored. An island whose projection fails keeps its velocities
+    /// (counted in the report).
     pub fn project_velocities(
         &mut self,
         scene: &Scene,
         velocities: &mut [BodyVelocity],
         bodies: &[usize],
+        options: &VelocityOptions,
     ) -> Result<VelocityReport, Error> {
+        let time_step = options.time_step;
         if velocities.len() != scene.len() {
             return Err(Error::VelocityCount {
                 velocities: velocities.len(),
@@ -85,8 +110,15 @@ impl Stabilizer {
         }) {
             return Err(Error::NonFiniteVelocity { body: index });
         }
+        if let Some(h) = time_step.filter(|h| !(h.is_finite() && *h > 0.0)) {
+            return Err(Error::InvalidTimeStep(h));
+        }
         let (detection, lengths) = self.detect_at(scene)?;
-        let contact_gap = lengths.tolerance + lengths.target_margin;
+        let contact_gap = match time_step {
+            Some(_) => lengths.contact_margin,
+            None => lengths.tolerance + lengths.target_margin,
+        };
+        let gap_rate = time_step.map_or(0.0, |h| 1.0 / h);
         let mut report = VelocityReport::default();
         let fixed = scene.fixed_flags();
         let touching: Vec<usize> = (0..detection.active_pairs.len())
@@ -101,32 +133,30 @@ impl Stabilizer {
                 continue;
             }
             let island_pairs: Vec<usize> = island.pairs.iter().map(|&i| touching[i]).collect();
-            self.project_island(
-                scene,
-                velocities,
-                &island.bodies,
-                &island_pairs,
-                &detection,
+            let contacts = IslandContacts {
+                bodies: &island.bodies,
+                pairs: &island_pairs,
+                detection: &detection,
                 contact_gap,
-                &mut report,
-            );
+                friction_gap: lengths.tolerance + lengths.target_margin,
+                gap_rate,
+                friction: options.friction,
+            };
+            self.project_island(scene, velocities, &contacts, &mut report);
         }
         Ok(report)
     }
 
     /// One island's velocity projection.
-    #[allow(clippy::too_many_arguments)]
     fn project_island(
         &self,
         scene: &Scene,
         velocities: &mut [BodyVelocity],
-        bodies: &[usize],
-        pairs: &[usize],
-        detection: &Detection,
-        contact_gap: f64,
+        contacts: &IslandContacts,
         report: &mut VelocityReport,
     ) {
         let settings = &self.settings;
+        let bodies = contacts.bodies;
         let geometry = |body: usize| {
             let b = &scene.bodies()[body];
             BodyGeometry {
@@ -136,32 +166,37 @@ impl Stabilizer {
             }
         };
         let mut rows: Vec<ConstraintRow> = Vec::new();
-        for &k in pairs {
-            let pair = detection.active_pairs[k];
+        let mut gaps: Vec<f64> = Vec::new();
+        for &k in contacts.pairs {
+            let pair = contacts.detection.active_pairs[k];
             let (a, b) = (geometry(pair.body_a), geometry(pair.body_b));
-            let friction = ContactFriction {
-                mu: super::solve_island::pair_friction(scene, settings, pair),
-                max_gap: contact_gap,
+            let friction = match contacts.friction {
+                true => ContactFriction {
+                    mu: super::solve_island::pair_friction(scene, settings, pair),
+                    max_gap: contacts.friction_gap,
+                },
+                false => ContactFriction::NONE,
             };
-            let query = &detection.active_queries[k];
-            let pair_rows = contact_rows(
-                query,
-                &a,
-                &b,
-                contact_gap,
-                settings.contact_manifold,
-                friction,
-            );
-            rows.extend(pair_rows.into_iter().filter(|row| row.phi <= contact_gap));
+            let query = &contacts.detection.active_queries[k];
+            let gap = contacts.contact_gap;
+            let pair_rows = contact_rows(query, &a, &b, gap, settings.contact_manifold, friction);
+            for row in pair_rows.into_iter().filter(|row| row.phi <= gap) {
+                gaps.push(row.phi.max(0.0) * contacts.gap_rate);
+                rows.push(row);
+            }
         }
         let v = island_velocity(velocities, bodies);
-        for row in &mut rows {
-            row.phi = row
-                .blocks
-                .iter()
-                .map(|(i, block)| block.dot(&v.fixed_rows::<6>(6 * i)))
-                .sum();
-        }
+        let rate = |rows: &mut [ConstraintRow], v: &DVector<f64>| {
+            for (row, gap) in rows.iter_mut().zip(&gaps) {
+                let approach: f64 = row
+                    .blocks
+                    .iter()
+                    .map(|(i, block)| block.dot(&v.fixed_rows::<6>(6 * i)))
+                    .sum();
+                row.phi = approach + gap;
+            }
+        };
+        rate(&mut rows, &v);
         report.contacts += rows.len();
         let approach = |rows: &[ConstraintRow]| rows.iter().fold(0.0, |m: f64, r| m.max(-r.phi));
         let before = approach(&rows);
@@ -198,13 +233,7 @@ impl Stabilizer {
             Ok(solution) => {
                 report.islands_solved += 1;
                 let v_new = &v + &solution.dq;
-                for row in &mut rows {
-                    row.phi = row
-                        .blocks
-                        .iter()
-                        .map(|(i, block)| block.dot(&v_new.fixed_rows::<6>(6 * i)))
-                        .sum();
-                }
+                rate(&mut rows, &v_new);
                 report.approach_after = report.approach_after.max(approach(&rows));
                 for (i, &body) in bodies.iter().enumerate() {
                     let block: Vector6<f64> = v_new.fixed_rows::<6>(6 * i).into_owned();
@@ -224,6 +253,23 @@ impl Stabilizer {
             }
         }
     }
+}
+
+/// The contacts of one island's velocity projection.
+struct IslandContacts<'a> {
+    /// Dynamic bodies, ascending.
+    bodies: &'a [usize],
+    /// Indices of the island's pairs into the detection's active pairs.
+    pairs: &'a [usize],
+    detection: &'a Detection,
+    /// Rows of points further apart than this are left out.
+    contact_gap: f64,
+    /// Rows of points no further apart than this get friction.
+    friction_gap: f64,
+    /// `1 / h`, or 0 without speculative contacts.
+    gap_rate: f64,
+    /// Whether the rows get friction.
+    friction: bool,
 }
 
 /// The stacked `[v; omega]` of an island's bodies.
