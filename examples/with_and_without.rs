@@ -126,7 +126,8 @@ impl Run {
             Run::Coupled => Settings::default(),
             Run::Positions => Settings::default(),
             Run::Friction | Run::FrictionVelocity => Settings {
-                friction: 0.5,
+                friction: std::env::var("WW_MU").map_or(0.5, |m| m.parse().expect("mu")),
+                friction_directions: std::env::var("WW_K").map_or(4, |k| k.parse().expect("K")),
                 ..Settings::default()
             },
         };

@@ -217,7 +217,10 @@ fn a_speculative_contact_lets_the_gap_close_in_one_step() {
     assert_eq!(report.islands_solved, 1, "{report:?}");
     let v = velocities[1];
     assert!((v.linear.y + gap / h).abs() <= 1e-9, "{v:?}");
-    assert!(v.linear.x.abs() + v.linear.z.abs() + v.angular.norm() <= 1e-9, "{v:?}");
+    assert!(
+        v.linear.x.abs() + v.linear.z.abs() + v.angular.norm() <= 1e-9,
+        "{v:?}"
+    );
     // Without the time step the box is not in contact: untouched.
     let mut velocities = vec![BodyVelocity::default(), falling];
     let report = stabilizer

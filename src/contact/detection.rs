@@ -130,6 +130,7 @@ pub fn detect(
     for (pair, answer) in candidates.into_iter().zip(answers) {
         // Every pair has an answer: from the memo, or queried just above.
         if let Some(result) = answer {
+            log_pair(scene, pair, &result, lengths);
             detection.record(pair, result, lengths);
         }
     }
@@ -143,13 +144,6 @@ impl Detection {
         let value = result.signed_value();
         self.deepest = self.deepest.max(-value);
         if let Some(penetration) = result.penetration.filter(|p| p.depth() > lengths.tolerance) {
-            log::debug!(
-                "penetration ({}, {}): {} depth {:.3e}",
-                pair.body_a,
-                pair.body_b,
-                penetration.features().kind(),
-                penetration.depth()
-            );
             self.penetrations.push(PairPenetration {
                 body_a: pair.body_a,
                 body_b: pair.body_b,
@@ -162,6 +156,27 @@ impl Detection {
             self.active_values.push(value);
             self.active_queries.push(result);
         }
+    }
+}
+
+/// The debug line of a penetrating pair (trace for a near one).
+fn log_pair(scene: &Scene, pair: BodyPair, result: &PairQuery, lengths: DetectionLengths) {
+    let name = |i: usize| scene.bodies().get(i).map_or("?", |b| b.name());
+    let (a, b) = (pair.body_a, pair.body_b);
+    match &result.penetration {
+        Some(p) if p.depth() > lengths.tolerance => log::debug!(
+            "  penetrating: {a} {} and {b} {}, {} depth {:.3e}",
+            name(a),
+            name(b),
+            p.features().kind(),
+            p.depth()
+        ),
+        _ => log::trace!(
+            "  pair {a} {} and {b} {}: signed distance {:.3e}",
+            name(a),
+            name(b),
+            result.signed_value()
+        ),
     }
 }
 

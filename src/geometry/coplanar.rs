@@ -75,7 +75,7 @@ pub(crate) fn polygon_faces(
         }
     }
     if split > 0 {
-        log::debug!("{split} coplanar groups split into convex pieces");
+        log::trace!("{split} coplanar groups split into convex pieces");
     }
     drop_edge_points(&mut cycles)?;
     Ok(compact(cycles))

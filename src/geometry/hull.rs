@@ -113,7 +113,7 @@ impl ConvexPolyhedron {
             if thin.is_empty() {
                 thin = flat_vertices(&active, &hull, tolerances.thin_face);
             }
-            log::debug!(
+            log::trace!(
                 "hull round {round}: {} of {} points -> {} vertices, {} faces; {} thin-face vertices dropped",
                 active.len(),
                 points.len(),

@@ -97,7 +97,9 @@ pub fn line_search<P: ConstraintProvider + ?Sized>(
         let merit = measurement.merit(tolerance);
         let decreased = merit <= (1.0 - settings.sufficient_decrease * alpha) * merit_before;
         if decreased && !starts_penetrating(before, &measurement, tolerance, allowed_new_depth) {
-            log::trace!("line search: alpha {alpha} accepted, merit {merit_before:e} -> {merit:e}");
+            log::debug!(
+                "  line search: alpha {alpha} accepted, merit {merit_before:.3e} -> {merit:.3e}"
+            );
             return LineSearchOutcome::Accepted {
                 alpha,
                 trials,
@@ -105,7 +107,9 @@ pub fn line_search<P: ConstraintProvider + ?Sized>(
                 measurement,
             };
         }
-        log::trace!("line search: alpha {alpha} rejected, merit {merit_before:e} -> {merit:e}");
+        log::debug!(
+            "  line search: alpha {alpha} rejected, merit {merit_before:.3e} -> {merit:.3e}"
+        );
         alpha *= settings.shrink;
     }
     LineSearchOutcome::Rejected { trials }

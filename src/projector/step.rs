@@ -155,6 +155,12 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
     }
     let solve_start = Instant::now();
     let rows = provider.linearize(configuration);
+    log::debug!(
+        "  linearized: {} rows ({} with friction), deepest penetration {:.3e}",
+        rows.len(),
+        rows.iter().filter(|row| row.friction.is_some()).count(),
+        depth_before
+    );
     let (qp, qp_parents) = projection_qp(
         configuration,
         inertias,
@@ -252,7 +258,7 @@ pub fn take_step<P: ConstraintProvider + ?Sized>(
     }
     report.line_search_seconds = line_search_start.elapsed().as_secs_f64();
     log::debug!(
-        "projection step: {} rows, {:?}, trust scale {:.3e}, alpha {:?} after {} trials, depth {:.3e} -> {:.3e}",
+        "  step: {} rows, {:?}, trust scale {:.3e}, alpha {:?} after {} trials, depth {:.3e} -> {:.3e}",
         report.constraints,
         solution.solver,
         report.trust_scale,

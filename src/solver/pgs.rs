@@ -103,7 +103,7 @@ pub fn solve(lcp: &Lcp, settings: &PgsSettings) -> Result<PgsSolution, PgsStatus
         if residual <= settings.tol_residual
             && natural_map_certified(&m, &q, &z) <= settings.tol_residual
         {
-            log::debug!("pgs: converged after {sweep} sweeps, residual {residual:.2e}");
+            log::trace!("pgs: converged after {sweep} sweeps, residual {residual:.2e}");
             let z_orig = scaling.unscale_z(&z);
             let w_orig = lcp.w(&z_orig);
             return Ok(PgsSolution {

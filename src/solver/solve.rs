@@ -185,7 +185,15 @@ pub fn solve_projection(
         settings,
     };
     let mut fallbacks = Vec::new();
-    for kind in solver_order(qp, settings) {
+    let order = solver_order(qp, settings);
+    log::debug!(
+        "solver for {} rows: {:?} ({}), then {:?}",
+        qp.num_rows(),
+        order[0],
+        choice_reason(qp, settings),
+        &order[1..]
+    );
+    for kind in order {
         match problem.run_checked(kind) {
             Ok((candidate, residuals)) => {
                 let cross_check = settings
@@ -246,6 +254,24 @@ fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind>
     order
 }
 
+/// Why the first solver was chosen, for the log.
+fn choice_reason(qp: &ProjectionQp, settings: &SolverSettings) -> String {
+    let n = qp.num_rows();
+    match (settings.choice, auto_choice(qp, settings)) {
+        (SolverChoice::Auto, SolverKind::Trivial) => "auto: no row violated".into(),
+        (SolverChoice::Auto, SolverKind::ClosedForm) => "auto: one row".into(),
+        (SolverChoice::Auto, SolverKind::Lemke) => format!(
+            "auto: dense pivoting is fastest up to {} rows",
+            settings.auto_lemke_max_rows
+        ),
+        (SolverChoice::Auto, _) => format!(
+            "auto: above {} rows the sparse interior point is fastest",
+            settings.auto_lemke_max_rows
+        ),
+        (choice, _) => format!("{choice:?} asked for in the settings ({n} rows)"),
+    }
+}
+
 fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
     let n = qp.num_rows();
     if qp.phi.iter().zip(&qp.target).all(|(p, t)| p >= t) {
@@ -293,7 +319,7 @@ impl Problem<'_> {
         let tolerance = self.settings.tol_residual;
         let residual = residuals.acceptance();
         log::debug!(
-            "{kind:?} on {} rows: feasibility {:.2e}, optimality {:.2e} \
+            "  {kind:?} answered {} rows: feasibility {:.2e}, optimality {:.2e} \
              (natural map {:.2e}, complementarity {:.2e}, stationarity {:.2e})",
             self.qp.num_rows(),
             residuals.feasibility,

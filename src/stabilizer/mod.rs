@@ -203,6 +203,7 @@ impl Stabilizer {
                 shapes: &shapes,
                 poses: &poses,
             };
+            log::debug!("pass {}: detection", report.passes + 1);
             let detection = detect(
                 scene,
                 geometry,
@@ -225,6 +226,12 @@ impl Stabilizer {
                 None
             };
             if let Some(status) = finished {
+                log::debug!(
+                    "stop: deepest penetration {:.3e}, tolerance {:.1e}: {}",
+                    detection.deepest,
+                    lengths.tolerance,
+                    status.name()
+                );
                 report.pass_reports.push(pass);
                 report.status = status;
                 self.last_detection = Some((poses, detection));
@@ -344,7 +351,7 @@ fn worse_than_input(report: &Report) -> bool {
 /// The debug line of a pass.
 fn log_pass(number: usize, pass: &PassReport, left: &[IslandLeft], start: Instant) {
     log::debug!(
-        "pass {number}: {} candidates ({} queried), {} active, {} penetrating, {} islands, \
+        "pass {number} done: {} candidates ({} queried), {} active, {} penetrating, {} islands, \
          {} solved ({} left), deepest {:.3e}, {:.3} ms so far",
         pass.candidate_pairs,
         pass.queried_pairs,

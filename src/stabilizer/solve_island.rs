@@ -310,6 +310,12 @@ fn pushed_by(
 /// One projection step on `island`, whose pairs index the pass's active
 /// pairs.
 fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolution, Error> {
+    log::debug!(
+        "island {}: {} bodies, {} pairs",
+        island_label(input.scene, &island.bodies),
+        island.bodies.len(),
+        island.pairs.len()
+    );
     let (round, rounds, solve_seconds) = plan_island(input, island)?;
     let Round {
         mut contacts,
@@ -322,6 +328,7 @@ fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolut
     };
     Ok(finish(
         island,
+        input.scene,
         rounds,
         contacts,
         configuration,
@@ -333,6 +340,7 @@ fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolut
 /// The solution of an island from its last round's step.
 fn finish(
     island: &Island,
+    scene: &Scene,
     rounds: usize,
     contacts: IslandContacts,
     configuration: Vec<BodyState>,
@@ -351,9 +359,9 @@ fn finish(
     };
     let solution = step.solution.as_ref();
     log::debug!(
-        "island of {} bodies (first {}): solved {} of them ({} rounds), {} pairs, {} rows, {:?}, alpha {:?}, depth {:.3e} -> {:.3e}",
+        "island {}: {} bodies, moved {} of them ({} rounds), {} pairs, {} rows, {:?}, alpha {:?}, depth {:.3e} -> {:.3e}",
+        island_label(scene, &island.bodies),
         island.bodies.len(),
-        island.bodies[0],
         bodies.len(),
         rounds,
         contacts.pairs().len(),
@@ -389,6 +397,21 @@ fn finish(
         line_search_seconds: (step.line_search_seconds - query_seconds).max(0.0),
         query_seconds,
         queries: contacts.queries(),
+    }
+}
+
+/// The names of an island's first bodies, for the log.
+fn island_label(scene: &Scene, bodies: &[usize]) -> String {
+    const SHOWN: usize = 3;
+    let names: Vec<String> = bodies
+        .iter()
+        .take(SHOWN)
+        .map(|&i| format!("{i} {}", scene.bodies().get(i).map_or("?", |b| b.name())))
+        .collect();
+    let more = bodies.len().saturating_sub(SHOWN);
+    match more {
+        0 => format!("[{}]", names.join(", ")),
+        _ => format!("[{}, and {more} more]", names.join(", ")),
     }
 }
 

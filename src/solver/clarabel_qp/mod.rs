@@ -151,7 +151,7 @@ pub(crate) fn run(
         .map_err(|e| ClarabelFailure::Setup(e.to_string()))?;
     solver.solve();
     let solution = &solver.solution;
-    log::debug!(
+    log::trace!(
         "clarabel: status {:?} after {} iterations, r_prim {:.2e}, r_dual {:.2e}",
         solution.status,
         solution.iterations,

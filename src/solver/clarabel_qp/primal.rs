@@ -151,7 +151,7 @@ pub fn solve(
         r.acceptance()
     };
     let (raw_res, polished_res) = (worst(&raw), worst(&polished));
-    log::debug!("clarabel primal: residual {raw_res:.2e}, polished {polished_res:.2e}");
+    log::trace!("clarabel primal: residual {raw_res:.2e}, polished {polished_res:.2e}");
     Ok(if polished_res < raw_res {
         polished
     } else {

@@ -196,7 +196,7 @@ fn attempt(
         },
     };
     let path = path::run(&m_run, &DVector::from_element(n, 1.0), &scaled.q, &options);
-    log::debug!(
+    log::trace!(
         "lemke run eps={eps:e}: {:?} after {} pivots",
         path.end,
         path.pivots
