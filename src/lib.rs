@@ -28,6 +28,7 @@ mod parallel;
 pub mod projector;
 #[cfg(feature = "rapier")]
 pub mod rapier_bridge;
+pub mod render;
 pub mod scene;
 pub mod solver;
 pub mod stabilizer;

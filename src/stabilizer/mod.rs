@@ -142,6 +142,12 @@ impl Stabilizer {
         Ok(report)
     }
 
+    /// The pairs of `scene` penetrating deeper than the tolerance at its
+    /// current poses, with their exact depths (the scene is not changed).
+    pub fn penetrations(&mut self, scene: &Scene) -> Result<Vec<PairPenetration>, Error> {
+        Ok(self.detect_at(scene)?.0.penetrations)
+    }
+
     /// The detection at the scene's current poses: the last call's if it
     /// was made at them, else a new one.
     fn detect_at(&mut self, scene: &Scene) -> Result<(Detection, ResolvedLengths), Error> {

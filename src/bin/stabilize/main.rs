@@ -7,6 +7,7 @@
 mod demo;
 mod exit;
 mod lcp;
+mod render;
 mod scene;
 
 use std::process::ExitCode;
@@ -29,6 +30,8 @@ enum Command {
     Lcp(lcp::LcpArgs),
     /// Stabilize the built-in demonstration scene and print the report.
     Demo(demo::DemoArgs),
+    /// Draw a scene file as SVG: `stabilize render IN.json -o OUT.svg`.
+    Render(render::RenderArgs),
 }
 
 fn main() -> ExitCode {
@@ -38,5 +41,6 @@ fn main() -> ExitCode {
         Command::Scene(args) => scene::run(&args),
         Command::Lcp(args) => lcp::run(&args),
         Command::Demo(args) => demo::run(&args),
+        Command::Render(args) => render::run(&args),
     }
 }
