@@ -98,6 +98,16 @@ impl Stabilizer {
     /// came (see [`Report::restored_input`]). On error (invalid input) the
     /// poses are as they were.
     pub fn stabilize(&mut self, scene: &mut Scene) -> Result<Report, Error> {
+        self.stabilize_observed(scene, &mut |_| {})
+    }
+
+    /// [`Stabilizer::stabilize`], calling `observer` after every pass with
+    /// that pass's report (for a progress indicator on long calls).
+    pub fn stabilize_observed(
+        &mut self,
+        scene: &mut Scene,
+        observer: &mut dyn FnMut(&PassReport),
+    ) -> Result<Report, Error> {
         let start = Instant::now();
         let before: Vec<([f64; 3], [f64; 4])> = scene
             .bodies()
@@ -106,7 +116,7 @@ impl Stabilizer {
             .collect();
         let com_before: Vec<Isometry3<f64>> =
             scene.bodies().iter().map(|b| *b.com_pose()).collect();
-        let result = self.run(scene, start);
+        let result = self.run(scene, start, observer);
         if result.is_err() {
             restore(scene, &before);
         }
@@ -179,7 +189,12 @@ impl Stabilizer {
         Ok((detection, lengths))
     }
 
-    fn run(&mut self, scene: &mut Scene, start: Instant) -> Result<Report, Error> {
+    fn run(
+        &mut self,
+        scene: &mut Scene,
+        start: Instant,
+        observer: &mut dyn FnMut(&PassReport),
+    ) -> Result<Report, Error> {
         let lengths = self.settings.resolve(scene_scale(scene));
         let vclip = VClip::new(self.settings.vclip);
         let projection = ProjectionSettings {
@@ -254,6 +269,7 @@ impl Stabilizer {
             report.passes += 1;
             let stuck = self.apply(scene, solutions, &mut memo, &mut report, &mut pass)?;
             log_pass(report.passes, &pass, &report.islands_left, start);
+            observer(&pass);
             report.pass_reports.push(pass);
             if let Some(status) = stuck {
                 report.status = status;

@@ -15,6 +15,7 @@ use constraint_stabilization::verify::parry_penetration;
 use constraint_stabilization::{Report, Settings, Stabilizer};
 
 use crate::exit;
+use crate::progress::PassProgress;
 
 /// Arguments of `stabilize demo`.
 #[derive(Debug, Args)]
@@ -49,8 +50,10 @@ pub fn run(args: &DemoArgs) -> ExitCode {
     );
     let result = Stabilizer::new(settings).and_then(|mut s| {
         let before = parry_penetration(&scene, 0.0)?;
-        let report = s.stabilize(&mut scene)?;
-        Ok((before, report))
+        let mut progress = PassProgress::start("stabilizing");
+        let report = s.stabilize_observed(&mut scene, &mut |pass| progress.pass(pass));
+        progress.finish();
+        Ok((before, report?))
     });
     let (before, report) = match result {
         Ok(outcome) => outcome,
@@ -95,7 +98,7 @@ fn print_report(report: &Report, scene: &Scene) {
         scene.len()
     );
     println!(
-        "penetration (V-Clip, deepest vertex): {:.4e} -> {:.4e}; mass-weighted displacement {:.4e}",
+        "penetration (exact depth): {:.4e} -> {:.4e}; mass-weighted displacement {:.4e}",
         report.depth_before, report.depth_after, report.displacement
     );
     println!(

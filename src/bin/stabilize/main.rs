@@ -7,6 +7,7 @@
 mod demo;
 mod exit;
 mod lcp;
+mod progress;
 mod render;
 mod scene;
 
