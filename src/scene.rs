@@ -1,13 +1,17 @@
 //! The scene: an ordered list of validated bodies and optional settings.
 //!
-//! Body indices are positions in [`Scene::bodies`]; they are stable (bodies
-//! are only appended) and are what broad phase, islands and reports use.
-//! Names are labels only: they need not be unique.
+//! Body indices are positions in [`Scene::bodies`] and are what broad
+//! phase, islands and reports use. Appending keeps every index;
+//! [`Scene::remove_bodies`] keeps the order of the bodies left, so each
+//! moves down by the number of removed bodies before it, and returns that
+//! old-to-new map ([`IndexMap`]). Names are labels only: they need not be
+//! unique.
 //!
 //! [`SceneSettings`] holds the settings a scene file may carry, every field
 //! optional; the stabilizer maps them onto its own settings (and its
 //! defaults). Lengths in it are in the scene's length unit.
 
+use nalgebra::Isometry3;
 use thiserror::Error;
 
 use crate::body::{Body, BodyDesc, BodyError};
@@ -124,6 +128,54 @@ pub enum SceneError {
     Settings(#[from] SettingsError),
 }
 
+/// Old body index to new after [`Scene::remove_bodies`]: `old_to_new[i]` is
+/// `None` for a removed body, else its new index (order preserved).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct IndexMap {
+    old_to_new: Vec<Option<usize>>,
+}
+
+impl IndexMap {
+    /// The map that removes `removed[i] == true` bodies and shifts the rest.
+    fn removing(removed: &[bool]) -> Self {
+        let mut next = 0;
+        let old_to_new = removed
+            .iter()
+            .map(|&gone| {
+                (!gone).then(|| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect();
+        IndexMap { old_to_new }
+    }
+
+    /// The new index of old body `old`; `None` if it was removed or out of
+    /// range.
+    pub fn new_index(&self, old: usize) -> Option<usize> {
+        self.old_to_new.get(old).copied().flatten()
+    }
+
+    /// `new_index` of every old index, in old order.
+    pub fn old_to_new(&self) -> &[Option<usize>] {
+        &self.old_to_new
+    }
+
+    /// Number of bodies before the removal.
+    pub fn old_len(&self) -> usize {
+        self.old_to_new.len()
+    }
+
+    /// Whether no body was removed.
+    pub fn is_identity(&self) -> bool {
+        self.old_to_new
+            .iter()
+            .enumerate()
+            .all(|(i, &n)| n == Some(i))
+    }
+}
+
 /// Bodies in a fixed order, and the settings given with them.
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
@@ -168,6 +220,69 @@ impl Scene {
     pub fn push_body(&mut self, body: Body) -> usize {
         self.bodies.push(body);
         self.bodies.len() - 1
+    }
+
+    /// Removes the bodies at `indices` (any order, repeats allowed), keeping
+    /// the order of the others; returns the old-to-new index map. An index
+    /// out of range is an error and removes nothing.
+    pub fn remove_bodies(&mut self, indices: &[usize]) -> Result<IndexMap, SceneError> {
+        let len = self.bodies.len();
+        let mut removed = vec![false; len];
+        for &index in indices {
+            *removed
+                .get_mut(index)
+                .ok_or(SceneError::NoSuchBody { index, len })? = true;
+        }
+        let map = IndexMap::removing(&removed);
+        let mut old = 0;
+        self.bodies.retain(|_| {
+            old += 1;
+            !removed[old - 1]
+        });
+        Ok(map)
+    }
+
+    /// Sets the user poses (shape frame in the world, see
+    /// [`Body::set_user_pose`]) of several bodies in one call. All or
+    /// nothing: on an index out of range or an invalid pose (not finite),
+    /// the error names the body and every pose is as it was.
+    pub fn set_user_poses(
+        &mut self,
+        poses: impl IntoIterator<Item = (usize, Isometry3<f64>)>,
+    ) -> Result<(), SceneError> {
+        let mut before = Vec::new();
+        for (index, pose) in poses {
+            let result = self.body_mut(index).and_then(|body| {
+                let old = (*body.translation_user(), body.rotation_user_xyzw());
+                let q = pose.rotation.quaternion();
+                body.set_user_pose(pose.translation.vector, [q.i, q.j, q.k, q.w])
+                    .map(|()| old)
+                    .map_err(|source| SceneError::Body {
+                        index,
+                        name: body.name().to_owned(),
+                        source,
+                    })
+            });
+            match result {
+                Ok(old) => before.push((index, old)),
+                Err(error) => {
+                    self.restore_user_poses(&before);
+                    return Err(error);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Puts back poses recorded by [`Scene::set_user_poses`], last first (a
+    /// body set twice ends at its first recorded pose).
+    fn restore_user_poses(&mut self, before: &[(usize, (nalgebra::Vector3<f64>, [f64; 4]))]) {
+        for (index, (translation, rotation)) in before.iter().rev() {
+            // Recorded from the body itself before a successful set: the
+            // index exists and the pose was valid, so this cannot fail.
+            let restored = self.bodies[*index].set_user_pose(*translation, *rotation);
+            debug_assert!(restored.is_ok());
+        }
     }
 
     /// The bodies, in index order.

@@ -1,13 +1,16 @@
-//! The map from Rapier handles to scene bodies, kept across steps, and the
-//! decision of each call: append the new colliders, or rebuild the scene.
+//! The map from Rapier handles to scene bodies and back, kept across steps,
+//! and the plan of each call: which scene bodies to remove, which read
+//! colliders to append.
 //!
 //! Scene bodies are the read colliders in the order they were first seen
 //! (the collider set's order within one call). A mapped collider keeps its
-//! scene index, hence its shape (built once) and its V-Clip warm starts,
-//! as long as it is read again unchanged: same parent, same body type and
-//! mass, same offset `P` in its body, same shape signature. Anything else
-//! (a collider removed, skipped or changed) rebuilds the scene, since a
-//! scene cannot drop or change a body.
+//! shape (built once) and its V-Clip warm starts as long as it is read
+//! again unchanged: same parent, same body type and mass, same offset `P`
+//! in its body, same shape signature. A collider that is no longer read
+//! (removed, disabled, now skipped) has its body removed; one that changed
+//! has its body removed and a new one appended. Removal keeps the order of
+//! the others ([`crate::scene::Scene::remove_bodies`]), so their indices
+//! shift down and [`BodyMap::remove`] follows.
 
 use std::collections::HashMap;
 
@@ -16,6 +19,7 @@ use rapier3d::dynamics::RigidBodyHandle;
 use rapier3d::geometry::ColliderHandle;
 
 use super::collider_shape::{ReadCollider, ShapeSignature};
+use crate::scene::IndexMap;
 
 /// The Rapier collider behind one scene body.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,14 +60,13 @@ impl MappedCollider {
     }
 }
 
-/// What one call does with the scene.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) enum Plan {
-    /// Every mapped collider is read unchanged: append these (indices into
-    /// the read list), possibly none.
-    Append(Vec<usize>),
-    /// A mapped collider vanished or changed: start over.
-    Rebuild,
+/// What one call does with the scene: remove, then append.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct Plan {
+    /// Scene indices of the mapped colliders that vanished or changed.
+    pub remove: Vec<usize>,
+    /// Indices into the read list of the colliders that are new or changed.
+    pub append: Vec<usize>,
 }
 
 /// Scene index to collider and back.
@@ -90,6 +93,22 @@ impl BodyMap {
         self.by_body.get(&body).copied()
     }
 
+    /// The Rapier collider (and its parent body) behind scene body `index`.
+    pub fn entry(&self, index: usize) -> Option<&MappedCollider> {
+        self.entries.get(index)
+    }
+
+    /// The collider behind scene body `index`.
+    pub fn collider_of(&self, index: usize) -> Option<ColliderHandle> {
+        self.entry(index).map(|entry| entry.collider)
+    }
+
+    /// The parent Rapier body of scene body `index` (`None` for a collider
+    /// without a parent, or an index out of range).
+    pub fn body_of(&self, index: usize) -> Option<RigidBodyHandle> {
+        self.entry(index).and_then(|entry| entry.body)
+    }
+
     /// Number of scene bodies.
     pub fn len(&self) -> usize {
         self.entries.len()
@@ -106,31 +125,49 @@ impl BodyMap {
             .enumerate()
             .map(|(i, r)| (r.collider, i))
             .collect();
-        let unchanged = self.entries.iter().all(|entry| {
+        let kept = |entry: &MappedCollider| {
             read_index
                 .get(&entry.collider)
                 .is_some_and(|&i| entry.same_as(&read[i]))
-        });
-        if !unchanged {
-            return Plan::Rebuild;
-        }
-        let new = read
+        };
+        let removed: Vec<bool> = self.entries.iter().map(|e| !kept(e)).collect();
+        let remove = (0..removed.len()).filter(|&index| removed[index]).collect();
+        let append = read
             .iter()
             .enumerate()
-            .filter(|(_, r)| !self.by_collider.contains_key(&r.collider))
+            .filter(|(_, r)| {
+                self.scene_index(r.collider)
+                    .is_none_or(|index| removed[index])
+            })
             .map(|(i, _)| i)
             .collect();
-        Plan::Append(new)
+        Plan { remove, append }
+    }
+
+    /// Follows a removal from the scene: entries of removed bodies go, the
+    /// others take their new indices (order kept).
+    pub(crate) fn remove(&mut self, map: &IndexMap) {
+        let entries = std::mem::take(&mut self.entries);
+        self.clear();
+        for (old, entry) in entries.into_iter().enumerate() {
+            if map.new_index(old).is_some() {
+                self.push_entry(entry);
+            }
+        }
     }
 
     /// Maps the next scene body (index `len()`) to `read`.
     pub(crate) fn push(&mut self, read: &ReadCollider) {
+        self.push_entry(MappedCollider::of(read));
+    }
+
+    fn push_entry(&mut self, entry: MappedCollider) {
         let index = self.entries.len();
-        self.by_collider.insert(read.collider, index);
-        if let (Some(body), Some(_)) = (read.body, read.dynamic_mass) {
+        self.by_collider.insert(entry.collider, index);
+        if let (Some(body), true) = (entry.body, entry.is_dynamic()) {
             self.by_body.insert(body, index);
         }
-        self.entries.push(MappedCollider::of(read));
+        self.entries.push(entry);
     }
 
     pub(crate) fn clear(&mut self) {

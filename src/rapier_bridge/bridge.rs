@@ -4,31 +4,38 @@
 //! One call, after `PhysicsPipeline::step`:
 //! 1. read every collider ([`super::collider_shape`]): the ones the scene
 //!    can hold, and the skipped ones with their reason;
-//! 2. keep the scene ([`super::body_map`]): append new colliders, or
-//!    rebuild when a mapped one vanished or changed; then set every scene
-//!    body's user pose to its collider's world pose `U = B P`;
-//! 3. stabilize with the kept [`Stabilizer`] (warm starts from the previous
-//!    call); on error nothing is written;
+//! 2. keep the scene ([`super::body_map`]): remove the bodies of mapped
+//!    colliders that vanished or changed (the stabilizer carries the warm
+//!    starts of the others to their new indices), append the new ones; then
+//!    set every scene body's user pose to its collider's world pose
+//!    `U = B P`, in one batch;
+//! 3. choose the call's lengths ([`super::round_off`], and the allowed
+//!    penetration of the coupling mode, [`super::settings`]) and stabilize
+//!    with the kept [`Stabilizer`] (warm starts from the previous call); on
+//!    error nothing is written;
 //! 4. write back the dynamic bodies whose pose changed, `B' = U' P^-1`,
 //!    rounded to f32, without touching velocities or waking bodies.
 
 use nalgebra::{Isometry3, Vector3};
-use rapier3d::dynamics::RigidBodySet;
+use rapier3d::dynamics::{IntegrationParameters, RigidBodySet};
 use rapier3d::geometry::ColliderSet;
 
-use super::body_map::{BodyMap, MappedCollider, Plan};
+use super::body_map::{BodyMap, MappedCollider};
 use super::collider_shape::{ReadCollider, read_collider, shape_of};
 use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
+use super::round_off::{call_settings, write_back_round_off_bound};
+use super::settings::BridgeSettings;
 use crate::body::{BodyDesc, MassSpec};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneError};
 use crate::stabilizer::{Settings, Stabilizer};
 
 /// Stabilizes a Rapier world after each step; keeps the scene, the handle
 /// map and the stabilizer (with its warm starts) from call to call.
 #[derive(Debug, Clone)]
 pub struct RapierBridge {
+    settings: BridgeSettings,
     stabilizer: Stabilizer,
     scene: Scene,
     map: BodyMap,
@@ -39,13 +46,25 @@ pub struct RapierBridge {
 type UserPose = (Vector3<f64>, [f64; 4]);
 
 impl RapierBridge {
-    /// A bridge with validated stabilizer settings and an empty scene.
+    /// A bridge with validated stabilizer settings, the default coupling
+    /// ([`super::CouplingMode::PositionsOnly`]) and an empty scene.
     pub fn new(settings: Settings) -> Result<Self, BridgeError> {
+        Self::with_settings(BridgeSettings::with_stabilizer(settings))
+    }
+
+    /// A bridge with validated settings and an empty scene.
+    pub fn with_settings(settings: BridgeSettings) -> Result<Self, BridgeError> {
         Ok(RapierBridge {
-            stabilizer: Stabilizer::new(settings)?,
+            stabilizer: Stabilizer::new(settings.stabilizer.clone())?,
+            settings,
             scene: Scene::new(),
             map: BodyMap::default(),
         })
+    }
+
+    /// The bridge's settings, as given.
+    pub fn settings(&self) -> &BridgeSettings {
+        &self.settings
     }
 
     /// The scene as of the last call (poses as read, or as corrected by
@@ -59,7 +78,8 @@ impl RapierBridge {
         &self.map
     }
 
-    /// The stabilizer (its settings).
+    /// The stabilizer; its settings are those of the last call (derived
+    /// from [`RapierBridge::settings`], see [`super::round_off`]).
     pub fn stabilizer(&self) -> &Stabilizer {
         &self.stabilizer
     }
@@ -73,15 +93,15 @@ impl RapierBridge {
     ) -> Result<SyncReport, BridgeError> {
         let (read, mut skipped) = read_world(bodies, colliders);
         let mut report = SyncReport::default();
-        let new = match self.map.plan(&read) {
-            Plan::Append(new) => new,
-            Plan::Rebuild => {
-                self.restart()?;
-                report.rebuilt = true;
-                (0..read.len()).collect()
-            }
-        };
-        for i in new {
+        let plan = self.map.plan(&read);
+        if !plan.remove.is_empty() {
+            let removed = self
+                .stabilizer
+                .remove_bodies(&mut self.scene, &plan.remove)?;
+            self.map.remove(&removed);
+            report.removed = plan.remove.len();
+        }
+        for i in plan.append {
             match self.append(&read[i], bodies, colliders) {
                 Ok(()) => report.appended += 1,
                 Err(reason) => skipped.push(SkippedCollider {
@@ -97,38 +117,43 @@ impl RapierBridge {
     }
 
     /// Reads the world, removes interpenetration, writes the corrected
-    /// poses of dynamic bodies back (velocities untouched). On error
-    /// nothing is written.
+    /// poses of dynamic bodies back (velocities untouched). `parameters`
+    /// are the ones of the step just taken (the coupling mode may read
+    /// them). On error nothing is written.
     pub fn stabilize(
         &mut self,
         bodies: &mut RigidBodySet,
         colliders: &ColliderSet,
+        parameters: &IntegrationParameters,
     ) -> Result<BridgeReport, BridgeError> {
         let sync = self.sync(bodies, colliders)?;
+        let round_off_bound = write_back_round_off_bound(&self.scene, &self.map);
         let mut report = BridgeReport {
             sync,
             stabilizer: None,
             bodies_written: 0,
             write_back_round_off: WriteBackRoundOff::default(),
+            round_off_bound,
         };
         if self.scene.bodies().iter().all(|b| b.is_fixed()) {
             return Ok(report);
         }
+        let allowed = self
+            .settings
+            .allowed_penetration(f64::from(parameters.allowed_linear_error()));
+        let settings = call_settings(
+            &self.settings.stabilizer,
+            &self.scene,
+            round_off_bound,
+            allowed,
+        );
+        self.stabilizer.set_settings(settings)?;
         let before: Vec<UserPose> = self.scene.bodies().iter().map(user_pose_of).collect();
         report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
         let (written, round_off) = self.write_back(bodies, &before);
         report.bodies_written = written;
         report.write_back_round_off = round_off;
         Ok(report)
-    }
-
-    /// Drops the scene and the map, and restarts the stabilizer with the
-    /// same settings (its warm starts refer to scene indices).
-    fn restart(&mut self) -> Result<(), BridgeError> {
-        self.stabilizer = Stabilizer::new(self.stabilizer.settings().clone())?;
-        self.scene = Scene::new();
-        self.map.clear();
-        Ok(())
     }
 
     /// Builds the scene body of a read collider; an invalid one (a
@@ -158,30 +183,34 @@ impl RapierBridge {
         Ok(())
     }
 
-    /// Sets every scene body's user pose to its collider's world pose.
+    /// Sets every scene body's user pose to its collider's world pose, in
+    /// one batch (all or nothing).
     fn update_poses(
         &mut self,
         bodies: &RigidBodySet,
         colliders: &ColliderSet,
     ) -> Result<(), BridgeError> {
-        for (index, entry) in self.map.entries().iter().enumerate() {
-            let Some(pose) = collider_world_pose(entry, bodies, colliders) else {
-                continue;
-            };
-            let moved = self.scene.body_mut(index).and_then(|body| {
-                body.set_user_pose(pose.translation.vector, xyzw(&pose.rotation))
-                    .map_err(|source| crate::scene::SceneError::Body {
-                        index,
-                        name: body.name().to_owned(),
-                        source,
-                    })
+        let poses = self
+            .map
+            .entries()
+            .iter()
+            .enumerate()
+            .filter_map(|(index, entry)| {
+                collider_world_pose(entry, bodies, colliders).map(|pose| (index, pose))
             });
-            moved.map_err(|source| BridgeError::Body {
-                collider: entry.collider,
-                source,
-            })?;
-        }
-        Ok(())
+        let result = self.scene.set_user_poses(poses.collect::<Vec<_>>());
+        result.map_err(|source| {
+            // The indices are the map's own, so a body error always names a
+            // mapped collider; anything else is passed on as the scene's.
+            let collider = match source {
+                SceneError::Body { index, .. } => self.map.collider_of(index),
+                _ => None,
+            };
+            match collider {
+                Some(collider) => BridgeError::Body { collider, source },
+                None => BridgeError::Stabilize(source.into()),
+            }
+        })
     }
 
     /// Writes `B' = U' P^-1` to every dynamic body the stabilizer moved.

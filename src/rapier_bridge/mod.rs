@@ -74,6 +74,8 @@ mod collider_shape;
 mod convert;
 mod error;
 mod report;
+pub mod round_off;
+mod settings;
 mod world;
 
 pub use body_map::{BodyMap, MappedCollider};
@@ -81,4 +83,5 @@ pub use bridge::RapierBridge;
 pub use convert::{pose_from_f64, pose_to_f64};
 pub use error::BridgeError;
 pub use report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
+pub use settings::{BridgeSettings, CouplingMode};
 pub use world::{GRAVITY_Z_UP, SceneWorld, world_from_scene};

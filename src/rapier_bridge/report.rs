@@ -39,11 +39,11 @@ pub struct SyncReport {
     pub skipped: Vec<SkippedCollider>,
     /// Scene bodies after the call.
     pub scene_bodies: usize,
-    /// Bodies appended by this call (all of them when the scene was rebuilt).
+    /// Bodies appended by this call (new colliders, and changed ones).
     pub appended: usize,
-    /// Whether the scene was rebuilt (a mapped collider vanished or changed)
-    /// and the stabilizer restarted without warm starts.
-    pub rebuilt: bool,
+    /// Bodies removed by this call (colliders that vanished or changed);
+    /// the others keep their shapes and warm starts.
+    pub removed: usize,
 }
 
 /// Largest f32 rounding of the poses written back (0 when none was).
@@ -67,8 +67,14 @@ pub struct BridgeReport {
     pub stabilizer: Option<Report>,
     /// Rapier bodies whose pose was written back.
     pub bodies_written: usize,
-    /// f32 rounding of the written poses.
+    /// f32 rounding of the written poses, as measured.
     pub write_back_round_off: WriteBackRoundOff,
+    /// `delta`: the most any collider point of a dynamic body can move when
+    /// its pose is rounded to f32 (a bound, see `rapier_bridge/round_off.rs`);
+    /// the depth of a pair in the f32 world exceeds its depth in the
+    /// stabilizer's f64 scene by at most `2 delta`. The call's tolerance is
+    /// at least `8 delta`.
+    pub round_off_bound: f64,
 }
 
 impl BridgeReport {

@@ -22,6 +22,12 @@
 //! [`Status::Unsolved`] if one failed), with the islands left and why in
 //! the report.
 //!
+//! A call also ends when its time budget ([`Settings::time_budget`]) is
+//! spent after a pass ([`Status::TimeLimit`]): the check follows each
+//! pass's detection, so the report's depth after is that of the
+//! configuration returned; the passes after the first give clarabel the
+//! time left as its own limit.
+//!
 //! Guarantees: a scene with no penetration deeper than the tolerance is not
 //! touched (every pose bit-identical); bodies outside solved islands are not
 //! touched; the merit of each island never rises; the scene is never
@@ -31,6 +37,7 @@
 //! every pose is as it was before the call.
 
 mod region;
+mod removal;
 mod report;
 mod settings;
 mod solve_island;
@@ -86,6 +93,15 @@ impl Stabilizer {
     /// The settings.
     pub fn settings(&self) -> &Settings {
         &self.settings
+    }
+
+    /// Replaces the settings (validated first; on error they are kept),
+    /// keeping the warm starts: for a caller whose lengths follow the
+    /// scene from call to call.
+    pub fn set_settings(&mut self, settings: Settings) -> Result<(), Error> {
+        settings.validate()?;
+        self.settings = settings;
+        Ok(())
     }
 
     /// Moves the dynamic bodies of `scene` by the smallest mass-weighted
@@ -197,7 +213,7 @@ impl Stabilizer {
     ) -> Result<Report, Error> {
         let lengths = self.settings.resolve(scene_scale(scene));
         let vclip = VClip::new(self.settings.vclip);
-        let projection = ProjectionSettings {
+        let mut projection = ProjectionSettings {
             tolerance: lengths.tolerance,
             target_margin: lengths.target_margin,
             line_search: self.settings.line_search,
@@ -243,6 +259,8 @@ impl Stabilizer {
                 })
             } else if report.passes == self.settings.max_passes {
                 Some(Status::PassLimit)
+            } else if report.passes > 0 && self.time_left(start) == Some(0.0) {
+                Some(Status::TimeLimit)
             } else {
                 None
             };
@@ -257,6 +275,12 @@ impl Stabilizer {
                 report.status = status;
                 self.last_detection = Some((poses, detection));
                 return Ok(report);
+            }
+            if report.passes > 0 {
+                if let Some(left) = self.time_left(start) {
+                    let clarabel = &mut projection.solver.clarabel;
+                    clarabel.time_limit = clarabel.time_limit.min(left);
+                }
             }
             let solutions = self.solve_pass(
                 scene,
@@ -276,6 +300,12 @@ impl Stabilizer {
                 return Ok(report);
             }
         }
+    }
+
+    /// Seconds left of the time budget (0 when spent); `None` without one.
+    fn time_left(&self, start: Instant) -> Option<f64> {
+        let budget = self.settings.time_budget?;
+        Some(budget.saturating_sub(start.elapsed()).as_secs_f64())
     }
 
     /// Applies the islands' corrections in island order (a stalled or

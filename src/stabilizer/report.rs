@@ -18,6 +18,10 @@ pub enum Status {
     Converged,
     /// The pass limit was reached with a penetration left.
     PassLimit,
+    /// The time budget ([`super::Settings::time_budget`]) was spent after a
+    /// pass with a penetration left: the call stopped at the configuration
+    /// that pass reached (never worse than the input).
+    TimeLimit,
     /// Every island solved in the last pass stalled (the line search found
     /// no acceptable step); the stalled islands are in
     /// [`Report::islands_left`].
@@ -36,6 +40,7 @@ impl Status {
             Status::NothingToDo => "nothing_to_do",
             Status::Converged => "converged",
             Status::PassLimit => "pass_limit",
+            Status::TimeLimit => "time_limit",
             Status::Stalled => "stalled",
             Status::Unsolved => "unsolved",
         }
@@ -188,8 +193,12 @@ pub struct Report {
     pub pass_reports: Vec<PassReport>,
     /// The scene's length scale `L` (smallest dynamic body's circumradius).
     pub scale: f64,
-    /// The absolute penetration tolerance used.
+    /// The absolute penetration tolerance used (including the allowed
+    /// penetration).
     pub tolerance: f64,
+    /// The allowed penetration ([`super::Settings::allowed_penetration`]),
+    /// included in `tolerance`.
+    pub allowed_penetration: f64,
     /// Deepest penetration before the call: the exact depth (the minimum
     /// translation, equal to the separating-axis depth) of the deepest pair.
     pub depth_before: f64,
@@ -234,6 +243,7 @@ impl Report {
             pass_reports: Vec::new(),
             scale: lengths.scale,
             tolerance: lengths.tolerance,
+            allowed_penetration: lengths.allowed_penetration,
             depth_before: 0.0,
             depth_after: 0.0,
             penetrations_before: Vec::new(),

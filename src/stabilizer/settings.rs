@@ -5,6 +5,21 @@
 //! dynamic body: scaling a scene by `s` scales `L`, hence every tolerance,
 //! by `s`, so the corrected poses scale by `s` and the number of passes is
 //! unchanged. Each relative length has an absolute override.
+//!
+//! An engine that keeps its contacts slightly penetrating on purpose
+//! (Rapier's allowed linear error, Box2D's linear slop) can be respected
+//! with [`Settings::allowed_penetration`] `a` (absolute): the call accepts
+//! any depth up to `a + tolerance`, and its linearized rows aim at the gap
+//! `target_margin - a` (a negative gap: a depth of `a - target_margin`), so
+//! a corrected contact is left at about the engine's own depth rather than
+//! separated. With `a = 0` both lengths are the plain ones, bit for bit.
+//!
+//! [`Settings::time_budget`] bounds the wall time of a call: it is checked
+//! after each pass (never before the first, so a call always does one), and
+//! the remaining time is clarabel's time limit in the passes after the
+//! first.
+
+use std::time::Duration;
 
 use thiserror::Error;
 
@@ -33,6 +48,18 @@ pub struct Settings {
     pub target_margin_relative: f64,
     /// Absolute target margin; overrides the relative one. Default none.
     pub target_margin_absolute: Option<f64>,
+    /// Penetration accepted as the engine's own (length, absolute, >= 0):
+    /// depths up to `allowed_penetration + tolerance` are resolved, and the
+    /// linearized rows aim at the gap `target_margin - allowed_penetration`
+    /// (see the module docs). Default 0 (every penetration beyond the
+    /// tolerance is removed).
+    pub allowed_penetration: f64,
+    /// Wall-time budget of one call, checked after each pass: when it is
+    /// spent, the call stops at the configuration reached
+    /// ([`super::Status::TimeLimit`]; never worse than the input, as any
+    /// call). The first pass always runs, so a zero budget does exactly one
+    /// pass. Default none (no limit).
+    pub time_budget: Option<Duration>,
     /// Largest number of passes (detect, solve every penetrating island,
     /// apply). Default 100.
     pub max_passes: usize,
@@ -97,6 +124,8 @@ impl Default for Settings {
             contact_margin_absolute: None,
             target_margin_relative: 1e-6,
             target_margin_absolute: None,
+            allowed_penetration: 0.0,
+            time_budget: None,
             max_passes: 100,
             contact_manifold: true,
             friction: 0.0,
@@ -120,8 +149,12 @@ pub struct ResolvedLengths {
     pub tolerance: f64,
     /// Contact margin.
     pub contact_margin: f64,
-    /// Target margin.
+    /// Target margin: the gap the linearized rows aim for (negative when
+    /// an allowed penetration deeper than the plain margin is set).
     pub target_margin: f64,
+    /// The allowed penetration, included in `tolerance` and subtracted
+    /// from `target_margin`.
+    pub allowed_penetration: f64,
 }
 
 /// An invalid setting.
@@ -174,6 +207,7 @@ impl Settings {
         if let Some(value) = self.target_margin_absolute {
             non_negative("target_margin_absolute", value)?;
         }
+        non_negative("allowed_penetration", self.allowed_penetration)?;
         positive_or_infinite("step_max_rotation", self.step_max_rotation)?;
         positive_or_infinite(
             "step_max_translation_relative",
@@ -241,19 +275,25 @@ impl Settings {
         }
     }
 
-    /// The lengths for a scene of length scale `scale`.
+    /// The lengths for a scene of length scale `scale`; the allowed
+    /// penetration is added to the tolerance and taken from the target
+    /// margin (both unchanged, bit for bit, when it is 0).
     pub fn resolve(&self, scale: f64) -> ResolvedLengths {
+        let allowed = self.allowed_penetration;
         ResolvedLengths {
             scale,
             tolerance: self
                 .tolerance_absolute
-                .unwrap_or(self.tolerance_relative * scale),
+                .unwrap_or(self.tolerance_relative * scale)
+                + allowed,
             contact_margin: self
                 .contact_margin_absolute
                 .unwrap_or(self.contact_margin_relative * scale),
             target_margin: self
                 .target_margin_absolute
-                .unwrap_or(self.target_margin_relative * scale),
+                .unwrap_or(self.target_margin_relative * scale)
+                - allowed,
+            allowed_penetration: allowed,
         }
     }
 }

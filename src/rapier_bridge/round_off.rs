@@ -1,0 +1,107 @@
+//! The lengths of one bridge call, chosen so that rounding the written
+//! poses to f32 cannot undo the correction.
+//!
+//! # The bound
+//!
+//! A written pose is the body pose `B' = U' P^-1` rounded to f32
+//! ([`super::pose_from_f64`]). With `u = 2^-24` (f32 unit round-off):
+//! - each translation component moves by at most `u |t_i|`, so the origin
+//!   by at most `u |t|`;
+//! - each quaternion component moves by at most `u` (they are at most 1),
+//!   `u` in norm, and the f32 renormalization adds at most about as much
+//!   again; a quaternion error `e` perpendicular to `q` turns the rotation
+//!   by `2 |e|`, so the rotation changes by at most [`ROTATION_ROUND_OFF`]
+//!   `= 4 u` radians.
+//!
+//! A collider point at lever `r` from the body origin therefore moves by
+//! at most
+//!
+//! ```text
+//! delta = u (|t| + 4 r)
+//! ```
+//!
+//! taken as the largest over the dynamic bodies (the only ones written;
+//! fixed and kinematic poses are read from f32 and never rounded again),
+//! with `r` bounded by the shape's circumradius about its centre of mass
+//! plus the distance from the body origin to that centre. The depth of a
+//! pair of two written bodies changes by at most `2 delta`.
+//!
+//! # The rule
+//!
+//! The call's tolerance is at least [`TOLERANCE_PER_ROUND_OFF`]` * delta`
+//! and its target margin at least [`TARGET_PER_ROUND_OFF`]` * delta`
+//! (the stabilizer's own lengths when larger):
+//! - a corrected contact aims at a gap of at least `4 delta`, twice what
+//!   rounding can take away, so it is left separated in f32 unless the
+//!   linearization missed its target by more than `2 delta`;
+//! - rounding adds at most `2 delta`, a quarter of the tolerance, to any
+//!   depth: the f32 world's deepest penetration is at most the call's depth
+//!   after plus `2 delta` (reported as [`super::BridgeReport::round_off_bound`]),
+//!   so at most `1.25` times the tolerance in the worst case, and within the
+//!   tolerance whenever the corrected contacts reached their target (the
+//!   tests measure it on the f32 world).
+//!
+//! Positions near 10 with bodies of size 1 give `delta` of about 9e-7 and
+//! a tolerance of about 7e-6; the stabilizer's default (1e-6 of the
+//! smallest body) is kept wherever it is larger.
+
+use super::body_map::BodyMap;
+use crate::scene::Scene;
+use crate::stabilizer::{Settings, scene_scale};
+
+/// f32 unit round-off `2^-24`: the largest relative error of rounding an
+/// f64 to the nearest f32.
+pub const F32_UNIT_ROUND_OFF: f64 = f32::EPSILON as f64 / 2.0;
+
+/// Largest rotation angle (radians) by which rounding a unit quaternion to
+/// f32 and renormalizing it in f32 turns it: `4 u` (see the module docs).
+pub const ROTATION_ROUND_OFF: f64 = 4.0 * F32_UNIT_ROUND_OFF;
+
+/// The call's tolerance is at least this many `delta`: rounding adds at
+/// most `2 delta`, a quarter of it.
+pub const TOLERANCE_PER_ROUND_OFF: f64 = 8.0;
+
+/// The call's target margin is at least this many `delta`: twice the
+/// `2 delta` that rounding can take from a gap.
+pub const TARGET_PER_ROUND_OFF: f64 = 4.0;
+
+/// `delta`: the most a collider point of a written body can move when its
+/// pose is rounded to f32 (0 without dynamic bodies).
+pub(crate) fn write_back_round_off_bound(scene: &Scene, map: &BodyMap) -> f64 {
+    map.entries()
+        .iter()
+        .zip(scene.bodies())
+        .filter(|(entry, _)| entry.is_dynamic())
+        .map(|(entry, body)| {
+            let body_pose = body.user_pose() * entry.collider_in_body.inverse();
+            let origin = body_pose.translation.vector;
+            let lever = body.polyhedron().scale() + (body.com_world().coords - origin).norm();
+            F32_UNIT_ROUND_OFF * origin.norm() + ROTATION_ROUND_OFF * lever
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The stabilizer settings of one call: `settings` with the tolerance and
+/// target margin raised to the rule's (absolute, resolved on `scene`) and
+/// the given allowed penetration.
+pub(crate) fn call_settings(
+    settings: &Settings,
+    scene: &Scene,
+    round_off_bound: f64,
+    allowed_penetration: f64,
+) -> Settings {
+    let plain = Settings {
+        allowed_penetration: 0.0,
+        ..settings.clone()
+    };
+    let own = plain.resolve(scene_scale(scene));
+    Settings {
+        tolerance_absolute: Some(own.tolerance.max(TOLERANCE_PER_ROUND_OFF * round_off_bound)),
+        target_margin_absolute: Some(
+            own.target_margin
+                .max(TARGET_PER_ROUND_OFF * round_off_bound),
+        ),
+        allowed_penetration,
+        ..plain
+    }
+}
