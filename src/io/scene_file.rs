@@ -29,6 +29,10 @@
 //!
 //! Output may carry an extra top-level `report` (any JSON value). The reader
 //! accepts and ignores it, so that an output file can be fed back in.
+//!
+//! The file's `settings` are returned in [`Scene::settings`]; they take
+//! effect through [`Scene::stabilizer`] (the defaults overridden by the
+//! file's settings), not through `Stabilizer::new(Settings::default())`.
 
 use std::path::Path;
 
@@ -93,6 +97,17 @@ pub enum SceneFileError {
         /// The system's message.
         message: String,
     },
+    /// The file is larger than [`MAX_SCENE_FILE_BYTES`]: refused before it
+    /// is read (parsed JSON takes several times the file's size in memory).
+    #[error("{path} is {bytes} bytes: scene files are limited to {limit} bytes")]
+    TooLarge {
+        /// The path.
+        path: String,
+        /// Its size (at least this many bytes).
+        bytes: u64,
+        /// [`MAX_SCENE_FILE_BYTES`].
+        limit: u64,
+    },
     /// The file could not be written.
     #[error("cannot write {path}: {message}")]
     Write {
@@ -144,12 +159,42 @@ pub enum SceneFileError {
     },
 }
 
-/// Reads a scene file.
+/// Largest scene file [`read_scene`] reads: 256 MiB. The parsed JSON
+/// takes several times the text in memory, and the bodies more (measured
+/// in the README, "Reliability"); a file of this size holds well over a
+/// million bodies, more than one call can stabilize in an engine step.
+/// [`parse_scene`] on text already in memory has no limit.
+pub const MAX_SCENE_FILE_BYTES: u64 = 256 * 1024 * 1024;
+
+/// Reads a scene file of at most [`MAX_SCENE_FILE_BYTES`]. Its settings are
+/// in [`Scene::settings`]; build the stabilizer with [`Scene::stabilizer`]
+/// to apply them.
 pub fn read_scene(path: &Path) -> Result<Scene, SceneFileError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneFileError::Read {
+    let read_error = |e: std::io::Error| SceneFileError::Read {
         path: path.display().to_string(),
         message: e.to_string(),
-    })?;
+    };
+    let file = std::fs::File::open(path).map_err(read_error)?;
+    let too_large = |bytes| SceneFileError::TooLarge {
+        path: path.display().to_string(),
+        bytes,
+        limit: MAX_SCENE_FILE_BYTES,
+    };
+    let announced = file.metadata().map_err(read_error)?.len();
+    if announced > MAX_SCENE_FILE_BYTES {
+        return Err(too_large(announced));
+    }
+    // The size may change while reading (or not be known, for a pipe):
+    // read at most one byte past the limit.
+    let mut text = String::new();
+    std::io::Read::read_to_string(
+        &mut std::io::Read::take(file, MAX_SCENE_FILE_BYTES + 1),
+        &mut text,
+    )
+    .map_err(read_error)?;
+    if text.len() as u64 > MAX_SCENE_FILE_BYTES {
+        return Err(too_large(text.len() as u64));
+    }
     parse_scene(&text)
 }
 
