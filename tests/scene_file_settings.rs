@@ -69,7 +69,10 @@ fn file_pass_limit_solver_and_margins_are_applied() {
     assert!(!islands.is_empty());
     for island in islands {
         assert_eq!(island.solver, Some(SolverKind::Pgs));
-        assert!(island.cross_check.is_some(), "cross-check asked by the file");
+        assert!(
+            island.cross_check.is_some(),
+            "cross-check asked by the file"
+        );
     }
     // The target margin: the box ends at least that far above the ground.
     let lift = scene.bodies()[1].translation_user().y - 0.5;
