@@ -72,6 +72,14 @@ pub fn check(data: &[u8]) {
         .expect("valid hulls and unit rotations are valid input");
     let oracle = sat::sat_axes(&a, &pose_a, &b, &pose_b).all;
     let slack = AGREEMENT * a.scale().max(b.scale());
+    if std::env::var_os("FUZZ_DEBUG").is_some() {
+        println!(
+            "size {size}\nA {:?}\npose A {pose_a:?}\nB {:?}\npose B {pose_b:?}",
+            a.vertices(),
+            b.vertices()
+        );
+        println!("answer {answer:?}\noracle {oracle}");
+    }
     match (&answer.penetration, &answer.vclip.outcome) {
         (Some(penetration), _) => {
             let depth = penetration.depth();
