@@ -128,9 +128,12 @@ fn masses_and_densities_that_give_no_mass_properties_name_their_field() {
     }
 }
 
+/// Whether a geometry error is the one expected.
+type ExpectedError = fn(&GeometryError) -> bool;
+
 #[test]
 fn degenerate_hulls_are_shape_errors() {
-    let cases: [(&str, fn(&GeometryError) -> bool); 6] = [
+    let cases: [(&str, ExpectedError); 6] = [
         ("[]", |e| matches!(e, GeometryError::Empty)),
         ("[[0, 0, 0]]", |e| matches!(e, GeometryError::Degenerate)),
         (
