@@ -24,6 +24,9 @@ fn check_solution(solver: &str, lcp: &Lcp, z: &DVector<f64>) {
     assert!(z.iter().all(|x| x.is_finite()), "{solver}: non-finite z");
     let w = lcp.m() * z + lcp.q();
     let natural = z.zip_map(&w, f64::min).amax();
+    if std::env::var_os("FUZZ_DEBUG").is_some() {
+        println!("{solver}: M {} q {} z {z} w {w}", lcp.m(), lcp.q());
+    }
     let size = 1f64.max(lcp.q().amax()).max(lcp.m().amax() * z.amax());
     assert!(
         natural <= ACCEPT * size,
