@@ -8,13 +8,22 @@
 //! unique.
 //!
 //! [`SceneSettings`] holds the settings a scene file may carry, every field
-//! optional; the stabilizer maps them onto its own settings (and its
-//! defaults). Lengths in it are in the scene's length unit.
+//! optional. Lengths in it are absolute, in the scene's length unit.
+//!
+//! # Applying a scene's settings
+//!
+//! A [`crate::Stabilizer`] is built from [`crate::Settings`] and knows
+//! nothing of the scene it will be given: `Stabilizer::new(Settings::default())`
+//! ignores the settings a scene file carried. The choice is explicit:
+//! [`Scene::stabilizer`] (or [`Scene::stabilizer_settings`] to adjust them
+//! first) gives the stabilizer the scene asks for, the defaults overridden
+//! by every field the scene sets, as the command-line tool does.
 
 use nalgebra::Isometry3;
 use thiserror::Error;
 
 use crate::body::{Body, BodyDesc, BodyError};
+use crate::stabilizer::{Settings, Stabilizer};
 
 pub use crate::solver::SolverChoice;
 
@@ -345,6 +354,22 @@ impl Scene {
     /// The settings given with the scene.
     pub fn settings(&self) -> &SceneSettings {
         &self.settings
+    }
+
+    /// The stabilizer settings this scene asks for: `base` with every field
+    /// that [`Scene::settings`] sets put in its place (lengths as absolute
+    /// overrides, see [`Settings::with_scene_settings`]). With no scene
+    /// settings this is `base`.
+    pub fn stabilizer_settings(&self, base: Settings) -> Settings {
+        base.with_scene_settings(&self.settings)
+    }
+
+    /// A stabilizer with the default settings overridden by the scene's
+    /// ([`Scene::stabilizer_settings`]): what a scene file asks for. Fails
+    /// only if the combination is invalid (the scene's settings were
+    /// validated when they were set; the defaults are valid).
+    pub fn stabilizer(&self) -> Result<Stabilizer, crate::Error> {
+        Stabilizer::new(self.stabilizer_settings(Settings::default()))
     }
 
     /// Validates and replaces the settings.

@@ -132,12 +132,17 @@ fn wedged_cube(settings: &str) -> String {
 /// means this run wrote it).
 fn run_scene(name: &str, text: &str) -> (Option<i32>, String, PathBuf) {
     let input = scratch(&format!("{name}.json"));
-    let output = scratch(&format!("{name}-out.json"));
     std::fs::write(&input, text).unwrap();
+    run_scene_file(name, &input)
+}
+
+/// Runs `stabilize scene` on the file `input` (see [`run_scene`]).
+fn run_scene_file(name: &str, input: &PathBuf) -> (Option<i32>, String, PathBuf) {
+    let output = scratch(&format!("{name}-out.json"));
     let _ = std::fs::remove_file(&output);
     let result = binary()
         .args(["scene"])
-        .arg(&input)
+        .arg(input)
         .arg("-o")
         .arg(&output)
         .output()
@@ -189,4 +194,81 @@ fn pass_limit_exits_1_and_writes_the_partial_result() {
         (cube_y - 0.5).abs() <= WEDGE_LIFT_AGREEMENT,
         "cube at y = {cube_y}"
     );
+}
+
+/// Bad inputs on the command line: exit 2, one line on stderr naming the
+/// body (index and name) and the field, or the line of a JSON error, and no
+/// output file.
+#[test]
+fn bad_inputs_exit_2_with_one_line_naming_body_and_field() {
+    let rock = |from: &str, to: &str| DESIGN_EXAMPLE.replace(from, to);
+    let cases = [
+        (
+            rock("\"mass\": 2.5", "\"mass\": 0"),
+            ["body 1", "rock", "`mass`"],
+        ),
+        (
+            rock("\"mass\": 2.5", "\"mass\": 2.5, \"density\": 1"),
+            ["body 1", "rock", "`density`"],
+        ),
+        (
+            rock("\"mass\": 2.5", "\"density\": -1"),
+            ["body 1", "rock", "`density`"],
+        ),
+        (
+            rock(
+                "[0.2, -0.1, 0.0], \"rotation\": [0.0, 0.0, 0.0, 1.0]",
+                "[0.2, -0.1, 0.0], \"rotation\": [0.0, 0.0, 0.0, 0.0]",
+            ),
+            ["body 1", "rock", "`rotation`"],
+        ),
+        (
+            rock(
+                "[[0,0,0],[1,0,0],[0,1,0],[0,0,1]]",
+                "[[0,0,0],[1,0,0],[2,0,0],[3,0,0]]",
+            ),
+            ["body 1", "rock", "`shape`"],
+        ),
+        (
+            rock("\"mass\": 2.5", "\"mass\": \"heavy\""),
+            ["body 1", "rock", "`mass`"],
+        ),
+        (
+            rock("\"mass\": 2.5", "\"mass\": 2.5, \"colour\": 1"),
+            ["body 1", "rock", "`colour`"],
+        ),
+        (
+            rock("[0.2, -0.1, 0.0]", "[0.2, -1e400, 0.0]"),
+            ["invalid JSON", "line 7", "column"],
+        ),
+        (
+            rock("\"tolerance\": 1e-6", "\"tolerance\": -1"),
+            ["settings", "`tolerance`", "positive"],
+        ),
+    ];
+    for (k, (text, words)) in cases.iter().enumerate() {
+        let (code, stderr, output) = run_scene(&format!("bad-{k}"), text);
+        assert_eq!(code, Some(2), "{stderr}");
+        assert!(!output.exists(), "case {k} wrote an output file");
+        assert_eq!(stderr.lines().count(), 1, "case {k}: {stderr}");
+        for word in words {
+            assert!(stderr.contains(word), "case {k}: {word:?} not in {stderr}");
+        }
+    }
+}
+
+/// A file beyond the size limit is refused before it is read: exit 2, one
+/// line, no output. The file is sparse (no disk space used).
+#[test]
+fn a_file_beyond_the_size_limit_exits_2() {
+    use constraint_stabilization::io::scene_file::MAX_SCENE_FILE_BYTES;
+    let input = scratch("huge.json");
+    let file = std::fs::File::create(&input).unwrap();
+    file.set_len(MAX_SCENE_FILE_BYTES + 1).unwrap();
+    let (code, stderr, output) = run_scene_file("huge", &input);
+    let _ = std::fs::remove_file(&input);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("limited to"), "{stderr}");
+    assert!(!output.exists());
 }

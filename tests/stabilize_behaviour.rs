@@ -10,9 +10,6 @@
 
 mod stabilize_support;
 
-#[cfg(feature = "demo")]
-use std::collections::BTreeSet;
-
 use constraint_stabilization::body::{BodyDesc, MassSpec};
 #[cfg(feature = "demo")]
 use constraint_stabilization::demo::demo_scene;
@@ -109,17 +106,6 @@ fn a_stabilized_scene_is_left_alone_on_the_next_call() {
     let second = stabilizer.stabilize(&mut scene).expect("second call");
     assert_eq!(second.status, Status::NothingToDo);
     assert_eq!(pose_bits(&scene), after_first);
-}
-
-/// The bodies of every island solved in some pass.
-#[cfg(feature = "demo")]
-fn solved_bodies(report: &constraint_stabilization::Report) -> BTreeSet<usize> {
-    report
-        .pass_reports
-        .iter()
-        .flat_map(|p| &p.solved)
-        .flat_map(|island| island.bodies.iter().copied())
-        .collect()
 }
 
 #[test]

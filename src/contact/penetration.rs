@@ -508,12 +508,27 @@ impl Search<'_> {
             self.views[1].poly.edges()[edge_b].tail,
         ];
         let depth = normal.dot(&(self.views[1].point(tails[1]) - self.views[0].point(tails[0])));
-        let candidate = Candidate {
-            features: PenetrationFeatures::EdgeEdge { edge_a, edge_b },
+        let features = PenetrationFeatures::EdgeEdge { edge_a, edge_b };
+        let mut candidate = Candidate {
+            features,
             depth,
             normal,
             supports: tails,
         };
+        if !self.replaces(&candidate, &self.best) {
+            return;
+        }
+        // The crossing test is ill-conditioned on a thin body, whose edge
+        // arcs span nearly half a circle: a crossing it reports may be
+        // false, and `n . (p_b - p_a)` then falls below the overlap along
+        // `n` (found by fuzzing: -2.6e-3 for a true depth of 3.4e-3,
+        // tests/data/fuzz/vclip_depth/crash-negative-depth). The supports
+        // confirm it; the overlap along any axis bounds the depth from
+        // above, so the confirmed value is never too small.
+        let confirmed = self.evaluate(features, normal);
+        if confirmed.depth > candidate.depth + self.tie {
+            candidate = confirmed;
+        }
         if self.replaces(&candidate, &self.best) {
             self.best = candidate;
         }

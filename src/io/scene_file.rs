@@ -17,6 +17,9 @@
 //! - `settings` is optional, and so is each of its fields: `tolerance`,
 //!   `contact_margin`, `target_margin`, `max_passes`, `solver`
 //!   (`auto|clarabel|lemke|pgs`), `cross_check`.
+//! - Limits: a file of at most [`MAX_SCENE_FILE_BYTES`], at most
+//!   [`MAX_BODIES`] bodies, at most [`MAX_HULL_POINTS`] points per hull;
+//!   beyond them, an error before anything is built.
 //! - An unknown or missing field is an error naming the body (index and
 //!   name) and the field; a field given twice is an error with its line; so is a value of the wrong type, and every
 //!   invalid value that [`crate::body::Body::new`] rejects.
@@ -29,6 +32,10 @@
 //!
 //! Output may carry an extra top-level `report` (any JSON value). The reader
 //! accepts and ignores it, so that an output file can be fed back in.
+//!
+//! The file's `settings` are returned in [`Scene::settings`]; they take
+//! effect through [`Scene::stabilizer`] (the defaults overridden by the
+//! file's settings), not through `Stabilizer::new(Settings::default())`.
 
 use std::path::Path;
 
@@ -80,6 +87,14 @@ pub enum FieldProblem {
     /// A settings value is invalid.
     #[error("{0}")]
     InvalidSetting(SettingsError),
+    /// An array has more entries than the format allows.
+    #[error("{count} entries: at most {limit} are read")]
+    TooMany {
+        /// Entries given.
+        count: usize,
+        /// The limit ([`MAX_BODIES`], [`MAX_HULL_POINTS`]).
+        limit: usize,
+    },
 }
 
 /// Why a scene file could not be read or written.
@@ -92,6 +107,17 @@ pub enum SceneFileError {
         path: String,
         /// The system's message.
         message: String,
+    },
+    /// The file is larger than [`MAX_SCENE_FILE_BYTES`]: refused before it
+    /// is read (parsed JSON takes several times the file's size in memory).
+    #[error("{path} is {bytes} bytes: scene files are limited to {limit} bytes")]
+    TooLarge {
+        /// The path.
+        path: String,
+        /// Its size (at least this many bytes).
+        bytes: u64,
+        /// [`MAX_SCENE_FILE_BYTES`].
+        limit: u64,
     },
     /// The file could not be written.
     #[error("cannot write {path}: {message}")]
@@ -144,12 +170,54 @@ pub enum SceneFileError {
     },
 }
 
-/// Reads a scene file.
+/// Largest scene file [`read_scene`] reads: 128 MiB, room for
+/// [`MAX_BODIES`] bodies as [`scene_to_string`] writes them (about 400
+/// bytes each), so that an output file reads back. The parsed JSON takes
+/// several times the text in memory. [`parse_scene`] on text already in
+/// memory has no size limit (its counts are limited below).
+pub const MAX_SCENE_FILE_BYTES: u64 = 128 * 1024 * 1024;
+
+/// Most bodies a scene file may hold: 200,000. Checked before any body is
+/// built. Measured (README, "Reliability"): a file of a million boxes took
+/// 49 s and 5.3 GB to read, about 5 KB per body; 200,000 take about 1 GB.
+pub const MAX_BODIES: usize = 200_000;
+
+/// Most points a `convex_hull` in a scene file may have: 10,000. Checked
+/// before the hull is built. The hull's cost grows with the square of its
+/// vertex count when every point is extreme (measured on points on a
+/// sphere: 10,000 in 1.3 s, 100,000 in 131 s); a million points inside a
+/// cube took 2 s, but no rigid body needs that many.
+pub const MAX_HULL_POINTS: usize = 10_000;
+
+/// Reads a scene file of at most [`MAX_SCENE_FILE_BYTES`]. Its settings are
+/// in [`Scene::settings`]; build the stabilizer with [`Scene::stabilizer`]
+/// to apply them.
 pub fn read_scene(path: &Path) -> Result<Scene, SceneFileError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneFileError::Read {
+    let read_error = |e: std::io::Error| SceneFileError::Read {
         path: path.display().to_string(),
         message: e.to_string(),
-    })?;
+    };
+    let file = std::fs::File::open(path).map_err(read_error)?;
+    let too_large = |bytes| SceneFileError::TooLarge {
+        path: path.display().to_string(),
+        bytes,
+        limit: MAX_SCENE_FILE_BYTES,
+    };
+    let announced = file.metadata().map_err(read_error)?.len();
+    if announced > MAX_SCENE_FILE_BYTES {
+        return Err(too_large(announced));
+    }
+    // The size may change while reading (or not be known, for a pipe):
+    // read at most one byte past the limit.
+    let mut text = String::new();
+    std::io::Read::read_to_string(
+        &mut std::io::Read::take(file, MAX_SCENE_FILE_BYTES + 1),
+        &mut text,
+    )
+    .map_err(read_error)?;
+    if text.len() as u64 > MAX_SCENE_FILE_BYTES {
+        return Err(too_large(text.len() as u64));
+    }
     parse_scene(&text)
 }
 
@@ -173,6 +241,13 @@ pub fn parse_scene(text: &str) -> Result<Scene, SceneFileError> {
         None => SceneSettings::default(),
     };
     let bodies = match top.get("bodies") {
+        Some(Value::Array(bodies)) if bodies.len() > MAX_BODIES => {
+            let problem = FieldProblem::TooMany {
+                count: bodies.len(),
+                limit: MAX_BODIES,
+            };
+            return Err(top_level("bodies", problem));
+        }
         Some(Value::Array(bodies)) => bodies,
         Some(_) => return Err(top_level("bodies", FieldProblem::WrongType("an array"))),
         None => return Err(top_level("bodies", FieldProblem::Missing)),
@@ -351,6 +426,14 @@ fn parse_shape(reader: &BodyReader<'_>) -> Result<Shape, SceneFileError> {
             })
         }
         (None, Some(points)) => {
+            let count = points.as_array().map_or(0, Vec::len);
+            if count > MAX_HULL_POINTS {
+                let problem = FieldProblem::TooMany {
+                    count,
+                    limit: MAX_HULL_POINTS,
+                };
+                return Err(reader.error("shape.convex_hull", problem));
+            }
             let expected = "an array of points [x, y, z]";
             let points = points
                 .as_array()

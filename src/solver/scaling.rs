@@ -15,8 +15,21 @@
 use nalgebra::{DMatrix, DVector};
 
 /// Diagonal entries below this fraction of `max|M|` are treated as zero for
-/// the Jacobi scale (that row gets `1/sqrt(max|M|)` instead).
+/// the Jacobi scale: that row gets `1/sqrt(r_i)`, `r_i` the largest entry of
+/// its row and column, or `1/sqrt(max|M|)` if `r_i` is below
+/// [`JACOBI_MIN_ROW_REL`] of `max|M|`.
+///
+/// The row's own magnitude, not `max|M|`: with the global one a row with a
+/// zero diagonal among entries up to 3e14 was scaled by 5e-8 against 0.35
+/// for its neighbour, and Lemke accepted `z = 0` with `w_i = -9` (`q` of
+/// size 3e5) as solved on the scaled problem (fuzz input
+/// `tests/data/fuzz/lcp_solvers/crash-lemke-natural-map`).
 pub const JACOBI_MIN_DIAG_REL: f64 = 1e-14;
+
+/// A row (with its column) whose largest entry is below this fraction of
+/// `max|M|` is zero for the scaling (about `eps^2`: far below any entry that
+/// a pivot can resolve, far above underflow).
+pub const JACOBI_MIN_ROW_REL: f64 = 1e-30;
 
 /// The scaling `(d, s)` of an LCP.
 #[derive(Debug, Clone, PartialEq)]
@@ -32,11 +45,16 @@ impl LcpScaling {
     pub fn jacobi(m: &DMatrix<f64>, q: &DVector<f64>) -> Self {
         let size = m.amax();
         let fallback = if size > 0.0 { 1.0 / size.sqrt() } else { 1.0 };
+        let floor = JACOBI_MIN_DIAG_REL * size;
         let d = DVector::from_iterator(
             q.len(),
-            m.diagonal().iter().map(|&mii| {
-                if mii > JACOBI_MIN_DIAG_REL * size {
+            (0..q.len()).map(|i| {
+                let mii = m[(i, i)];
+                let own = m.row(i).amax().max(m.column(i).amax());
+                if mii > floor {
                     1.0 / mii.sqrt()
+                } else if own > JACOBI_MIN_ROW_REL * size {
+                    1.0 / own.sqrt()
                 } else {
                     fallback
                 }

@@ -179,6 +179,16 @@ pub fn assert_untouched(scene: &Scene, before: &[PoseBits], indices: &[usize]) {
     }
 }
 
+/// The bodies of every island solved in some pass of `report`.
+pub fn solved_bodies(report: &Report) -> std::collections::BTreeSet<usize> {
+    report
+        .pass_reports
+        .iter()
+        .flat_map(|p| &p.solved)
+        .flat_map(|island| island.bodies.iter().copied())
+        .collect()
+}
+
 /// Asserts that no pose component is NaN or infinite.
 pub fn assert_finite(scene: &Scene) {
     for body in scene.bodies() {

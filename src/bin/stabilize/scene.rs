@@ -13,7 +13,6 @@ use std::process::ExitCode;
 use clap::Args;
 use constraint_stabilization::io::report_json::report_to_json;
 use constraint_stabilization::io::scene_file::{read_scene, write_scene};
-use constraint_stabilization::{Settings, Stabilizer};
 
 use crate::exit;
 
@@ -33,8 +32,7 @@ pub fn run(args: &SceneArgs) -> ExitCode {
         Ok(scene) => scene,
         Err(error) => return exit::bad_input(&error),
     };
-    let settings = Settings::default().with_scene_settings(scene.settings());
-    let mut stabilizer = match Stabilizer::new(settings) {
+    let mut stabilizer = match scene.stabilizer() {
         Ok(stabilizer) => stabilizer,
         Err(error) => return exit::bad_input(&error),
     };
