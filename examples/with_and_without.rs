@@ -36,7 +36,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use constraint_stabilization::Settings;
-use constraint_stabilization::rapier_bridge::RapierBridge;
+use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
 use plotters::prelude::*;
 use rapier3d::prelude::*;
 
@@ -84,54 +84,54 @@ fn scenes() -> Vec<Scene> {
 /// How the world is stabilized after each step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Run {
+    /// Rapier alone.
     Plain,
-    Coupled,
+    /// The bridge's default settings.
+    Default,
+    /// Rapier's allowed penetration respected, with the colliders'
+    /// friction, positions only.
+    Allowed,
+    /// Positions only, no friction: the seed's behaviour.
     Positions,
-    Friction,
-    FrictionVelocity,
 }
 
 impl Run {
-    const ALL: [Run; 5] = [
-        Run::Plain,
-        Run::Coupled,
-        Run::Positions,
-        Run::Friction,
-        Run::FrictionVelocity,
-    ];
+    const ALL: [Run; 4] = [Run::Plain, Run::Default, Run::Allowed, Run::Positions];
 
     fn name(self) -> &'static str {
         match self {
             Run::Plain => "plain",
-            Run::Coupled => "coupled",
-            Run::Positions => "positions",
-            Run::Friction => "friction",
-            Run::FrictionVelocity => "friction+velocity",
+            Run::Default => "default (velocity+friction)",
+            Run::Allowed => "allowed+friction",
+            Run::Positions => "positions (seed)",
         }
     }
 
     fn colour(self) -> RGBColor {
         match self {
             Run::Plain => RGBColor(200, 60, 40),
-            Run::Coupled => RGBColor(30, 110, 200),
+            Run::Default => RGBColor(30, 110, 200),
+            Run::Allowed => RGBColor(40, 160, 60),
             Run::Positions => RGBColor(120, 120, 120),
-            Run::Friction => RGBColor(40, 160, 60),
-            Run::FrictionVelocity => RGBColor(150, 50, 170),
         }
     }
 
     fn bridge(self) -> Option<RapierBridge> {
         let settings = match self {
             Run::Plain => return None,
-            Run::Coupled => Settings::default(),
-            Run::Positions => Settings::default(),
-            Run::Friction | Run::FrictionVelocity => Settings {
-                friction: std::env::var("WW_MU").map_or(0.5, |m| m.parse().expect("mu")),
-                friction_directions: std::env::var("WW_K").map_or(4, |k| k.parse().expect("K")),
-                ..Settings::default()
+            Run::Default => BridgeSettings::default(),
+            Run::Allowed => BridgeSettings {
+                coupling: CouplingMode::RespectAllowedPenetration,
+                collider_friction: true,
+                ..BridgeSettings::default()
+            },
+            Run::Positions => BridgeSettings {
+                coupling: CouplingMode::PositionsOnly,
+                collider_friction: false,
+                ..BridgeSettings::default()
             },
         };
-        Some(RapierBridge::new(settings).expect("valid settings"))
+        Some(RapierBridge::with_settings(settings).expect("valid settings"))
     }
 }
 
@@ -202,65 +202,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// Prototype of the velocity coupling: the approach velocities of the
-/// islands of every dynamic body removed.
-fn project_velocities(bridge: &RapierBridge, world: &mut PhysicsWorld) {
-    use constraint_stabilization::stabilizer::BodyVelocity;
-    let scene = bridge.scene();
-    let entries = bridge.body_map().entries();
-    let mut velocities = vec![BodyVelocity::default(); scene.len()];
-    let mut moved = Vec::new();
-    for (i, entry) in entries.iter().enumerate() {
-        if let (true, Some(h)) = (entry.is_dynamic(), entry.body) {
-            let b = &world.bodies[h];
-            let (v, w) = (b.linvel(), b.angvel());
-            velocities[i] = BodyVelocity {
-                linear: nalgebra::Vector3::new(v.x.into(), v.y.into(), v.z.into()),
-                angular: nalgebra::Vector3::new(w.x.into(), w.y.into(), w.z.into()),
-            };
-            moved.push(i);
-        }
-    }
-    let mut settings = bridge.stabilizer().settings().clone();
-    if let Ok(mu) = std::env::var("WW_VMU") {
-        settings.friction = mu.parse().expect("mu");
-    }
-    let mut stabilizer = constraint_stabilization::Stabilizer::new(settings).expect("settings");
-    match stabilizer.project_velocities(
-        scene,
-        &mut velocities,
-        &moved,
-        &constraint_stabilization::stabilizer::VelocityOptions {
-            time_step: Some(scenes::STEP_SECONDS),
-            friction: std::env::var("WW_VMU").is_ok(),
-        },
-    ) {
-        Ok(report) => {
-            if std::env::var("WW_DEBUG").is_ok() {
-                eprintln!("velocity: {report:?}");
-            }
-        }
-        Err(error) => {
-            eprintln!("velocity projection failed: {error}");
-            return;
-        }
-    }
-    for &i in &moved {
-        if let Some(h) = entries[i].body {
-            let v = velocities[i];
-            let b = &mut world.bodies[h];
-            b.set_linvel(
-                Vector::new(v.linear.x as f32, v.linear.y as f32, v.linear.z as f32),
-                false,
-            );
-            b.set_angvel(
-                Vector::new(v.angular.x as f32, v.angular.y as f32, v.angular.z as f32),
-                false,
-            );
-        }
-    }
-}
-
 /// Runs `steps` steps of a fresh copy of the scene's world.
 fn simulate(
     scene: &Scene,
@@ -291,14 +232,15 @@ fn simulate(
             .collect();
         if let Some(bridge) = bridge.as_mut() {
             let t = Instant::now();
-            let result = bridge.stabilize(&mut world.bodies, &world.colliders);
+            let result = bridge.stabilize(
+                &mut world.bodies,
+                &world.colliders,
+                &world.integration_parameters,
+            );
             call_failed = match result {
                 Ok(report) => report.stabilizer.is_some_and(|r| !r.status.is_resolved()),
                 Err(_) => true,
             };
-            if run == Run::FrictionVelocity {
-                project_velocities(bridge, &mut world);
-            }
             call_ms = t.elapsed().as_secs_f64() * 1e3;
         }
         if debug {

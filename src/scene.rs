@@ -27,6 +27,9 @@ use crate::stabilizer::{Settings, Stabilizer};
 
 pub use crate::solver::SolverChoice;
 
+/// A user pose: translation and rotation `[x, y, z, w]`.
+type UserPose = (nalgebra::Vector3<f64>, [f64; 4]);
+
 /// Settings carried by a scene; `None` means "the stabilizer's default".
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SceneSettings {
@@ -285,7 +288,7 @@ impl Scene {
 
     /// Puts back poses recorded by [`Scene::set_user_poses`], last first (a
     /// body set twice ends at its first recorded pose).
-    fn restore_user_poses(&mut self, before: &[(usize, (nalgebra::Vector3<f64>, [f64; 4]))]) {
+    fn restore_user_poses(&mut self, before: &[(usize, UserPose)]) {
         for (index, (translation, rotation)) in before.iter().rev() {
             // Recorded from the body itself before a successful set: the
             // index exists and the pose was valid, so this cannot fail.

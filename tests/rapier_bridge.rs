@@ -17,6 +17,7 @@ mod round_off;
 
 use constraint_stabilization::Settings;
 use constraint_stabilization::rapier_bridge::{
+    BridgeSettings, CouplingMode,
     BridgeReport, RapierBridge, SkipReason, pose_to_f64,
 };
 use constraint_stabilization::verify::parry_penetration;
@@ -49,8 +50,15 @@ fn dynamic_box_at(world: &mut PhysicsWorld, y: f32) -> (RigidBodyHandle, Collide
     world.insert(body, ColliderBuilder::cuboid(0.5, 0.5, 0.5).density(10.0))
 }
 
+/// A positions-only bridge without friction (the seed's behaviour): the
+/// mode the tests of reading, writing and rounding pin down.
 fn bridge() -> RapierBridge {
-    RapierBridge::new(Settings::default()).expect("default settings are valid")
+    RapierBridge::with_settings(BridgeSettings {
+        coupling: CouplingMode::PositionsOnly,
+        collider_friction: false,
+        ..BridgeSettings::with_stabilizer(Settings::default())
+    })
+    .expect("default settings are valid")
 }
 
 fn run(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> BridgeReport {

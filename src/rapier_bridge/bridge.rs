@@ -17,7 +17,8 @@
 //!    rounded to f32, without touching velocities or waking bodies.
 
 use nalgebra::{Isometry3, Vector3};
-use rapier3d::dynamics::{IntegrationParameters, RigidBodySet};
+use rapier3d::dynamics::{IntegrationParameters, RigidBody, RigidBodyHandle, RigidBodySet};
+use rapier3d::math::Vector;
 use rapier3d::geometry::ColliderSet;
 
 use super::body_map::{BodyMap, MappedCollider};
@@ -26,10 +27,10 @@ use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
 use super::round_off::{call_settings, write_back_round_off_bound};
-use super::settings::BridgeSettings;
+use super::settings::{BridgeSettings, CouplingMode};
 use crate::body::{BodyDesc, MassSpec};
 use crate::scene::{Scene, SceneError};
-use crate::stabilizer::{Settings, Stabilizer};
+use crate::stabilizer::{BodyVelocity, Settings, Stabilizer, VelocityOptions, VelocityReport};
 
 /// Stabilizes a Rapier world after each step; keeps the scene, the handle
 /// map and the stabilizer (with its warm starts) from call to call.
@@ -47,7 +48,8 @@ type UserPose = (Vector3<f64>, [f64; 4]);
 
 impl RapierBridge {
     /// A bridge with validated stabilizer settings, the default coupling
-    /// ([`super::CouplingMode::PositionsOnly`]) and an empty scene.
+    /// ([`super::CouplingMode::VelocityConsistency`], with the colliders'
+    /// friction) and an empty scene.
     pub fn new(settings: Settings) -> Result<Self, BridgeError> {
         Self::with_settings(BridgeSettings::with_stabilizer(settings))
     }
@@ -134,6 +136,8 @@ impl RapierBridge {
             bodies_written: 0,
             write_back_round_off: WriteBackRoundOff::default(),
             round_off_bound,
+            velocities: None,
+            velocities_written: 0,
         };
         if self.scene.bodies().iter().all(|b| b.is_fixed()) {
             return Ok(report);
@@ -153,7 +157,63 @@ impl RapierBridge {
         let (written, round_off) = self.write_back(bodies, &before);
         report.bodies_written = written;
         report.write_back_round_off = round_off;
+        if self.settings.coupling == CouplingMode::VelocityConsistency && written > 0 {
+            let moved: Vec<usize> = (0..self.scene.len())
+                .filter(|&i| user_pose_of(&self.scene.bodies()[i]) != before[i])
+                .collect();
+            let (velocities, count) = self.project_velocities(bodies, &moved, parameters)?;
+            report.velocities = Some(velocities);
+            report.velocities_written = count;
+        }
         Ok(report)
+    }
+
+    /// Velocity consistency: reads the velocities of the dynamic bodies,
+    /// removes the approach velocities at the contacts of the islands of
+    /// `moved`, writes back the velocities that changed (without waking
+    /// bodies); returns the projection's report and the bodies written.
+    fn project_velocities(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        moved: &[usize],
+        parameters: &IntegrationParameters,
+    ) -> Result<(VelocityReport, usize), BridgeError> {
+        let handles: Vec<Option<RigidBodyHandle>> = self
+            .map
+            .entries()
+            .iter()
+            .map(|entry| entry.body.filter(|_| entry.is_dynamic()))
+            .collect();
+        let velocities: Vec<BodyVelocity> = handles
+            .iter()
+            .map(|handle| {
+                handle
+                    .and_then(|h| bodies.get(h))
+                    .map_or_else(BodyVelocity::default, velocity_of)
+            })
+            .collect();
+        let mut projected = velocities.clone();
+        let options = VelocityOptions {
+            time_step: Some(f64::from(parameters.dt)).filter(|dt| *dt > 0.0),
+            friction: false,
+        };
+        let report = self
+            .stabilizer
+            .project_velocities(&self.scene, &mut projected, moved, &options)?;
+        let mut written = 0;
+        for ((handle, old), new) in handles.iter().zip(&velocities).zip(&projected) {
+            let Some(body) = handle.and_then(|h| bodies.get_mut(h)) else {
+                continue;
+            };
+            if old == new {
+                continue;
+            }
+            let f32_of = |v: &Vector3<f64>| Vector::new(v.x as f32, v.y as f32, v.z as f32);
+            body.set_linvel(f32_of(&new.linear), false);
+            body.set_angvel(f32_of(&new.angular), false);
+            written += 1;
+        }
+        Ok((report, written))
     }
 
     /// Builds the scene body of a read collider; an invalid one (a
@@ -176,9 +236,16 @@ impl RapierBridge {
             rotation_xyzw: xyzw(&pose.rotation),
             mass: read.dynamic_mass.map_or(MassSpec::Fixed, MassSpec::Mass),
         };
-        self.scene
+        let index = self
+            .scene
             .add_body(desc)
             .map_err(|e| SkipReason::Invalid(e.to_string()))?;
+        if self.settings.collider_friction {
+            let friction = Some(f64::from(collider.friction()));
+            let body = self.scene.body_mut(index).map_err(|e| SkipReason::Invalid(e.to_string()))?;
+            body.set_friction(friction)
+                .map_err(|e| SkipReason::Invalid(e.to_string()))?;
+        }
         self.map.push(read);
         Ok(())
     }
@@ -294,4 +361,13 @@ fn record_round_off(
     let rotation = exact.rotation.angle_to(&written.rotation);
     round_off.translation = round_off.translation.max(translation);
     round_off.rotation = round_off.rotation.max(rotation);
+}
+
+/// A Rapier body's velocity in f64: of its centre of mass, and angular.
+fn velocity_of(body: &RigidBody) -> BodyVelocity {
+    let (v, w) = (body.linvel(), body.angvel());
+    BodyVelocity {
+        linear: Vector3::new(v.x.into(), v.y.into(), v.z.into()),
+        angular: Vector3::new(w.x.into(), w.y.into(), w.z.into()),
+    }
 }

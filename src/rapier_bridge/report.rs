@@ -75,6 +75,11 @@ pub struct BridgeReport {
     /// stabilizer's f64 scene by at most `2 delta`. The call's tolerance is
     /// at least `8 delta`.
     pub round_off_bound: f64,
+    /// The velocity projection of [`super::CouplingMode::VelocityConsistency`]
+    /// (`None` in the other modes, or when nothing moved).
+    pub velocities: Option<crate::stabilizer::VelocityReport>,
+    /// Rapier bodies whose velocity was written back.
+    pub velocities_written: usize,
 }
 
 impl BridgeReport {

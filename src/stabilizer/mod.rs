@@ -276,11 +276,9 @@ impl Stabilizer {
                 self.last_detection = Some((poses, detection));
                 return Ok(report);
             }
-            if report.passes > 0 {
-                if let Some(left) = self.time_left(start) {
-                    let clarabel = &mut projection.solver.clarabel;
-                    clarabel.time_limit = clarabel.time_limit.min(left);
-                }
+            if let Some(left) = self.time_left(start).filter(|_| report.passes > 0) {
+                let clarabel = &mut projection.solver.clarabel;
+                clarabel.time_limit = clarabel.time_limit.min(left);
             }
             let solutions = self.solve_pass(
                 scene,

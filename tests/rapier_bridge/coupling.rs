@@ -1,5 +1,7 @@
 //! Coupling modes: with `RespectAllowedPenetration` the bridge leaves
-//! Rapier's allowed linear error (1 mm by default) to the engine.
+//! Rapier's allowed linear error (1 mm by default) to the engine; with
+//! `VelocityConsistency` (the default) it also removes the approach
+//! velocities of the contacts it corrected.
 
 use constraint_stabilization::Settings;
 use constraint_stabilization::Status;
@@ -10,8 +12,9 @@ use super::{dynamic_box_at, f32_world_depth, ground, run};
 
 fn respecting_bridge() -> RapierBridge {
     RapierBridge::with_settings(BridgeSettings {
-        stabilizer: Settings::default(),
         coupling: CouplingMode::RespectAllowedPenetration,
+        collider_friction: false,
+        ..BridgeSettings::with_stabilizer(Settings::default())
     })
     .expect("valid settings")
 }
@@ -65,4 +68,50 @@ fn box_sunk_deeper_ends_within_the_allowed_error_not_at_zero() {
         "depth {depth:e}, allowed {allowed:e}"
     );
     assert_eq!(world.bodies[body].linvel(), velocity_before);
+}
+
+/// The default bridge (velocity consistency, colliders' friction) on a box
+/// sunk into the ground and falling: the position is corrected and the
+/// box no longer approaches the ground (its downward velocity is removed;
+/// the sideways and angular velocities, which do not approach the ground,
+/// are changed only through the contact's coupling); a positions-only
+/// bridge leaves the velocity as it was.
+#[test]
+fn velocity_consistency_removes_the_approach_velocity() {
+    let mut world = PhysicsWorld::default();
+    ground(&mut world);
+    let (body, _) = dynamic_box_at(&mut world, 0.45);
+    let before = world.bodies[body].linvel();
+    assert!(before.y < -1.0, "falling: {before:?}");
+
+    let mut bridge = RapierBridge::new(Settings::default()).expect("default settings");
+    assert_eq!(bridge.settings().coupling, CouplingMode::VelocityConsistency);
+    let report = run(&mut bridge, &mut world);
+    assert_eq!(report.bodies_written, 1);
+    assert_eq!(report.velocities_written, 1);
+    let velocities = report.velocities.expect("velocity projection ran");
+    assert!(velocities.approach_before > 1.0, "{velocities:?}");
+    assert!(velocities.approach_after <= 1e-6, "{velocities:?}");
+    let rigid = &world.bodies[body];
+    // Every bottom corner's velocity along the ground normal is no longer
+    // negative (f32 rounding of the written velocity aside).
+    let (v, w) = (rigid.linvel(), rigid.angvel());
+    let centre = rigid.center_of_mass();
+    for (x, z) in [(-0.5f32, -0.5f32), (-0.5, 0.5), (0.5, -0.5), (0.5, 0.5)] {
+        let corner = rigid.position() * Vector::new(x, -0.5, z);
+        let point_velocity = v + w.cross(corner - centre);
+        assert!(point_velocity.y >= -1e-5, "corner ({x}, {z}): {point_velocity:?}");
+    }
+    assert!(f32_world_depth(&world) <= stated_tolerance_of(&report));
+
+    let mut world = PhysicsWorld::default();
+    ground(&mut world);
+    let (body, _) = dynamic_box_at(&mut world, 0.45);
+    let report = run(&mut super::bridge(), &mut world);
+    assert_eq!((report.velocities_written, report.velocities.is_none()), (0, true));
+    assert_eq!(world.bodies[body].linvel(), before);
+}
+
+fn stated_tolerance_of(report: &constraint_stabilization::rapier_bridge::BridgeReport) -> f64 {
+    report.stabilizer.as_ref().expect("dynamic bodies").tolerance
 }
