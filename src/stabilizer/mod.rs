@@ -209,11 +209,11 @@ impl Stabilizer {
                 report.status = status;
                 return Ok(report);
             }
-            if report.passes > 0 {
-                if let Some(left) = self.time_left(start) {
-                    let clarabel = &mut projection.solver.clarabel;
-                    clarabel.time_limit = clarabel.time_limit.min(left);
-                }
+            if report.passes > 0
+                && let Some(left) = self.time_left(start)
+            {
+                let clarabel = &mut projection.solver.clarabel;
+                clarabel.time_limit = clarabel.time_limit.min(left);
             }
             let solutions = self.solve_pass(
                 scene,
