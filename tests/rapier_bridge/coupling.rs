@@ -1,5 +1,5 @@
 //! Coupling modes: with `RespectAllowedPenetration` the bridge leaves
-//! Rapier's allowed linear error (1 mm by default) to the engine.
+//! Rapier's allowed linear error (5 mm by default) to the engine.
 
 use constraint_stabilization::Settings;
 use constraint_stabilization::Status;
