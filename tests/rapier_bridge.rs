@@ -49,6 +49,14 @@ fn dynamic_box_at(world: &mut PhysicsWorld, y: f32) -> (RigidBodyHandle, Collide
     world.insert(body, ColliderBuilder::cuboid(0.5, 0.5, 0.5).density(10.0))
 }
 
+/// A world of the ground and one dynamic box at height `y`.
+fn world_with_box_at(y: f32) -> (PhysicsWorld, RigidBodyHandle) {
+    let mut world = PhysicsWorld::default();
+    ground(&mut world);
+    let (body, _) = dynamic_box_at(&mut world, y);
+    (world, body)
+}
+
 fn bridge() -> RapierBridge {
     RapierBridge::new(Settings::default()).expect("default settings are valid")
 }
@@ -91,9 +99,7 @@ fn deepest_left(bridge: &RapierBridge) -> f64 {
 
 #[test]
 fn box_sunk_into_ground_is_lifted_by_its_depth_velocity_unchanged() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let (body, _) = dynamic_box_at(&mut world, 0.5 - SINK_DEPTH);
+    let (mut world, body) = world_with_box_at(0.5 - SINK_DEPTH);
     let mut bridge = bridge();
     let report = run(&mut bridge, &mut world);
 
@@ -119,9 +125,7 @@ fn box_sunk_into_ground_is_lifted_by_its_depth_velocity_unchanged() {
 
 #[test]
 fn box_sunk_after_a_rapier_step_is_corrected_by_the_depth_left() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let (body, _) = dynamic_box_at(&mut world, 0.5 - SINK_DEPTH);
+    let (mut world, body) = world_with_box_at(0.5 - SINK_DEPTH);
     world.step();
     let before = pose_to_f64(world.bodies[body].position());
     let velocity_before = (world.bodies[body].linvel(), world.bodies[body].angvel());
@@ -298,9 +302,7 @@ fn kinematic_body_is_never_moved_the_dynamic_one_is() {
 
 #[test]
 fn separated_world_is_not_written() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let (body, _) = dynamic_box_at(&mut world, 0.75);
+    let (mut world, body) = world_with_box_at(0.75);
     let before = *world.bodies[body].position();
     let mut bridge = bridge();
     let report = run(&mut bridge, &mut world);
@@ -323,9 +325,7 @@ fn world_without_dynamic_bodies_is_read_and_left_alone() {
 
 #[test]
 fn blown_up_pose_is_a_typed_error_and_nothing_is_written() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let (body, _) = dynamic_box_at(&mut world, 0.5 - SINK_DEPTH);
+    let (mut world, body) = world_with_box_at(0.5 - SINK_DEPTH);
     let mut bridge = bridge();
     run(&mut bridge, &mut world);
     world.bodies[body].set_translation(Vector::new(f32::NAN, 0.0, 0.0), false);

@@ -6,7 +6,7 @@ use constraint_stabilization::Status;
 use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
 use rapier3d::prelude::*;
 
-use super::{dynamic_box_at, f32_world_depth, ground, run};
+use super::{f32_world_depth, run, world_with_box_at};
 
 fn respecting_bridge() -> RapierBridge {
     RapierBridge::with_settings(BridgeSettings {
@@ -16,17 +16,15 @@ fn respecting_bridge() -> RapierBridge {
     .expect("valid settings")
 }
 
-/// Rapier's allowed linear error in the default integration parameters.
-fn allowed_error(world: &PhysicsWorld) -> f64 {
-    f64::from(world.integration_parameters.allowed_linear_error())
+/// Rapier's allowed linear error (world length).
+fn allowed_error(parameters: &IntegrationParameters) -> f64 {
+    f64::from(parameters.allowed_linear_error())
 }
 
 #[test]
 fn box_sunk_less_than_the_allowed_error_is_not_touched() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let allowed = allowed_error(&world);
-    let (body, _) = dynamic_box_at(&mut world, 0.5 - 0.5 * allowed as f32);
+    let allowed = allowed_error(&IntegrationParameters::default());
+    let (mut world, body) = world_with_box_at(0.5 - 0.5 * allowed as f32);
     let before = *world.bodies[body].position();
     let depth_before = f32_world_depth(&world);
     assert!(depth_before > 0.4 * allowed, "sunk by {depth_before:e}");
@@ -48,10 +46,8 @@ fn box_sunk_less_than_the_allowed_error_is_not_touched() {
 /// and tolerance, the linearized target and what may be left of it).
 #[test]
 fn box_sunk_deeper_ends_within_the_allowed_error_not_at_zero() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let allowed = allowed_error(&world);
-    let (body, _) = dynamic_box_at(&mut world, 0.5 - 50.0 * allowed as f32);
+    let allowed = allowed_error(&IntegrationParameters::default());
+    let (mut world, body) = world_with_box_at(0.5 - 50.0 * allowed as f32);
     let velocity_before = world.bodies[body].linvel();
 
     let report = run(&mut respecting_bridge(), &mut world);

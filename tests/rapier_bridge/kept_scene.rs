@@ -8,7 +8,10 @@ use std::sync::Arc;
 use constraint_stabilization::rapier_bridge::pose_to_f64;
 use rapier3d::prelude::*;
 
-use super::{SINK_DEPTH, bridge, dynamic_box_at, f32_world_depth, ground, run, stated_tolerance};
+use super::{
+    SINK_DEPTH, bridge, dynamic_box_at, f32_world_depth, ground, run, stated_tolerance,
+    world_with_box_at,
+};
 
 /// Largest distance (length, or radians) between the poses written by a
 /// kept bridge and by a fresh one on the same world. Both write f32 poses
@@ -21,9 +24,7 @@ const LIVE_BOXES: usize = 3;
 
 #[test]
 fn scene_is_kept_across_calls_appended_to_and_removed_from() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let (first, _) = dynamic_box_at(&mut world, 0.5 - SINK_DEPTH);
+    let (mut world, first) = world_with_box_at(0.5 - SINK_DEPTH);
     let mut bridge = bridge();
     let report = run(&mut bridge, &mut world);
     assert_eq!((report.sync.appended, report.sync.removed), (2, 0));
