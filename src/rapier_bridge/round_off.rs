@@ -36,7 +36,7 @@
 //!   linearization missed its target by more than `2 delta`;
 //! - rounding adds at most `2 delta`, a quarter of the tolerance, to any
 //!   depth: the f32 world's deepest penetration is at most the call's depth
-//!   after plus `2 delta` (reported as [`super::BridgeReport::round_off_bound`]),
+//!   after plus `2 delta` ([`super::BridgeReport::written_depth_bound`]),
 //!   so at most `1.25` times the tolerance in the worst case, and within the
 //!   tolerance whenever the corrected contacts reached their target (the
 //!   tests measure it on the f32 world).

@@ -188,6 +188,8 @@ fn bodies_added_and_removed_in_a_loop_match_a_fresh_answer() {
                 depth <= tolerance,
                 "step {k}, {label}: depth {depth:e} > {tolerance:e}"
             );
+            let bound = report.written_depth_bound().expect("dynamic bodies");
+            assert!(depth <= bound, "step {k}, {label}: {depth:e} > {bound:e}");
         }
     }
     println!(
