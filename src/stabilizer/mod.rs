@@ -89,6 +89,11 @@ impl Stabilizer {
         &self.settings
     }
 
+    /// Number of body pairs with a cached V-Clip warm start.
+    pub fn warm_starts(&self) -> usize {
+        self.cache.len()
+    }
+
     /// Replaces the settings (validated first; on error they are kept),
     /// keeping the warm starts: for a caller whose lengths follow the
     /// scene from call to call.
