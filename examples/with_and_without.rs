@@ -50,21 +50,41 @@ const PLOT_FLOOR: f64 = 1e-9;
 struct Scene {
     name: &'static str,
     build: fn() -> (PhysicsWorld, Vec<RigidBodyHandle>),
+    /// The step from which drift is measured (after a dropped pile has
+    /// settled; 0 for stacks built in place).
+    drift_from: usize,
+}
+
+/// Every dynamic body of a world.
+fn all_dynamic(world: &PhysicsWorld) -> Vec<RigidBodyHandle> {
+    world
+        .bodies
+        .iter()
+        .filter(|(_, b)| b.is_dynamic())
+        .map(|(h, _)| h)
+        .collect()
 }
 
 fn scenes() -> Vec<Scene> {
     vec![
         Scene {
             name: "pile_200",
-            build: || (scenes::pile_world(200, 1.0, 1), Vec::new()),
+            build: || {
+                let world = scenes::pile_world(200, 1.0, 1);
+                let tracked = all_dynamic(&world);
+                (world, tracked)
+            },
+            drift_from: 150,
         },
         Scene {
             name: "stack_1to100",
             build: || scenes::aligned_heavy_stack_world(100.0),
+            drift_from: 0,
         },
         Scene {
             name: "stack_1to1000",
             build: || scenes::aligned_heavy_stack_world(1000.0),
+            drift_from: 0,
         },
         Scene {
             name: "thrown_box",
@@ -73,10 +93,12 @@ fn scenes() -> Vec<Scene> {
                 tracked.pop();
                 (world, tracked)
             },
+            drift_from: 0,
         },
         Scene {
             name: "pyramid_55",
             build: scenes::pyramid_world,
+            drift_from: 0,
         },
     ]
 }
@@ -119,7 +141,10 @@ impl Run {
     fn bridge(self) -> Option<RapierBridge> {
         let settings = match self {
             Run::Plain => return None,
-            Run::Default => BridgeSettings::default(),
+            Run::Default => BridgeSettings {
+                collider_friction: std::env::var("WW_NO_FRICTION").is_err(),
+                ..BridgeSettings::default()
+            },
             Run::Allowed => BridgeSettings {
                 coupling: CouplingMode::RespectAllowedPenetration,
                 collider_friction: true,
@@ -161,7 +186,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "scene,run,step,deepest_m,rapier_ms,call_ms,call_failed,top_z_m,max_drift_m\n",
     );
     let mut table = String::from(
-        "| scene | run | deepest after step 1 (m) | deepest, median over steps (m) | deepest, max over the last 100 steps (m) | top: start -> end z (m) | max drift (mm) | failed calls | Rapier step ms (median) | call ms (median / max) |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "| scene | run | deepest after step 1 (m) | deepest, median over steps (m) | deepest, max over the last 100 steps (m) | top: start -> end z (m) | max horizontal drift (mm) | failed calls | Rapier step ms (median) | call ms (median / max) |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for scene in scenes() {
         if only.as_deref().is_some_and(|o| !scene.name.contains(o)) {
@@ -211,7 +236,7 @@ fn simulate(
     let (mut world, tracked) = (scene.build)();
     let mut bridge = run.bridge();
     let mut measure = RapierBridge::new(Settings::default())?;
-    let start: Vec<Vector> = tracked
+    let mut start: Vec<Vector> = tracked
         .iter()
         .map(|&h| world.bodies[h].translation())
         .collect();
@@ -238,7 +263,18 @@ fn simulate(
                 &world.integration_parameters,
             );
             call_failed = match result {
-                Ok(report) => report.stabilizer.is_some_and(|r| !r.status.is_resolved()),
+                Ok(report) => report.stabilizer.is_some_and(|r| {
+                    if !r.status.is_resolved() && std::env::var("WW_WHY").is_ok() {
+                        eprintln!(
+                            "step {step}: {} after {} passes, {} left: {:?}",
+                            r.status.name(),
+                            r.passes,
+                            r.islands_left.len(),
+                            r.islands_left.first().map(|l| l.outcome.reason())
+                        );
+                    }
+                    !r.status.is_resolved()
+                }),
                 Err(_) => true,
             };
             call_ms = t.elapsed().as_secs_f64() * 1e3;
@@ -264,7 +300,17 @@ fn simulate(
         }
         measure.sync(&world.bodies, &world.colliders)?;
         let depth = stabilize_support::sat_deepest(measure.scene()).0;
-        for (h, s) in tracked.iter().zip(&start) {
+        if step == scene.drift_from {
+            start = tracked
+                .iter()
+                .map(|&h| world.bodies[h].translation())
+                .collect();
+        }
+        for (h, s) in tracked
+            .iter()
+            .zip(&start)
+            .filter(|_| step > scene.drift_from)
+        {
             let p = world.bodies[*h].translation();
             drift = drift.max(f64::from(
                 ((p.x - s.x).powi(2) + (p.y - s.y).powi(2)).sqrt(),

@@ -27,9 +27,6 @@ use crate::stabilizer::{Settings, Stabilizer};
 
 pub use crate::solver::SolverChoice;
 
-/// A user pose: translation and rotation `[x, y, z, w]`.
-type UserPose = (nalgebra::Vector3<f64>, [f64; 4]);
-
 /// Settings carried by a scene; `None` means "the stabilizer's default".
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SceneSettings {
@@ -139,6 +136,10 @@ pub enum SceneError {
     #[error("{0}")]
     Settings(#[from] SettingsError),
 }
+
+/// A body index and the user pose (translation, `[x, y, z, w]`) it had,
+/// as recorded by [`Scene::set_user_poses`] to undo a failed batch.
+type RecordedPose = (usize, (nalgebra::Vector3<f64>, [f64; 4]));
 
 /// Old body index to new after [`Scene::remove_bodies`]: `old_to_new[i]` is
 /// `None` for a removed body, else its new index (order preserved).
@@ -288,7 +289,7 @@ impl Scene {
 
     /// Puts back poses recorded by [`Scene::set_user_poses`], last first (a
     /// body set twice ends at its first recorded pose).
-    fn restore_user_poses(&mut self, before: &[(usize, UserPose)]) {
+    fn restore_user_poses(&mut self, before: &[RecordedPose]) {
         for (index, (translation, rotation)) in before.iter().rev() {
             // Recorded from the body itself before a successful set: the
             // index exists and the pose was valid, so this cannot fail.
@@ -380,5 +381,76 @@ impl Scene {
         settings.validate()?;
         self.settings = settings;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{Translation3, UnitQuaternion, Vector3};
+
+    use super::*;
+    use crate::body::{MassSpec, Shape};
+
+    fn scene(n: usize) -> Scene {
+        let descs = (0..n).map(|i| BodyDesc {
+            name: format!("box {i}"),
+            shape: Shape::Cuboid {
+                half_extents: Vector3::new(0.5, 0.5, 0.5),
+            },
+            translation: Vector3::new(2.0 * i as f64, 0.0, 0.0),
+            rotation_xyzw: [0.0, 0.0, 0.0, 1.0],
+            mass: MassSpec::Mass(1.0),
+        });
+        Scene::from_descs(descs, SceneSettings::default()).expect("valid boxes")
+    }
+
+    fn names(scene: &Scene) -> Vec<&str> {
+        scene.bodies().iter().map(Body::name).collect()
+    }
+
+    #[test]
+    fn remove_bodies_keeps_the_order_of_the_others() {
+        let mut scene = scene(5);
+        let map = scene.remove_bodies(&[3, 0, 3]).expect("indices in range");
+        assert_eq!(names(&scene), ["box 1", "box 2", "box 4"]);
+        assert_eq!(map.old_to_new(), [None, Some(0), Some(1), None, Some(2)]);
+        assert_eq!((map.new_index(4), map.new_index(9)), (Some(2), None));
+        assert_eq!(map.old_len(), 5);
+        assert!(!map.is_identity());
+        assert!(scene.remove_bodies(&[]).expect("nothing").is_identity());
+    }
+
+    #[test]
+    fn remove_bodies_out_of_range_removes_nothing() {
+        let mut scene = scene(3);
+        let error = scene.remove_bodies(&[1, 3]).unwrap_err();
+        assert_eq!(error, SceneError::NoSuchBody { index: 3, len: 3 });
+        assert_eq!(scene.len(), 3);
+    }
+
+    #[test]
+    fn set_user_poses_is_all_or_nothing() {
+        let mut scene = scene(3);
+        let rotation = UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3);
+        let moved = Isometry3::from_parts(Translation3::new(1.0, 2.0, 3.0), rotation);
+        scene
+            .set_user_poses([(0, moved), (2, moved)])
+            .expect("valid poses");
+        assert_eq!(scene.bodies()[2].user_pose().translation, moved.translation);
+        assert!(scene.bodies()[2].user_pose().rotation.angle_to(&rotation) < 1e-15);
+
+        let before: Vec<_> = scene.bodies().iter().map(Body::user_pose).collect();
+        let blown_up = Isometry3::translation(f64::NAN, 0.0, 0.0);
+        let error = scene
+            .set_user_poses([(1, moved), (0, Isometry3::identity()), (2, blown_up)])
+            .unwrap_err();
+        assert!(
+            matches!(error, SceneError::Body { index: 2, .. }),
+            "{error}"
+        );
+        let after: Vec<_> = scene.bodies().iter().map(Body::user_pose).collect();
+        assert_eq!(after, before);
+        let error = scene.set_user_poses([(7, moved)]).unwrap_err();
+        assert_eq!(error, SceneError::NoSuchBody { index: 7, len: 3 });
     }
 }

@@ -17,8 +17,7 @@ mod round_off;
 
 use constraint_stabilization::Settings;
 use constraint_stabilization::rapier_bridge::{
-    BridgeSettings, CouplingMode,
-    BridgeReport, RapierBridge, SkipReason, pose_to_f64,
+    BridgeReport, BridgeSettings, CouplingMode, RapierBridge, SkipReason, pose_to_f64,
 };
 use constraint_stabilization::verify::parry_penetration;
 use nalgebra::{Isometry3, Point3};
@@ -48,6 +47,14 @@ fn dynamic_box_at(world: &mut PhysicsWorld, y: f32) -> (RigidBodyHandle, Collide
         .angvel(Vector::new(0.1, 0.2, 0.3))
         .sleeping(false);
     world.insert(body, ColliderBuilder::cuboid(0.5, 0.5, 0.5).density(10.0))
+}
+
+/// A world of the ground and one dynamic box at height `y`.
+fn world_with_box_at(y: f32) -> (PhysicsWorld, RigidBodyHandle) {
+    let mut world = PhysicsWorld::default();
+    ground(&mut world);
+    let (body, _) = dynamic_box_at(&mut world, y);
+    (world, body)
 }
 
 /// A positions-only bridge without friction (the seed's behaviour): the
@@ -99,9 +106,7 @@ fn deepest_left(bridge: &RapierBridge) -> f64 {
 
 #[test]
 fn box_sunk_into_ground_is_lifted_by_its_depth_velocity_unchanged() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let (body, _) = dynamic_box_at(&mut world, 0.5 - SINK_DEPTH);
+    let (mut world, body) = world_with_box_at(0.5 - SINK_DEPTH);
     let mut bridge = bridge();
     let report = run(&mut bridge, &mut world);
 
@@ -127,9 +132,7 @@ fn box_sunk_into_ground_is_lifted_by_its_depth_velocity_unchanged() {
 
 #[test]
 fn box_sunk_after_a_rapier_step_is_corrected_by_the_depth_left() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let (body, _) = dynamic_box_at(&mut world, 0.5 - SINK_DEPTH);
+    let (mut world, body) = world_with_box_at(0.5 - SINK_DEPTH);
     world.step();
     let before = pose_to_f64(world.bodies[body].position());
     let velocity_before = (world.bodies[body].linvel(), world.bodies[body].angvel());
@@ -306,9 +309,7 @@ fn kinematic_body_is_never_moved_the_dynamic_one_is() {
 
 #[test]
 fn separated_world_is_not_written() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let (body, _) = dynamic_box_at(&mut world, 0.75);
+    let (mut world, body) = world_with_box_at(0.75);
     let before = *world.bodies[body].position();
     let mut bridge = bridge();
     let report = run(&mut bridge, &mut world);
@@ -331,9 +332,7 @@ fn world_without_dynamic_bodies_is_read_and_left_alone() {
 
 #[test]
 fn blown_up_pose_is_a_typed_error_and_nothing_is_written() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let (body, _) = dynamic_box_at(&mut world, 0.5 - SINK_DEPTH);
+    let (mut world, body) = world_with_box_at(0.5 - SINK_DEPTH);
     let mut bridge = bridge();
     run(&mut bridge, &mut world);
     world.bodies[body].set_translation(Vector::new(f32::NAN, 0.0, 0.0), false);

@@ -18,8 +18,8 @@
 
 use nalgebra::{Isometry3, Vector3};
 use rapier3d::dynamics::{IntegrationParameters, RigidBody, RigidBodyHandle, RigidBodySet};
-use rapier3d::math::Vector;
 use rapier3d::geometry::ColliderSet;
+use rapier3d::math::Vector;
 
 use super::body_map::{BodyMap, MappedCollider};
 use super::collider_shape::{ReadCollider, read_collider, shape_of};
@@ -197,9 +197,9 @@ impl RapierBridge {
             time_step: Some(f64::from(parameters.dt)).filter(|dt| *dt > 0.0),
             friction: false,
         };
-        let report = self
-            .stabilizer
-            .project_velocities(&self.scene, &mut projected, moved, &options)?;
+        let report =
+            self.stabilizer
+                .project_velocities(&self.scene, &mut projected, moved, &options)?;
         let mut written = 0;
         for ((handle, old), new) in handles.iter().zip(&velocities).zip(&projected) {
             let Some(body) = handle.and_then(|h| bodies.get_mut(h)) else {
@@ -242,7 +242,10 @@ impl RapierBridge {
             .map_err(|e| SkipReason::Invalid(e.to_string()))?;
         if self.settings.collider_friction {
             let friction = Some(f64::from(collider.friction()));
-            let body = self.scene.body_mut(index).map_err(|e| SkipReason::Invalid(e.to_string()))?;
+            let body = self
+                .scene
+                .body_mut(index)
+                .map_err(|e| SkipReason::Invalid(e.to_string()))?;
             body.set_friction(friction)
                 .map_err(|e| SkipReason::Invalid(e.to_string()))?;
         }

@@ -7,13 +7,16 @@
 //! keeps (so that V-Clip starts from the features of the previous step), and
 //! writes the corrected poses of the dynamic bodies back to Rapier.
 //! Velocities, sleep states and everything else in the world are untouched.
+//! How a call couples with the engine is chosen in [`BridgeSettings`]
+//! ([`CouplingMode`]); [`RapierBridge::new`] takes the stabilizer's
+//! settings alone and the default coupling.
 //!
 //! # What is read
 //!
 //! | Rapier | scene body |
 //! |---|---|
 //! | dynamic body with exactly one enabled, non-sensor collider, a cuboid or a convex polyhedron | a body of mass `RigidBody::mass()` (uniform density over the shape) |
-//! | each such collider of a fixed or kinematic body (any number per body) | a fixed body (kinematic bodies are never moved) |
+//! | each such collider of a fixed or kinematic (position- or velocity-based) body (any number per body) | a fixed body: an obstacle, never written; its pose is read again each call |
 //! | each such collider without a parent body | a fixed body |
 //! | anything else (balls, capsules, round shapes, meshes, ..., sensors, disabled colliders or bodies, dynamic bodies with several colliders) | skipped, and counted in [`BridgeReport::skipped`] |
 //!
@@ -41,26 +44,50 @@
 //!
 //! # Kept across steps
 //!
-//! [`BodyMap`] maps Rapier collider and body handles to scene indices.
-//! From one call to the next only poses are updated; colliders that appear
-//! are appended (their shapes are built once). When a mapped collider
-//! disappears or changes (shape, parent, body type, mass, offset), the scene
-//! cannot drop a body, so the scene is rebuilt and the stabilizer restarted
-//! (its warm starts are lost for that one call; reported as
-//! [`BridgeReport::rebuilt`]).
+//! [`BodyMap`] maps Rapier collider and body handles to scene indices and
+//! back ([`BodyMap::scene_index`], [`BodyMap::scene_index_of_body`],
+//! [`BodyMap::collider_of`], [`BodyMap::body_of`]). From one call to the
+//! next the poses are updated in one batch
+//! ([`Scene::set_user_poses`](crate::scene::Scene::set_user_poses));
+//! colliders that appear are appended (their shapes are built once); the
+//! bodies of mapped colliders that disappear or change (shape, parent, body
+//! type, mass, offset) are removed
+//! ([`Stabilizer::remove_bodies`](crate::Stabilizer::remove_bodies): the
+//! order of the others is kept, their indices shift down, and their V-Clip
+//! warm starts follow them), a changed one appended again. The scene is
+//! never rebuilt ([`SyncReport::removed`], [`SyncReport::appended`]).
+//!
+//! # Coupling
+//!
+//! [`CouplingMode::PositionsOnly`] (the default) removes every penetration
+//! beyond the tolerance. [`CouplingMode::RespectAllowedPenetration`] leaves
+//! Rapier its allowed linear error
+//! (`IntegrationParameters::allowed_linear_error()`, read at each call): it
+//! becomes the stabilizer's
+//! [`allowed_penetration`](crate::Settings::allowed_penetration), so a
+//! contact sunk by less is not touched and a deeper one is brought back to
+//! about that depth. Both correct positions only; a velocity-level mode
+//! (removing the approach velocity of the corrected contacts) is planned as
+//! a further variant of the (non-exhaustive) enum.
 //!
 //! # Rounding
 //!
 //! Rapier stores poses in f32. A corrected pose written back is rounded to
-//! f32; the largest rounding of a written translation and rotation is
-//! reported ([`BridgeReport::write_back_round_off`]), since it can leave
-//! a penetration of that order after the call.
+//! f32, which moves a collider point by at most `delta = u (|t| + 4 r)`
+//! (`u = 2^-24`; [`round_off`] derives it). Each call raises the
+//! stabilizer's tolerance to at least `8 delta` and its target margin to at
+//! least `4 delta`, so that the rounding cannot take a corrected contact
+//! beyond the tolerance (at most a quarter of it in the worst case). The
+//! bound is reported ([`BridgeReport::round_off_bound`]) with the largest
+//! rounding measured ([`BridgeReport::write_back_round_off`]).
 //!
 //! Files:
 //! - `convert.rs`: f32 Rapier poses to f64 nalgebra isometries and back.
 //! - `collider_shape.rs`: which colliders are read, and their shapes.
-//! - `body_map.rs`: the map from Rapier handles to scene bodies, and the
-//!   decision to append or rebuild.
+//! - `body_map.rs`: the map from Rapier handles to scene bodies and back,
+//!   and the plan of a call: bodies to remove, colliders to append.
+//! - `settings.rs`: [`BridgeSettings`], [`CouplingMode`].
+//! - `round_off.rs`: the f32 write-back bound and the call's lengths.
 //! - `bridge.rs`: [`RapierBridge`]: read, stabilize, write back.
 //! - `report.rs`: [`BridgeReport`], [`SkippedCollider`], [`SkipReason`].
 //! - `error.rs`: [`BridgeError`].

@@ -87,4 +87,13 @@ impl BridgeReport {
     pub fn skipped(&self) -> &[SkippedCollider] {
         &self.sync.skipped
     }
+
+    /// An upper bound on the deepest penetration of the world as written
+    /// (f32 poses): the stabilizer's exact depth after the call plus the
+    /// `2 delta` that rounding can add to a pair ([`BridgeReport::round_off_bound`]).
+    /// `None` when the stabilizer was not called (no dynamic body).
+    pub fn written_depth_bound(&self) -> Option<f64> {
+        let report = self.stabilizer.as_ref()?;
+        Some(report.depth_after + 2.0 * self.round_off_bound)
+    }
 }

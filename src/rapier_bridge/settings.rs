@@ -4,7 +4,7 @@
 //! Rapier resolves contacts softly: its solver leaves resting contacts
 //! penetrating by up to its *allowed linear error*
 //! (`IntegrationParameters::allowed_linear_error()`,
-//! `normalized_allowed_linear_error * length_unit`, 1 mm by default) and
+//! `normalized_allowed_linear_error * length_unit`, 5 mm by default) and
 //! pushes deeper ones out over several steps. Removing every penetration
 //! after each step (positions only) fights that: the next step sinks the
 //! contact again. [`CouplingMode::RespectAllowedPenetration`] removes only

@@ -66,6 +66,22 @@ pub enum FailureReason {
     },
 }
 
+impl FailureReason {
+    /// Whether the failure is a certificate that the problem has no
+    /// solution: a violated row with a zero Jacobian, clarabel's primal
+    /// infeasibility certificate, or Lemke's ray termination (for a
+    /// positive semidefinite matrix, copositive-plus, a ray means that the
+    /// LCP is infeasible).
+    pub fn certifies_infeasibility(&self) -> bool {
+        matches!(
+            self,
+            Self::Infeasible
+                | Self::Clarabel(ClarabelFailure::PrimalInfeasible)
+                | Self::Lemke(LemkeStatus::Ray)
+        )
+    }
+}
+
 impl fmt::Display for FailureReason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

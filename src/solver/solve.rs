@@ -117,6 +117,14 @@ pub struct SolverSettings {
     /// trial regions of an island, whose failure only means that the
     /// region must grow (`stabilizer/region.rs`).
     pub fall_back: bool,
+    /// Stop trying solvers when one certifies that the problem has no
+    /// solution (clarabel's primal infeasibility certificate, or Lemke
+    /// ending on a ray, which for the positive semidefinite matrices of
+    /// these problems means that the LCP is infeasible). Default false (the
+    /// seed's full chain); the stabilizer sets it for problems with a
+    /// friction pyramid, which wedged bodies can make infeasible and which
+    /// are then solved again without friction.
+    pub stop_on_infeasible: bool,
     /// clarabel settings (both forms).
     pub clarabel: ClarabelSettings,
     /// Lemke settings.
@@ -134,6 +142,7 @@ impl Default for SolverSettings {
             length_scale: 0.0,
             auto_lemke_max_rows: 160,
             fall_back: true,
+            stop_on_infeasible: false,
             clarabel: ClarabelSettings::default(),
             lemke: LemkeSettings::default(),
             pgs: PgsSettings::default(),
@@ -211,10 +220,14 @@ pub fn solve_projection(
             }
             Err(reason) => {
                 log::debug!("solver {kind:?} failed: {reason}");
+                let certified = reason.certifies_infeasibility();
                 fallbacks.push(Fallback {
                     solver: kind,
                     reason,
                 });
+                if certified && settings.stop_on_infeasible {
+                    break;
+                }
             }
         }
     }

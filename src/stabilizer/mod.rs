@@ -95,6 +95,11 @@ impl Stabilizer {
         &self.settings
     }
 
+    /// Number of body pairs with a cached V-Clip warm start.
+    pub fn warm_starts(&self) -> usize {
+        self.cache.len()
+    }
+
     /// Replaces the settings (validated first; on error they are kept),
     /// keeping the warm starts: for a caller whose lengths follow the
     /// scene from call to call.
@@ -380,6 +385,7 @@ impl Stabilizer {
             active_pairs: &detection.active_pairs,
             active_values: &detection.active_values,
             active_queries: &detection.active_queries,
+            frictional: true,
             settings: &self.settings,
             lengths,
             projection,

@@ -119,6 +119,9 @@ pub struct IslandReport {
     /// Problems solved to find that region (1 when the first one pushed
     /// no held body).
     pub region_rounds: usize,
+    /// The problem with friction could not be solved (its friction pyramid
+    /// left wedged bodies no way out) and the island was solved without.
+    pub friction_dropped: bool,
     /// Linearized constraint rows.
     pub constraints: usize,
     /// The solver that produced the correction (`None` if nothing solved).

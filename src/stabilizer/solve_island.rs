@@ -78,6 +78,8 @@ pub struct PassInput<'a> {
     pub lengths: &'a ResolvedLengths,
     /// The projection's settings.
     pub projection: &'a ProjectionSettings,
+    /// Whether pairs get their friction coefficients (else frictionless).
+    pub frictional: bool,
 }
 
 /// One projection step on `island`; a failure moves nothing and is
@@ -107,6 +109,7 @@ impl IslandSolution {
                 pairs: island.pairs.len(),
                 region_bodies: 0,
                 region_rounds: 0,
+                friction_dropped: false,
                 constraints: 0,
                 solver: None,
                 fallbacks: Vec::new(),
@@ -152,10 +155,14 @@ fn plan_region<'a>(
         .map(|&k| (input.active_pairs[k], input.active_queries[k]))
         .filter(|(pair, _)| moving(pair.body_a) || moving(pair.body_b))
         .unzip();
-    let friction = pairs
+    let friction: Vec<f64> = pairs
         .iter()
-        .map(|pair| pair_friction(input.scene, input.settings, *pair))
+        .map(|pair| match input.frictional {
+            true => pair_friction(input.scene, input.settings, *pair),
+            false => 0.0,
+        })
         .collect();
+    let has_friction = friction.iter().any(|&mu| mu > 0.0);
     let (configuration, inertias) = island_state(input.scene, &bodies)?;
     let options = ContactOptions {
         vclip: VClip::new(input.settings.vclip),
@@ -173,15 +180,20 @@ fn plan_region<'a>(
         options,
     );
     // A region short of the whole island has one solver and no fallback:
-    // its failure only means that it must grow.
+    // its failure only means that it must grow. A whole island with
+    // friction tries the fallbacks but stops at a certificate of
+    // infeasibility (a friction pyramid that leaves wedged bodies no way
+    // out): the island is then solved again without friction
+    // (`solve_island_or_fail`).
     let whole = contacts_cover_island(island, contacts.bodies());
     let trial_settings;
-    let projection = if whole {
+    let projection = if whole && !has_friction {
         input.projection
     } else {
         trial_settings = ProjectionSettings {
             solver: SolverSettings {
-                fall_back: false,
+                fall_back: whole,
+                stop_on_infeasible: true,
                 ..input.projection.solver.clone()
             },
             ..input.projection.clone()
@@ -316,6 +328,26 @@ fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolut
         island.bodies.len(),
         island.pairs.len()
     );
+    match solve_island_once(input, island) {
+        Err(error) if input.frictional => {
+            log::debug!(
+                "island {}: not solved with friction ({error}); solved again without",
+                island_label(input.scene, &island.bodies)
+            );
+            let frictionless = PassInput {
+                frictional: false,
+                ..input
+            };
+            let mut solution = solve_island_once(frictionless, island)?;
+            solution.report.friction_dropped = true;
+            Ok(solution)
+        }
+        result => result,
+    }
+}
+
+/// [`solve_island_or_fail`] with or without friction (`input.frictional`).
+fn solve_island_once(input: PassInput, island: &Island) -> Result<IslandSolution, Error> {
     let (round, rounds, solve_seconds) = plan_island(input, island)?;
     let Round {
         mut contacts,
@@ -378,6 +410,7 @@ fn finish(
             pairs: contacts.pairs().len(),
             region_bodies: bodies.len(),
             region_rounds: rounds,
+            friction_dropped: false,
             constraints: step.constraints,
             solver: solution.map(|s| s.solver),
             fallbacks: solution.map(|s| s.fallbacks.clone()).unwrap_or_default(),

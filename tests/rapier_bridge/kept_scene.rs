@@ -1,29 +1,32 @@
 //! The scene kept across calls: bodies added, removed and changed between
 //! steps without a rebuild (shapes and warm starts of the others kept), the
 //! handle map both ways, and the answer of a kept bridge equal to a fresh
-//! bridge's on the same world; kinematic bodies read as fixed.
+//! one's on the same scene; kinematic bodies read as fixed.
 
 use std::sync::Arc;
 
+use constraint_stabilization::Stabilizer;
 use constraint_stabilization::rapier_bridge::pose_to_f64;
+use nalgebra::Isometry3;
 use rapier3d::prelude::*;
 
-use super::{SINK_DEPTH, bridge, dynamic_box_at, f32_world_depth, ground, run, stated_tolerance};
+use super::{
+    SINK_DEPTH, bridge, dynamic_box_at, f32_world_depth, ground, run, stated_tolerance,
+    world_with_box_at,
+};
 
-/// Largest distance (length, or radians) between the poses written by a
-/// kept bridge and by a fresh one on the same world. Both write f32 poses
-/// rounded from the same f64 answer; only the f64 renormalization of the
-/// read quaternions differs in the last bits (measured: 2.7e-20).
+/// Largest distance (length, or radians) between the answer of a kept
+/// bridge and a fresh one on the same scene in the same order: the same
+/// computation but for the V-Clip warm starts, which change the features a
+/// query starts from, not its answer (measured: below 5e-19).
 const KEPT_VS_FRESH_TOLERANCE: f64 = 1e-12;
 
-/// Bodies kept in the loop: the oldest is removed when there are more.
+/// Bodies kept in the loop: one is removed when there are more.
 const LIVE_BOXES: usize = 3;
 
 #[test]
 fn scene_is_kept_across_calls_appended_to_and_removed_from() {
-    let mut world = PhysicsWorld::default();
-    ground(&mut world);
-    let (first, _) = dynamic_box_at(&mut world, 0.5 - SINK_DEPTH);
+    let (mut world, first) = world_with_box_at(0.5 - SINK_DEPTH);
     let mut bridge = bridge();
     let report = run(&mut bridge, &mut world);
     assert_eq!((report.sync.appended, report.sync.removed), (2, 0));
@@ -45,8 +48,16 @@ fn scene_is_kept_across_calls_appended_to_and_removed_from() {
     let added_shape = bridge.scene().bodies()[2].polyhedron().clone();
 
     world.remove_body(first);
+    // The warm start of (ground, added) follows the added box to index 1;
+    // that of (ground, first) goes with the removed box.
+    let pairs_before = bridge.stabilizer().warm_starts();
+    let sync = bridge
+        .sync(&world.bodies, &world.colliders)
+        .expect("the world is read");
+    assert_eq!((sync.appended, sync.removed), (0, 1));
+    assert_eq!((pairs_before, bridge.stabilizer().warm_starts()), (2, 1));
     let report = run(&mut bridge, &mut world);
-    assert_eq!((report.sync.appended, report.sync.removed), (0, 1));
+    assert_eq!((report.sync.appended, report.sync.removed), (0, 0));
     let tolerance = stated_tolerance(&report);
     assert_eq!(bridge.scene().len(), 2);
     assert_eq!(bridge.body_map().scene_index_of_body(added), Some(1));
@@ -91,63 +102,109 @@ fn loop_box(k: usize) -> RigidBodyBuilder {
         .rotation(Vector::new(0.02 * k as f32, 0.0, -0.01 * k as f32))
 }
 
+/// Largest distance (length, or radians) between two poses.
+fn pose_distance(a: &Isometry3<f64>, b: &Isometry3<f64>) -> f64 {
+    (a.translation.vector - b.translation.vector)
+        .norm()
+        .max(a.rotation.angle_to(&b.rotation))
+}
+
 /// Twelve steps: each adds a box (sunk into the ground or into a box)
-/// and, above three boxes, removes the oldest; a Rapier step and a bridge
-/// call follow. A kept bridge writes the same poses as a fresh bridge on
-/// a copy of the same world, and never rebuilds: every call removes and
-/// appends exactly what changed, and the map stays a bijection.
+/// and, above three boxes, removes one (the oldest, a middle one or the
+/// newest, in turn, so that indices shift from different places); a Rapier
+/// step and a bridge call follow. The kept bridge never rebuilds: every
+/// call removes and appends exactly what changed, and the map stays a
+/// bijection. Its answer is a fresh stabilizer's on the same scene (the
+/// warm starts carried across removals change nothing), and a fresh
+/// bridge's whenever the fresh bridge holds the bodies in the same order.
+///
+/// When the orders differ (a kept scene appends, a fresh one follows the
+/// collider set, whose freed slots are reused), the stabilizer itself
+/// answers differently on islands of several dynamic bodies: measured up
+/// to 9.7e-3 (both calls converged, both f32 worlds within the tolerance).
+/// That order dependence is the stabilizer's, not the bridge's; it is
+/// printed, and both answers are checked against the tolerance.
 #[test]
-fn bodies_added_and_removed_in_a_loop_match_a_fresh_bridge() {
+fn bodies_added_and_removed_in_a_loop_match_a_fresh_answer() {
     let mut world = PhysicsWorld::default();
     ground(&mut world);
     let mut kept = bridge();
-    let mut live = std::collections::VecDeque::new();
-    let mut largest_difference: f64 = 0.0;
+    let mut live = Vec::new();
+    let (mut same_order_steps, mut other_order_difference) = (0, 0.0_f64);
     for k in 0..12 {
         let (body, _) = world.insert(loop_box(k), ColliderBuilder::cuboid(0.5, 0.5, 0.5));
-        live.push_back(body);
-        let removed = live.len() > LIVE_BOXES;
-        if removed {
-            let oldest = live.pop_front().expect("more than three boxes live");
-            world.remove_body(oldest);
+        live.push(body);
+        // (mapped bodies removed, colliders new to the bridge)
+        let mut expected = (0, if k == 0 { 2 } else { 1 });
+        if live.len() > LIVE_BOXES {
+            let gone = live.remove(k % live.len());
+            world.remove_body(gone);
+            // The newest box removed before any call is never mapped.
+            expected = if gone == body { (0, 0) } else { (1, 1) };
         }
         world.step();
 
-        let mut fresh_bodies = world.bodies.clone();
-        bridge()
-            .stabilize(
-                &mut fresh_bodies,
-                &world.colliders,
-                &world.integration_parameters,
-            )
-            .expect("the fresh call succeeds");
-        let report = run(&mut kept, &mut world);
+        let mut fresh_world = PhysicsWorld {
+            bodies: world.bodies.clone(),
+            colliders: world.colliders.clone(),
+            ..PhysicsWorld::default()
+        };
+        let mut fresh = bridge();
+        let fresh_report = run(&mut fresh, &mut fresh_world);
 
-        let new_colliders = if k == 0 { 2 } else { 1 };
-        assert_eq!(report.sync.appended, new_colliders, "step {k}");
-        assert_eq!(report.sync.removed, usize::from(removed), "step {k}");
+        let sync = kept.sync(&world.bodies, &world.colliders).expect("read");
+        assert_eq!((sync.removed, sync.appended), expected, "step {k}");
+        let mut cold_scene = kept.scene().clone();
+        let report = run(&mut kept, &mut world);
+        let mut cold = Stabilizer::new(kept.stabilizer().settings().clone()).expect("valid");
+        cold.stabilize(&mut cold_scene)
+            .expect("the cold call succeeds");
+        for (a, b) in cold_scene.bodies().iter().zip(kept.scene().bodies()) {
+            let difference = pose_distance(&a.user_pose(), &b.user_pose());
+            assert!(
+                difference <= KEPT_VS_FRESH_TOLERANCE,
+                "step {k}: {difference:e}"
+            );
+        }
+
         assert_eq!(kept.scene().len(), world.colliders.len(), "step {k}");
         for index in 0..kept.scene().len() {
             let collider = kept.body_map().collider_of(index).expect("mapped");
             assert_eq!(kept.body_map().scene_index(collider), Some(index));
         }
+        let same_order = kept.body_map().entries() == fresh.body_map().entries();
         for &body in &live {
             let a = pose_to_f64(world.bodies[body].position());
-            let b = pose_to_f64(fresh_bodies[body].position());
-            let difference = (a.translation.vector - b.translation.vector)
-                .norm()
-                .max(a.rotation.angle_to(&b.rotation));
-            largest_difference = largest_difference.max(difference);
+            let b = pose_to_f64(fresh_world.bodies[body].position());
+            let difference = pose_distance(&a, &b);
+            if same_order {
+                assert!(
+                    difference <= KEPT_VS_FRESH_TOLERANCE,
+                    "step {k}: {difference:e}"
+                );
+            } else {
+                other_order_difference = other_order_difference.max(difference);
+            }
         }
-        let tolerance = stated_tolerance(&report);
-        let depth = f32_world_depth(&world);
-        assert!(
-            depth <= tolerance,
-            "step {k}: depth {depth:e} > {tolerance:e}"
-        );
+        same_order_steps += usize::from(same_order);
+        for (label, report, world) in [
+            ("kept", &report, &world),
+            ("fresh", &fresh_report, &fresh_world),
+        ] {
+            let (depth, tolerance) = (f32_world_depth(world), stated_tolerance(report));
+            assert!(
+                depth <= tolerance,
+                "step {k}, {label}: depth {depth:e} > {tolerance:e}"
+            );
+            let bound = report.written_depth_bound().expect("dynamic bodies");
+            assert!(depth <= bound, "step {k}, {label}: {depth:e} > {bound:e}");
+        }
     }
-    println!("largest kept-vs-fresh pose difference: {largest_difference:e}");
-    assert!(largest_difference <= KEPT_VS_FRESH_TOLERANCE);
+    println!(
+        "same order as a fresh bridge in {same_order_steps} of 12 steps; \
+         largest kept-vs-fresh difference in the others {other_order_difference:e}"
+    );
+    assert!(same_order_steps > 0);
 }
 
 /// Kinematic bodies, position- or velocity-based, are read as fixed: they

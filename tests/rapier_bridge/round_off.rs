@@ -62,6 +62,11 @@ fn far_from_the_origin_the_f32_world_is_within_the_stated_tolerance() {
     );
     assert!(depth_before > 0.02);
     assert!(depth <= tolerance, "depth {depth:e} > {tolerance:e}");
+    let bound = report.written_depth_bound().expect("dynamic bodies");
+    assert!(
+        depth <= bound && bound <= 1.25 * tolerance,
+        "bound {bound:e}"
+    );
 }
 
 /// The call's tolerance is the larger of the stabilizer's own (1e-6 of

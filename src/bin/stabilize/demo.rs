@@ -32,6 +32,9 @@ pub struct DemoArgs {
     /// Also write the corrected scene (with its report) to this file.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Also write the scene as generated, before stabilization.
+    #[arg(long)]
+    before: Option<PathBuf>,
 }
 
 /// Runs the subcommand.
@@ -42,6 +45,11 @@ pub fn run(args: &DemoArgs) -> ExitCode {
     let mut settings = Settings::default();
     settings.solver.choice = choice;
     let mut scene = demo_scene(args.bodies, args.seed);
+    if let Some(path) = &args.before
+        && let Err(error) = write_scene(path, &scene, None)
+    {
+        return exit::bad_input(&error);
+    }
     println!(
         "demo scene: {} bodies ({} fixed), seed {}",
         scene.len(),
