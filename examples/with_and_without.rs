@@ -392,6 +392,7 @@ fn plot(
         .configure_mesh()
         .x_desc("time (s)")
         .y_desc("deepest penetration (m)")
+        .y_label_formatter(&|y| format!("{y:.0e}"))
         .draw()?;
     for (run, records) in runs {
         let colour = run.colour();

@@ -123,7 +123,7 @@ pub fn candidate_pairs_of_aabbs(
     pairs.sort_unstable();
     pairs.dedup();
     log::debug!(
-        "broad phase: {} bodies, margin {margin:e}, {} candidate pairs",
+        "  broad phase: {} bodies, AABBs grown by the contact margin {margin:.3e}, {} candidate pairs",
         aabbs.len(),
         pairs.len()
     );

@@ -128,7 +128,7 @@ pub fn islands(fixed: &[bool], pairs: &[BodyPair]) -> Result<Vec<Island>, Island
         island.fixed_bodies.dedup();
     }
     log::debug!(
-        "islands: {} bodies, {} pairs, {} islands",
+        "  islands: {} bodies, {} pairs touching or penetrating, {} islands",
         fixed.len(),
         pairs.len(),
         result.len()
