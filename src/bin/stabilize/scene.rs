@@ -15,6 +15,7 @@ use constraint_stabilization::io::report_json::report_to_json;
 use constraint_stabilization::io::scene_file::{read_scene, write_scene};
 
 use crate::exit;
+use crate::progress::PassProgress;
 
 /// Arguments of `stabilize scene`.
 #[derive(Debug, Args)]
@@ -36,7 +37,10 @@ pub fn run(args: &SceneArgs) -> ExitCode {
         Ok(stabilizer) => stabilizer,
         Err(error) => return exit::bad_input(&error),
     };
-    let report = match stabilizer.stabilize(&mut scene) {
+    let mut progress = PassProgress::start("stabilizing");
+    let result = stabilizer.stabilize_observed(&mut scene, &mut |pass| progress.pass(pass));
+    progress.finish();
+    let report = match result {
         Ok(report) => report,
         Err(error) => return exit::bad_input(&error),
     };
