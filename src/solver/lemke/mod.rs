@@ -29,7 +29,7 @@ pub mod tableau;
 use nalgebra::{DMatrix, DVector};
 
 use super::lcp::Lcp;
-use super::residuals::{lcp_natural_map, natural_map_certified};
+use super::residuals::{lcp_natural_map, natural_map_certified, natural_map_relative};
 use super::scaling::LcpScaling;
 use path::{PathEnd, PathOptions, z_from_basis, z_from_tableau};
 use ratio::RatioTolerances;
@@ -237,15 +237,11 @@ fn attempt(
     }
 }
 
-/// `||min(z, w)||_inf / max(||q||_inf, ||M||_inf ||z||_inf)` on the caller's
-/// problem for the scaled solution `z_scaled` (0 when the data are zero).
+/// [`natural_map_relative`] on the caller's problem for the scaled
+/// solution `z_scaled`.
 fn unscaled_residual(scaled: &Scaled, z_scaled: &DVector<f64>) -> f64 {
     let z = scaled.scaling.unscale_z(z_scaled);
-    let (m, q) = (scaled.original_m, scaled.original_q);
-    let w = m * &z + q;
-    let natural = z.zip_map(&w, f64::min).amax();
-    let size = q.amax().max(m.amax() * z.amax());
-    if size > 0.0 { natural / size } else { natural }
+    natural_map_relative(scaled.original_m, scaled.original_q, &z)
 }
 
 /// The better of the tableau's `z` and the LU re-solve of the final basis
