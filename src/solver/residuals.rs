@@ -70,6 +70,19 @@ use nalgebra::{DMatrix, DVector};
 use super::metric::BlockMetric;
 use super::projection::ProjectionQp;
 
+/// `||min(z, w)||_inf / max(||q||_inf, ||M||_inf ||z||_inf)` for
+/// `w = M z + q` (the unnormalized value when the data are zero): the
+/// natural map relative to the size of the data at `z`, invariant under
+/// scaling `M`, `q` (and so `z`) by positive factors. The acceptance of a
+/// general LCP's solution by Lemke and clarabel (`lemke::solve`,
+/// `clarabel_qp::dual::solve_lcp`).
+pub fn natural_map_relative(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> f64 {
+    let w = m * z + q;
+    let natural = natural_map_abs(z, &w);
+    let size = q.amax().max(m.amax() * z.amax());
+    if size > 0.0 { natural / size } else { natural }
+}
+
 /// `||min(z, w)||_inf / max(1, ||q||_inf)`: the README measure of the
 /// Siconos LCP files.
 pub fn lcp_natural_map(z: &DVector<f64>, w: &DVector<f64>, q: &DVector<f64>) -> f64 {

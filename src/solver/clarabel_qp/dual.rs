@@ -26,7 +26,7 @@ use super::polish::{
 use super::{ClarabelPoint, ClarabelSettings, csc_from_triplets, run};
 use crate::solver::lcp::Lcp;
 use crate::solver::outcome::FailureReason;
-use crate::solver::residuals::natural_map_abs;
+use crate::solver::residuals::{natural_map_abs, natural_map_relative};
 use crate::solver::scaling::LcpScaling;
 
 /// A solution of the LCP from clarabel on its dual QP.
@@ -40,13 +40,31 @@ pub struct DualSolution {
     pub iterations: usize,
 }
 
+/// Largest natural map, relative to the data
+/// ([`natural_map_relative`]), of a solution [`solve_lcp`] returns.
+/// The projection path checks its answers itself (`solver::residuals`);
+/// a general LCP had no check, and clarabel returned `z = 0` with `w_6 =
+/// -3.9e3` on a 26-row problem as a solution (fuzz input
+/// `tests/data/fuzz/lcp_solvers/crash-clarabel-dual`).
+pub const TOL_NATURAL_MAP_RELATIVE: f64 = 1e-6;
+
 /// Solves a symmetric positive semidefinite LCP with clarabel. Fails with
-/// [`FailureReason::NotApplicable`] when `M` is not symmetric PSD.
+/// [`FailureReason::NotApplicable`] when `M` is not symmetric PSD, and with
+/// [`FailureReason::ResidualTooLarge`] when the answer's natural map is
+/// above [`TOL_NATURAL_MAP_RELATIVE`].
 pub fn solve_lcp(lcp: &Lcp, settings: &ClarabelSettings) -> Result<DualSolution, FailureReason> {
     if !lcp.is_symmetric_psd() {
         return Err(FailureReason::NotApplicable);
     }
-    solve_lcp_unchecked(lcp, settings)
+    let solution = solve_lcp_unchecked(lcp, settings)?;
+    let residual = natural_map_relative(lcp.m(), lcp.q(), &solution.z);
+    if residual > TOL_NATURAL_MAP_RELATIVE {
+        return Err(FailureReason::ResidualTooLarge {
+            residual,
+            tolerance: TOL_NATURAL_MAP_RELATIVE,
+        });
+    }
+    Ok(solution)
 }
 
 /// As [`solve_lcp`], for a matrix known to be symmetric PSD by construction

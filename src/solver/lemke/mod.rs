@@ -29,7 +29,7 @@ pub mod tableau;
 use nalgebra::{DMatrix, DVector};
 
 use super::lcp::Lcp;
-use super::residuals::{lcp_natural_map, natural_map_certified};
+use super::residuals::{lcp_natural_map, natural_map_certified, natural_map_relative};
 use super::scaling::LcpScaling;
 use path::{PathEnd, PathOptions, z_from_basis, z_from_tableau};
 use ratio::RatioTolerances;
@@ -59,6 +59,13 @@ pub struct LemkeSettings {
     /// Refactorize the tableau from the data every this many pivots
     /// (0 = never; the final basis is always re-solved once).
     pub refactor_every: usize,
+    /// A returned `z` must also have `||min(z, w)||_inf` at most this
+    /// times `max(||q||_inf, ||M||_inf ||z||_inf)` on the caller's
+    /// (unscaled) problem. The scaled test alone is relative to the largest
+    /// scaled row: a row whose scale is small against the others can hide
+    /// a violation as large as `q` (found by fuzzing: `z = 0` accepted with
+    /// `w_2 = -1e20`, `tests/data/fuzz/lcp_solvers/crash-lemke-huge-q`).
+    pub tol_residual_unscaled: f64,
 }
 
 impl Default for LemkeSettings {
@@ -72,6 +79,7 @@ impl Default for LemkeSettings {
             pivot_limit_min: 1000,
             regularization_ladder: vec![1e-12, 1e-10, 1e-8, 1e-6],
             refactor_every: 0,
+            tol_residual_unscaled: 1e-6,
         }
     }
 }
@@ -135,11 +143,13 @@ pub struct LemkeFailure {
     pub pivots: usize,
 }
 
-/// The scaled problem shared by every run.
-struct Scaled {
+/// The scaled problem shared by every run, and the caller's.
+struct Scaled<'a> {
     scaling: LcpScaling,
     m: DMatrix<f64>,
     q: DVector<f64>,
+    original_m: &'a DMatrix<f64>,
+    original_q: &'a DVector<f64>,
 }
 
 /// Solves the LCP with Lemke's method (see the module docs).
@@ -149,6 +159,8 @@ pub fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution, Lemke
         m: scaling.scale_m(lcp.m()),
         q: scaling.scale_q(lcp.q()),
         scaling,
+        original_m: lcp.m(),
+        original_q: lcp.q(),
     };
     let mut attempts = Vec::new();
     let ladder = std::iter::once(0.0).chain(settings.regularization_ladder.iter().copied());
@@ -215,12 +227,21 @@ fn attempt(
         return (record, None);
     }
     let (z, residual) = best_candidate(scaled, &path);
-    if residual <= settings.tol_residual {
+    let residual_unscaled = unscaled_residual(scaled, &z);
+    if residual <= settings.tol_residual && residual_unscaled <= settings.tol_residual_unscaled {
         (record, Some(z))
     } else {
+        let residual = residual.max(residual_unscaled);
         record.failure = Some(LemkeStatus::Inaccurate { residual });
         (record, None)
     }
+}
+
+/// [`natural_map_relative`] on the caller's problem for the scaled
+/// solution `z_scaled`.
+fn unscaled_residual(scaled: &Scaled, z_scaled: &DVector<f64>) -> f64 {
+    let z = scaled.scaling.unscale_z(z_scaled);
+    natural_map_relative(scaled.original_m, scaled.original_q, &z)
 }
 
 /// The better of the tableau's `z` and the LU re-solve of the final basis
