@@ -413,3 +413,24 @@ fn every_settings_field_reads_and_round_trips() {
     let empty = parse_scene(r#"{"bodies": []}"#).unwrap();
     assert!(!scene_to_string(&empty, None).contains("settings"));
 }
+
+/// A body's own friction coefficient reads, round-trips, and a bad one is
+/// an error naming the body and the field.
+#[test]
+fn body_friction_reads_round_trips_and_is_checked() {
+    let text = with_second_body(&format!(r#"{SHAPE}, {POSE}, "mass": 2, "friction": 0.75"#));
+    let scene = parse_scene(&text).expect("valid scene");
+    assert_eq!(scene.bodies()[1].friction(), Some(0.75));
+    assert_eq!(scene.bodies()[0].friction(), None);
+    let back = parse_scene(&scene_to_string(&scene, None)).expect("reads back");
+    assert_eq!(back.bodies()[1].friction(), Some(0.75));
+    for bad in ["-0.5", "\"rough\""] {
+        let text = with_second_body(&format!(r#"{SHAPE}, {POSE}, "mass": 2, "friction": {bad}"#));
+        let (index, name, field, _, message) = body_error(&text);
+        assert_eq!(
+            (index, name.as_deref(), field.as_str()),
+            (1, Some("crate"), "friction"),
+            "{message}"
+        );
+    }
+}

@@ -13,7 +13,8 @@
 //! - A body has `name`, `shape`, `translation`, `rotation` (quaternion
 //!   `[x, y, z, w]`), and either `"fixed": true` or exactly one of `mass` and
 //!   `density` (`"fixed": false` may be given with them; it is not written
-//!   back). `shape` is `{"cuboid": half_extents}` or `{"convex_hull": points}`.
+//!   back); optionally its own Coulomb `friction` coefficient (finite,
+//!   nonnegative; see [`crate::body::Body::set_friction`]). `shape` is `{"cuboid": half_extents}` or `{"convex_hull": points}`.
 //! - `settings` is optional, and so is each of its fields: `tolerance`,
 //!   `contact_margin`, `target_margin`, `max_passes`, `solver`
 //!   (`auto|clarabel|lemke|pgs`), `cross_check`.
@@ -47,7 +48,7 @@ use thiserror::Error;
 use crate::body::{Body, BodyDesc, BodyError, MassSpec, Shape};
 use crate::scene::{Scene, SceneSettings, SettingsError, SolverChoice};
 
-const BODY_FIELDS: [&str; 7] = [
+const BODY_FIELDS: [&str; 8] = [
     "name",
     "shape",
     "translation",
@@ -55,6 +56,7 @@ const BODY_FIELDS: [&str; 7] = [
     "fixed",
     "mass",
     "density",
+    "friction",
 ];
 const TOP_FIELDS: [&str; 3] = ["bodies", "settings", "report"];
 const SETTINGS_FIELDS: [&str; 6] = [
@@ -257,14 +259,16 @@ pub fn parse_scene(text: &str) -> Result<Scene, SceneFileError> {
         .map_err(|source| settings_error(source.field(), FieldProblem::InvalidSetting(source)))?;
     let mut scene = Scene::new();
     for (index, value) in bodies.iter().enumerate() {
-        let desc = parse_body(index, value)?;
+        let (desc, friction) = parse_body(index, value)?;
         let name = Some(desc.name.clone());
-        let body = Body::new(desc).map_err(|source| SceneFileError::Body {
+        let invalid = |source: BodyError| SceneFileError::Body {
             index,
-            name,
+            name: name.clone(),
             field: source.field().into(),
             problem: FieldProblem::InvalidBody(source),
-        })?;
+        };
+        let mut body = Body::new(desc).map_err(invalid)?;
+        body.set_friction(friction).map_err(invalid)?;
         scene.push_body(body);
     }
     // The settings were validated above, so this cannot fail.
@@ -364,7 +368,8 @@ fn numbers_of<const N: usize>(value: &Value) -> Option<[f64; N]> {
     Some(out)
 }
 
-fn parse_body(index: usize, value: &Value) -> Result<BodyDesc, SceneFileError> {
+/// A body's description and its own friction coefficient, if given.
+fn parse_body(index: usize, value: &Value) -> Result<(BodyDesc, Option<f64>), SceneFileError> {
     let Some(object) = value.as_object() else {
         return Err(SceneFileError::Body {
             index,
@@ -398,13 +403,15 @@ fn parse_body(index: usize, value: &Value) -> Result<BodyDesc, SceneFileError> {
         "an array of 4 numbers [x, y, z, w]",
     )?;
     let mass = parse_mass_spec(&reader)?;
-    Ok(BodyDesc {
+    let friction = reader.number("friction")?;
+    let desc = BodyDesc {
         name,
         shape,
         translation: Vector3::from(translation),
         rotation_xyzw,
         mass,
-    })
+    };
+    Ok((desc, friction))
 }
 
 fn parse_shape(reader: &BodyReader<'_>) -> Result<Shape, SceneFileError> {
@@ -574,6 +581,8 @@ struct BodyOut<'a> {
     mass: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     density: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    friction: Option<f64>,
 }
 
 impl<'a> BodyOut<'a> {
@@ -597,6 +606,7 @@ impl<'a> BodyOut<'a> {
             fixed,
             mass,
             density,
+            friction: body.friction(),
         }
     }
 }
