@@ -5,6 +5,9 @@
 //! library rightly rejects (a typed error is an answer), and panics on a
 //! wrong answer, judged by an oracle the library did not write.
 //!
+//! With `FUZZ_DEBUG` set, the V-Clip and LCP checks print their input as
+//! decoded (`FUZZ_DEBUG=1 cargo test --test fuzz_regressions -- --nocapture`).
+//!
 //! Every check is bounded in time: scenes, hulls and LCPs beyond the sizes
 //! below are skipped (the fuzzer looks for wrong answers, not slow ones;
 //! sizes are covered by `tests/scene_file_limits.rs`).
