@@ -5,8 +5,11 @@
 //! [`Scene`](crate::scene::Scene) that it keeps across steps, removes their
 //! interpenetration with a [`Stabilizer`](crate::Stabilizer) that it also
 //! keeps (so that V-Clip starts from the features of the previous step), and
-//! writes the corrected poses of the dynamic bodies back to Rapier.
-//! Velocities, sleep states and everything else in the world are untouched.
+//! writes the corrected poses of the dynamic bodies back to Rapier. In the
+//! default coupling ([`CouplingMode::VelocityConsistency`]) it then removes
+//! the approach velocities of the contacts it corrected and writes those
+//! velocities back; in the position modes velocities are untouched. Sleep
+//! states and everything else in the world are never touched.
 //! How a call couples with the engine is chosen in [`BridgeSettings`]
 //! ([`CouplingMode`]); [`RapierBridge::new`] takes the stabilizer's
 //! settings alone and the default coupling.
