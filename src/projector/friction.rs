@@ -9,44 +9,43 @@
 //! 0 for an open contact),
 //!
 //! ```text
-//! |dt| <= mu (dn - r)                                      (1)
+//! mu |dt| <= dn - r                                        (1)
 //! ```
 //!
-//! Coulomb's law read with displacements for velocities (the
-//! position-level reading of Anitescu and Potra 1997), where only the
-//! opening beyond the required correction counts: removing a penetration
-//! buys no sliding, so a light box under a heavy one whose contact normals
-//! are tilted (as after an engine step) is not slid sideways to spare the
-//! heavy box's lift. (With `mu dn` alone, every resting contact pushed to
-//! the target margin could slide by `mu` times that margin in every call,
-//! and a penetrating one by `mu` times its depth.) (1) is a second-order
-//! cone in `dq`, so the projection `min 1/2 dq^T M dq` subject to the
-//! contact rows and (1) stays convex. It is linearized here as the friction
-//! pyramid of Anitescu and Potra: with `K` directions `d_k = cos(theta_k)
-//! t_1 + sin(theta_k) t_2`, `theta_k = 2 pi k / K`,
+//! Why `mu` multiplies `dt`: the contact forces of the projection are the
+//! multipliers of its constraints, and they lie in the dual cone of the
+//! constraint's cone. The dual of `{mu |dt| <= dn}` is `{|f_t| <= mu f_n}`,
+//! Coulomb's cone: a larger `mu` allows a larger tangential force, hence
+//! less sliding, and `mu -> 0` allows any sliding (the frictionless
+//! problem, which `mu = 0` gives exactly since no row is then added). Only
+//! the opening beyond the required correction counts: removing a
+//! penetration buys no sliding, so a light box under a heavy one whose
+//! contact normals are tilted (as after an engine step) is not slid
+//! sideways to spare the heavy box's lift. (1) is a second-order cone in
+//! `dq`, so the projection `min 1/2 dq^T M dq` subject to the contact rows
+//! and (1) stays convex. It is linearized here as the friction pyramid of
+//! Anitescu and Potra: with `K` directions `d_k = cos(theta_k) t_1 +
+//! sin(theta_k) t_2`, `theta_k = 2 pi k / K`,
 //!
 //! ```text
-//! (mu J_n - cos(theta_k) J_t1 - sin(theta_k) J_t2) dq >= mu r,   k = 0..K-1   (2)
+//! (J_n - mu cos(theta_k) J_t1 - mu sin(theta_k) J_t2) dq >= r,   k = 0..K-1   (2)
 //! ```
 //!
-//! each an ordinary row with `phi = -mu r` and target 0. The rows (2) are
+//! each an ordinary row with `phi = -r` and target 0. The rows (2) are
 //! half-spaces, so the problem is still a convex QP with linear
 //! constraints, and its KKT conditions are an LCP with one nonnegative,
 //! complementary multiplier per facet: every solver (clarabel, Lemke, PGS)
 //! solves the same problem, and the cross-check between them holds on it.
-//! The polygon (2) has inradius `mu (dn - r)`: it contains the cone (1)
+//! The polygon (2) has inradius `(dn - r) / mu`: it contains the cone (1)
 //! and exceeds it by at most `1 / cos(pi / K)` in its corners (41 % for
 //! `K = 4`, 8 % for `K = 8`). Wherever the frictionless answer slides
 //! nothing, it satisfies (2) and is the answer with friction too.
 //!
-//! A multiplier `beta_k >= 0` of a facet is a tangential force: with the
-//! contact's normal multiplier `lambda`, the contact's force is
-//! `J_n^T (lambda + mu sum_k beta_k) - sum_k beta_k J_dk^T`, a force in the
-//! cone of friction `mu`: frictional forces appear only when the contact
-//! would slide.
-//!
-//! With `mu = 0` (or no friction on any row) no row is added and the problem
-//! is exactly the frictionless one.
+//! A multiplier `beta_k >= 0` of a facet is a force on the contact
+//! `beta_k (n - mu d_k)`: normal part `beta_k`, tangential part
+//! `mu beta_k`, so the contact's total force lies in Coulomb's pyramid of
+//! coefficient `mu`: frictional forces appear only when the contact would
+//! slide.
 
 use nalgebra::Vector6;
 
@@ -57,7 +56,7 @@ use crate::solver::JacobianRow;
 pub const DEFAULT_FRICTION_DIRECTIONS: usize = 4;
 
 /// The pyramid rows (2) of every row with friction, for contact rows with
-/// target `target`: Jacobians, `phi = -mu r`, and the index of the contact
+/// target `target`: Jacobians, `phi = -r`, and the index of the contact
 /// row of each.
 pub fn pyramid_rows(
     rows: &[ConstraintRow],
@@ -81,14 +80,71 @@ pub fn pyramid_rows(
                 .zip(&friction.tangents[0])
                 .zip(&friction.tangents[1])
                 .map(|(((body, n), (_, t1)), (_, t2))| {
-                    let facet: Vector6<f64> = n * friction.mu - t1 * cos - t2 * sin;
+                    let facet: Vector6<f64> = n - (t1 * cos + t2 * sin) * friction.mu;
                     (*body, facet)
                 })
                 .collect();
             pyramid.push(JacobianRow { blocks });
-            phi.push(-friction.mu * required);
+            phi.push(-required);
             parents.push(index);
         }
     }
     (pyramid, phi, parents)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::projector::RowFriction;
+    use nalgebra::Vector3;
+
+    /// One contact of body 0 against a fixed body: normal z, tangents x
+    /// and y, at the centre of mass (no lever), penetrating by `depth`.
+    fn row(mu: f64, depth: f64) -> ConstraintRow {
+        let block = |v: Vector3<f64>| vec![(0, Vector6::new(v.x, v.y, v.z, 0.0, 0.0, 0.0))];
+        ConstraintRow {
+            phi: -depth,
+            blocks: block(Vector3::z()),
+            friction: Some(RowFriction {
+                mu,
+                tangents: [block(Vector3::x()), block(Vector3::y())],
+            }),
+        }
+    }
+
+    /// Whether a translation `dq` of the body satisfies every facet (2).
+    fn allowed(rows: &[JacobianRow], phi: &[f64], dq: Vector3<f64>) -> bool {
+        rows.iter().zip(phi).all(|(row, &phi)| {
+            let j = row.blocks[0].1.fixed_rows::<3>(0).into_owned();
+            phi + j.dot(&dq) >= -1e-15
+        })
+    }
+
+    /// (1) with `mu` on the sliding side: a contact that opens by `s` beyond
+    /// its required correction may slide `s / mu` along a facet's
+    /// direction, not more; a larger `mu` allows less sliding, and the
+    /// facets' forces have tangential to normal ratio `mu` (Coulomb).
+    #[test]
+    fn more_friction_allows_less_sliding() {
+        let (depth, target, opening) = (0.01, 0.001, 0.004);
+        for mu in [0.25, 0.5, 2.0] {
+            let (rows, phi, parents) = pyramid_rows(&[row(mu, depth)], target, 4);
+            assert_eq!((rows.len(), parents), (4, vec![0; 4]));
+            assert!(phi.iter().all(|&p| (p + depth + target).abs() < 1e-15));
+            let dn = depth + target + opening;
+            let limit = opening / mu;
+            assert!(allowed(&rows, &phi, Vector3::new(0.999 * limit, 0.0, dn)));
+            assert!(!allowed(&rows, &phi, Vector3::new(1.001 * limit, 0.0, dn)));
+            assert!(!allowed(
+                &rows,
+                &phi,
+                Vector3::new(0.0, 0.0, depth + target - 1e-9)
+            ));
+            for facet in &rows {
+                let f = facet.blocks[0].1.fixed_rows::<3>(0).into_owned();
+                let ratio = Vector3::new(f.x, f.y, 0.0).norm() / f.z;
+                assert!((ratio - mu).abs() < 1e-12, "{ratio} for mu {mu}");
+            }
+        }
+    }
 }
