@@ -141,10 +141,7 @@ impl Run {
     fn bridge(self) -> Option<RapierBridge> {
         let settings = match self {
             Run::Plain => return None,
-            Run::Default => BridgeSettings {
-                collider_friction: std::env::var("WW_NO_FRICTION").is_err(),
-                ..BridgeSettings::default()
-            },
+            Run::Default => BridgeSettings::default(),
             Run::Allowed => BridgeSettings {
                 coupling: CouplingMode::RespectAllowedPenetration,
                 collider_friction: true,
@@ -247,14 +244,6 @@ fn simulate(
         world.step();
         let rapier_ms = t.elapsed().as_secs_f64() * 1e3;
         let (mut call_ms, mut call_failed) = (0.0, false);
-        let debug = std::env::var("WW_DEBUG")
-            .ok()
-            .and_then(|s| s.parse::<usize>().ok())
-            .is_some_and(|from| step >= from && step < from + 3);
-        let before: Vec<Vector> = tracked
-            .iter()
-            .map(|&h| world.bodies[h].translation())
-            .collect();
         if let Some(bridge) = bridge.as_mut() {
             let t = Instant::now();
             let result = bridge.stabilize(
@@ -263,40 +252,10 @@ fn simulate(
                 &world.integration_parameters,
             );
             call_failed = match result {
-                Ok(report) => report.stabilizer.is_some_and(|r| {
-                    if !r.status.is_resolved() && std::env::var("WW_WHY").is_ok() {
-                        eprintln!(
-                            "step {step}: {} after {} passes, {} left: {:?}",
-                            r.status.name(),
-                            r.passes,
-                            r.islands_left.len(),
-                            r.islands_left.first().map(|l| l.outcome.reason())
-                        );
-                    }
-                    !r.status.is_resolved()
-                }),
+                Ok(report) => report.stabilizer.is_some_and(|r| !r.status.is_resolved()),
                 Err(_) => true,
             };
             call_ms = t.elapsed().as_secs_f64() * 1e3;
-        }
-        if debug {
-            for (i, (&h, b)) in tracked.iter().zip(&before).enumerate() {
-                let a = world.bodies[h].translation();
-                let v = world.bodies[h].linvel();
-                eprintln!(
-                    "{} step {step} body {i}: after step ({:.5} {:.5} {:.5}) call moved ({:.2e} {:.2e} {:.2e}) v ({:.3} {:.3} {:.3})",
-                    run.name(),
-                    b.x,
-                    b.y,
-                    b.z,
-                    a.x - b.x,
-                    a.y - b.y,
-                    a.z - b.z,
-                    v.x,
-                    v.y,
-                    v.z
-                );
-            }
         }
         measure.sync(&world.bodies, &world.colliders)?;
         let depth = stabilize_support::sat_deepest(measure.scene()).0;

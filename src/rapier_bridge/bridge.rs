@@ -154,13 +154,10 @@ impl RapierBridge {
         self.stabilizer.set_settings(settings)?;
         let before: Vec<UserPose> = self.scene.bodies().iter().map(user_pose_of).collect();
         report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
-        let (written, round_off) = self.write_back(bodies, &before);
-        report.bodies_written = written;
+        let (moved, round_off) = self.write_back(bodies, &before);
+        report.bodies_written = moved.len();
         report.write_back_round_off = round_off;
-        if self.settings.coupling == CouplingMode::VelocityConsistency && written > 0 {
-            let moved: Vec<usize> = (0..self.scene.len())
-                .filter(|&i| user_pose_of(&self.scene.bodies()[i]) != before[i])
-                .collect();
+        if self.settings.coupling == CouplingMode::VelocityConsistency && !moved.is_empty() {
             let (velocities, count) = self.project_velocities(bodies, &moved, parameters)?;
             report.velocities = Some(velocities);
             report.velocities_written = count;
@@ -283,20 +280,22 @@ impl RapierBridge {
         })
     }
 
-    /// Writes `B' = U' P^-1` to every dynamic body the stabilizer moved.
+    /// Writes `B' = U' P^-1` to every dynamic body the stabilizer moved;
+    /// returns their scene indices and the rounding measured.
     fn write_back(
         &self,
         bodies: &mut RigidBodySet,
         before: &[UserPose],
-    ) -> (usize, WriteBackRoundOff) {
-        let mut written = 0;
+    ) -> (Vec<usize>, WriteBackRoundOff) {
+        let mut written = Vec::new();
         let mut round_off = WriteBackRoundOff::default();
-        for ((entry, body), old) in self
+        for (index, ((entry, body), old)) in self
             .map
             .entries()
             .iter()
             .zip(self.scene.bodies())
             .zip(before)
+            .enumerate()
         {
             if !entry.is_dynamic() || user_pose_of(body) == *old {
                 continue;
@@ -308,7 +307,7 @@ impl RapierBridge {
             let pose = pose_from_f64(&body_pose);
             record_round_off(&mut round_off, &body_pose, &pose_to_f64(&pose));
             rigid_body.set_position(pose, false);
-            written += 1;
+            written.push(index);
         }
         (written, round_off)
     }

@@ -176,16 +176,22 @@ impl Stabilizer {
     /// The pairs of `scene` penetrating deeper than the tolerance at its
     /// current poses, with their exact depths (the scene is not changed).
     pub fn penetrations(&mut self, scene: &Scene) -> Result<Vec<PairPenetration>, Error> {
-        Ok(self.detect_at(scene)?.0.penetrations)
+        self.detect_at(scene)?;
+        Ok(self.current_detection().penetrations.clone())
     }
 
-    /// The detection at the scene's current poses: the last call's if it
-    /// was made at them, else a new one.
-    fn detect_at(&mut self, scene: &Scene) -> Result<(Detection, ResolvedLengths), Error> {
+    /// Makes [`Stabilizer::current_detection`] the detection at the scene's
+    /// current poses: the last call's if it was made at them (nothing is
+    /// queried), else a new one; returns the call's lengths.
+    fn detect_at(&mut self, scene: &Scene) -> Result<ResolvedLengths, Error> {
         let lengths = self.settings.resolve(scene_scale(scene));
         let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
-        if let Some((_, detection)) = self.last_detection.as_ref().filter(|(at, _)| *at == poses) {
-            return Ok((detection.clone(), lengths));
+        if self
+            .last_detection
+            .as_ref()
+            .is_some_and(|(at, _)| *at == poses)
+        {
+            return Ok(lengths);
         }
         let shapes: Vec<_> = scene
             .bodies()
@@ -207,7 +213,19 @@ impl Stabilizer {
                 contact_margin: lengths.contact_margin,
             },
         )?;
-        Ok((detection, lengths))
+        self.last_detection = Some((poses, detection));
+        Ok(lengths)
+    }
+
+    /// The detection [`Stabilizer::detect_at`] made current.
+    fn current_detection(&self) -> &Detection {
+        // `detect_at` returns only after storing a detection, and every
+        // caller calls it first: this cannot fail.
+        &self
+            .last_detection
+            .as_ref()
+            .expect("detect_at stores a detection")
+            .1
     }
 
     fn run(

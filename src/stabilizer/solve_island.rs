@@ -449,7 +449,7 @@ fn island_label(scene: &Scene, bodies: &[usize]) -> String {
 }
 
 /// States and inertias of the island's dynamic bodies.
-fn island_state(
+pub(super) fn island_state(
     scene: &Scene,
     bodies: &[usize],
 ) -> Result<(Vec<BodyState>, Vec<BodyInertia>), Error> {

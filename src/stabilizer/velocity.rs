@@ -35,7 +35,7 @@ use crate::Error;
 use crate::broad_phase::BodyPair;
 use crate::contact::{BodyGeometry, ContactFriction, Detection, contact_rows};
 use crate::island::islands;
-use crate::projector::{BodyInertia, BodyState, ConstraintRow, projection_qp};
+use crate::projector::{ConstraintRow, projection_qp};
 use crate::scene::Scene;
 use crate::solver::solve_projection;
 
@@ -113,7 +113,8 @@ impl Stabilizer {
         if let Some(h) = time_step.filter(|h| !(h.is_finite() && *h > 0.0)) {
             return Err(Error::InvalidTimeStep(h));
         }
-        let (detection, lengths) = self.detect_at(scene)?;
+        let lengths = self.detect_at(scene)?;
+        let detection = self.current_detection();
         let contact_gap = match time_step {
             Some(_) => lengths.contact_margin,
             None => lengths.tolerance + lengths.target_margin,
@@ -136,7 +137,7 @@ impl Stabilizer {
             let contacts = IslandContacts {
                 bodies: &island.bodies,
                 pairs: &island_pairs,
-                detection: &detection,
+                detection,
                 contact_gap,
                 friction_gap: lengths.tolerance + lengths.target_margin,
                 gap_rate,
@@ -204,24 +205,13 @@ impl Stabilizer {
         if before <= 0.0 {
             return;
         }
-        let (configuration, inertias): (Vec<BodyState>, Vec<BodyInertia>) = bodies
-            .iter()
-            .filter_map(|&body| {
-                let b = &scene.bodies()[body];
-                let mass = b.mass()?;
-                let pose = b.com_pose();
-                Some((
-                    BodyState {
-                        position: pose.translation.vector.into(),
-                        rotation: pose.rotation,
-                    },
-                    BodyInertia {
-                        mass: mass.mass,
-                        inertia_body: mass.inertia_body,
-                    },
-                ))
-            })
-            .unzip();
+        // Islands hold dynamic bodies only, so their states exist; an
+        // inconsistency is reported as a failed island, velocities kept.
+        let Ok((configuration, inertias)) = super::solve_island::island_state(scene, bodies) else {
+            report.islands_failed += 1;
+            report.approach_after = report.approach_after.max(before);
+            return;
+        };
         let (qp, _) = projection_qp(
             &configuration,
             &inertias,
