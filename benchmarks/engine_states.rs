@@ -102,12 +102,7 @@ struct Row {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let quick = args.iter().any(|a| a == "--quick");
-    let only = args
-        .iter()
-        .position(|a| a == "--only")
-        .and_then(|i| args.get(i + 1).cloned());
+    let common::BenchArgs { quick, only } = common::BenchArgs::parse();
     let provenance = common::Provenance::start(common::bench_command(
         "engine_states --features rapier,serde",
         &[],
@@ -138,21 +133,11 @@ fn main() {
     println!("{md}\nwritten to {}", dir.display());
 }
 
-/// Every `tests/data/engine/*.json`, by file name.
+/// Every engine state of the test data.
 fn engine_states() -> Vec<Case> {
-    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/engine");
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(&folder)
-        .expect("tests/data/engine")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
-    paths.sort();
-    paths
-        .iter()
-        .map(|p| Case {
-            name: p.file_stem().expect("stem").to_string_lossy().into_owned(),
-            scene: read_scene(p).unwrap_or_else(|e| panic!("{}: {e}", p.display())),
-        })
+    common::engine_states()
+        .into_iter()
+        .map(|(name, scene)| Case { name, scene })
         .collect()
 }
 

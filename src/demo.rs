@@ -124,13 +124,46 @@ struct Column {
     depth: f64,
 }
 
+/// What a generated pile may vary: the overlap range and the share of
+/// hulls. [`Default`] gives the demonstration's constants.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DemoOptions {
+    /// Smallest overlap of neighbours, fraction of the smaller extent.
+    pub overlap_min: f64,
+    /// Largest overlap of neighbours, fraction of the smaller extent
+    /// (greater than `overlap_min`).
+    pub overlap_max: f64,
+    /// Share of hulls among the dynamic bodies, in `[0, 1]`.
+    pub hull_share: f64,
+}
+
+impl Default for DemoOptions {
+    fn default() -> Self {
+        DemoOptions {
+            overlap_min: OVERLAP_MIN,
+            overlap_max: OVERLAP_MAX,
+            hull_share: HULL_SHARE,
+        }
+    }
+}
+
 /// The demonstration scene with `body_count` bodies in all: body 0 is the
 /// fixed ground (if `body_count >= 1`), the others a pile on it.
 pub fn demo_scene(body_count: usize, seed: u64) -> Scene {
+    demo_scene_with(body_count, seed, &DemoOptions::default())
+}
+
+/// [`demo_scene`] with other overlaps or another share of hulls. Options
+/// out of range are clamped: overlaps to `[0, 0.5]` (the larger one at
+/// least the smaller plus 1e-9), the share to `[0, 1]`.
+pub fn demo_scene_with(body_count: usize, seed: u64, options: &DemoOptions) -> Scene {
+    let options = clamped(options);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let pieces: Vec<Piece> = (1..body_count).map(|k| random_piece(&mut rng, k)).collect();
-    let columns = stack_into_columns(&mut rng, pieces);
-    let placed = lay_out(&mut rng, columns);
+    let pieces: Vec<Piece> = (1..body_count)
+        .map(|k| random_piece(&mut rng, k, options.hull_share))
+        .collect();
+    let columns = stack_into_columns(&mut rng, pieces, &options);
+    let placed = lay_out(&mut rng, columns, &options);
     let mut scene = Scene::new();
     if body_count == 0 {
         return scene;
@@ -143,10 +176,31 @@ pub fn demo_scene(body_count: usize, seed: u64) -> Scene {
     scene
 }
 
-fn random_piece(rng: &mut ChaCha8Rng, k: usize) -> Piece {
+/// Largest overlap fraction [`demo_scene_with`] accepts.
+const OVERLAP_LIMIT: f64 = 0.5;
+/// Smallest width of the overlap range.
+const OVERLAP_RANGE_MIN: f64 = 1e-9;
+
+/// The options within their ranges (NaN becomes the default).
+fn clamped(options: &DemoOptions) -> DemoOptions {
+    let default = DemoOptions::default();
+    let finite = |v: f64, d: f64| if v.is_finite() { v } else { d };
+    let overlap_min = finite(options.overlap_min, default.overlap_min).clamp(0.0, OVERLAP_LIMIT);
+    let overlap_max = finite(options.overlap_max, default.overlap_max).clamp(
+        overlap_min + OVERLAP_RANGE_MIN,
+        OVERLAP_LIMIT + OVERLAP_RANGE_MIN,
+    );
+    DemoOptions {
+        overlap_min,
+        overlap_max,
+        hull_share: finite(options.hull_share, default.hull_share).clamp(0.0, 1.0),
+    }
+}
+
+fn random_piece(rng: &mut ChaCha8Rng, k: usize, hull_share: f64) -> Piece {
     let size = rng.random_range(SIZE_MIN..SIZE_MAX);
     let axes = Vector3::from_fn(|_, _| size * rng.random_range(0.6..1.4));
-    if rng.random_bool(HULL_SHARE) {
+    if rng.random_bool(hull_share) {
         random_hull(rng, k, axes)
     } else {
         random_box(rng, k, axes)
@@ -288,8 +342,8 @@ fn collider(shape: &Shape, points_shape: &[Point3<f64>]) -> Box<dyn parry3d_f64:
     Box::new(Cuboid::new(half))
 }
 
-fn overlap_fraction(rng: &mut ChaCha8Rng) -> f64 {
-    rng.random_range(OVERLAP_MIN..OVERLAP_MAX)
+fn overlap_fraction(rng: &mut ChaCha8Rng, options: &DemoOptions) -> f64 {
+    rng.random_range(options.overlap_min..options.overlap_max)
 }
 
 /// How far `moving` can travel along the unit `direction` before it
@@ -322,7 +376,11 @@ fn travel_until_contact<'a>(
 /// Stacks the pieces into columns, setting each piece's height (`y`): each
 /// piece is dropped onto the column (or the ground, top face `y = 0`) and
 /// then sunk by a few percent of its height.
-fn stack_into_columns(rng: &mut ChaCha8Rng, pieces: Vec<Piece>) -> Vec<Column> {
+fn stack_into_columns(
+    rng: &mut ChaCha8Rng,
+    pieces: Vec<Piece>,
+    options: &DemoOptions,
+) -> Vec<Column> {
     let mut columns = Vec::new();
     let mut pieces = pieces.into_iter().peekable();
     while pieces.peek().is_some() {
@@ -340,7 +398,7 @@ fn stack_into_columns(rng: &mut ChaCha8Rng, pieces: Vec<Piece>) -> Vec<Column> {
                 Some((t, below)) if t < to_ground => (t, below.extent().y),
                 _ => (to_ground, f64::INFINITY),
             };
-            let sink = overlap_fraction(rng) * piece.extent().y.min(below_height);
+            let sink = overlap_fraction(rng, options) * piece.extent().y.min(below_height);
             piece.desc.translation.y -= fall + sink;
             column.push(piece);
         }
@@ -359,7 +417,7 @@ fn stack_into_columns(rng: &mut ChaCha8Rng, pieces: Vec<Piece>) -> Vec<Column> {
 /// the pieces in column order. Within a cluster a column slides along `-x`
 /// until it touches the cluster so far, then a few percent of the size of
 /// the first two pieces that touch further.
-fn lay_out(rng: &mut ChaCha8Rng, columns: Vec<Column>) -> Vec<Piece> {
+fn lay_out(rng: &mut ChaCha8Rng, columns: Vec<Column>, options: &DemoOptions) -> Vec<Piece> {
     let per_row = (columns.len() as f64).sqrt().ceil().max(1.0) as usize;
     let mut placed: Vec<Piece> = Vec::new();
     let mut row_z = 0.0;
@@ -390,7 +448,7 @@ fn lay_out(rng: &mut ChaCha8Rng, columns: Vec<Column>) -> Vec<Piece> {
                 piece.desc.translation.z += centre_z;
             }
             if !starts_cluster {
-                let fraction = overlap_fraction(rng);
+                let fraction = overlap_fraction(rng, options);
                 let slide = pieces
                     .iter()
                     .filter_map(|p| {

@@ -42,7 +42,8 @@ const GROUND_HALF_WIDTH: f64 = 50.0;
 /// Half height of the ground box.
 const GROUND_HALF_HEIGHT: f64 = 0.5;
 
-fn ground() -> BodyDesc {
+/// The fixed ground: a wide box whose top face is `y = 0`.
+pub fn ground() -> BodyDesc {
     BodyDesc {
         name: "ground".into(),
         shape: Shape::Cuboid {
@@ -54,7 +55,8 @@ fn ground() -> BodyDesc {
     }
 }
 
-fn xyzw(q: &UnitQuaternion<f64>) -> [f64; 4] {
+/// A unit quaternion as `[x, y, z, w]`.
+pub fn xyzw(q: &UnitQuaternion<f64>) -> [f64; 4] {
     [q.i, q.j, q.k, q.w]
 }
 
@@ -155,6 +157,49 @@ pub fn run_cold(scene: &Scene, settings: &Settings) -> (Report, f64, Scene) {
     let start = Instant::now();
     let report = stabilizer.stabilize(&mut work).expect("stabilize");
     (report, start.elapsed().as_secs_f64(), work)
+}
+
+/// The arguments after `--` that several harnesses take: `--quick` and
+/// `--only TEXT` (the scenes whose name contains TEXT).
+pub struct BenchArgs {
+    pub quick: bool,
+    pub only: Option<String>,
+}
+
+impl BenchArgs {
+    /// From the process's arguments.
+    pub fn parse() -> Self {
+        let args: Vec<String> = std::env::args().skip(1).collect();
+        BenchArgs {
+            quick: args.iter().any(|a| a == "--quick"),
+            only: args
+                .iter()
+                .position(|a| a == "--only")
+                .and_then(|i| args.get(i + 1).cloned()),
+        }
+    }
+}
+
+/// Every `tests/data/engine/*.json` by file stem, sorted (engine states
+/// of Rapier, MuJoCo and Bullet; see the notes there).
+#[cfg(feature = "serde")]
+pub fn engine_states() -> Vec<(String, Scene)> {
+    use constraint_stabilization::io::scene_file::read_scene;
+    let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/engine");
+    let mut paths: Vec<std::path::PathBuf> = std::fs::read_dir(&folder)
+        .expect("tests/data/engine")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    paths.sort();
+    paths
+        .iter()
+        .map(|p| {
+            let stem = p.file_stem().expect("stem").to_string_lossy().into_owned();
+            let scene = read_scene(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            (stem, scene)
+        })
+        .collect()
 }
 
 /// Directory of the result files (created on demand).

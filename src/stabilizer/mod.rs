@@ -475,9 +475,10 @@ fn restore(scene: &mut Scene, before: &[([f64; 3], [f64; 4])]) {
     }
 }
 
-/// Mass-weighted displacement between `com_before` and the scene's poses,
+/// Mass-weighted displacement `sqrt(sum m |dx|^2 + dtheta^T I dtheta)` (world
+/// inertia before) between `com_before` and the scene's poses,
 /// and the number of bodies whose pose changed.
-fn scene_displacement(scene: &Scene, com_before: &[Isometry3<f64>]) -> (f64, usize) {
+pub fn scene_displacement(scene: &Scene, com_before: &[Isometry3<f64>]) -> (f64, usize) {
     let mut squared = 0.0;
     let mut moved = 0;
     for (body, before) in scene.bodies().iter().zip(com_before) {
