@@ -13,6 +13,10 @@
 //!    matrix `M`: `min 1/2 dq^T M dq` subject to the constraints, a convex QP
 //!    equivalent to the LCP `A = J M^-1 J^T, b = phi - target`.
 //!
+//! [`Settings::method`] chooses that projection (the default) or
+//! [`gauss_seidel`], the game-engine baseline (Box2D's nonlinear
+//! Gauss–Seidel position correction) on the same detection.
+//!
 //! All arithmetic is in `f64`.
 
 pub mod body;
@@ -21,6 +25,7 @@ pub mod contact;
 #[cfg(feature = "demo")]
 pub mod demo;
 pub mod error;
+pub mod gauss_seidel;
 pub mod geometry;
 pub mod io;
 pub mod island;
@@ -36,7 +41,7 @@ pub mod vclip;
 pub mod verify;
 
 pub use error::Error;
-pub use stabilizer::{Report, Settings, Stabilizer, Status};
+pub use stabilizer::{GaussSeidelSettings, Method, Report, Settings, Stabilizer, Status};
 
 /// The README's examples, compiled and run as doctests.
 #[doc = include_str!("../README.md")]

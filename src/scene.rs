@@ -23,7 +23,7 @@ use nalgebra::Isometry3;
 use thiserror::Error;
 
 use crate::body::{Body, BodyDesc, BodyError};
-use crate::stabilizer::{Settings, Stabilizer};
+use crate::stabilizer::{Method, Settings, Stabilizer};
 
 pub use crate::solver::SolverChoice;
 
@@ -42,6 +42,9 @@ pub struct SceneSettings {
     pub solver: Option<SolverChoice>,
     /// Solve every island with two solvers and report the difference.
     pub cross_check: Option<bool>,
+    /// The correction method (`projection` or `gauss_seidel`, with the
+    /// Gauss–Seidel defaults).
+    pub method: Option<Method>,
 }
 
 /// Why a [`SceneSettings`] value is invalid.

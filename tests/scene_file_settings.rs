@@ -88,3 +88,38 @@ fn no_file_settings_means_the_given_base() {
     };
     assert_eq!(scene.stabilizer_settings(base.clone()), base);
 }
+
+#[test]
+fn file_method_chooses_gauss_seidel_and_round_trips() {
+    use constraint_stabilization::Method;
+    use constraint_stabilization::io::scene_file::scene_to_string;
+    let scene = box_on_ground(r#"{"method": "gauss_seidel"}"#);
+    let resolved = scene.stabilizer_settings(Settings::default());
+    assert_eq!(resolved.method, Method::GaussSeidel);
+    let mut moved = scene.clone();
+    let report = moved
+        .stabilizer()
+        .expect("valid settings")
+        .stabilize(&mut moved)
+        .expect("stabilizes");
+    // Gauss–Seidel with Box2D's defaults: three sweeps, no island solved,
+    // and the box, sunk less than the slop (0.005 of its circumradius), is
+    // left where it is: the call cannot resolve it.
+    assert_eq!(report.passes, 3);
+    assert_eq!(report.islands_solved(), 0);
+    assert_eq!(report.status, Status::PassLimit);
+    assert_eq!(report.bodies_moved, 0);
+    let text = scene_to_string(&scene, None);
+    assert!(text.contains(r#""method": "gauss_seidel""#), "{text}");
+    let again = parse_scene(&text).expect("reads back");
+    assert_eq!(again.settings(), scene.settings());
+}
+
+#[test]
+fn file_method_must_be_known() {
+    use constraint_stabilization::io::scene_file::parse_scene as parse;
+    let text = r#"{"bodies": [], "settings": {"method": "newton"}}"#;
+    let error = parse(text).expect_err("unknown method");
+    let message = error.to_string();
+    assert!(message.contains("method"), "{message}");
+}

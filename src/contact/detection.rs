@@ -15,6 +15,7 @@ use super::memo::{PosedQuery, QueryMemo};
 use super::{BodyGeometry, PairQuery, PenetrationFeatures, WarmStartCache, query};
 use crate::Error;
 use crate::broad_phase::{self, BodyPair};
+use crate::island::Island;
 use crate::parallel;
 use crate::scene::Scene;
 use crate::vclip::{FeaturePair, VClip};
@@ -57,6 +58,15 @@ pub struct Detection {
 }
 
 impl Detection {
+    /// Whether some pair of `island` (formed over
+    /// [`Detection::active_pairs`]) penetrates deeper than `tolerance`.
+    pub fn island_penetrates(&self, island: &Island, tolerance: f64) -> bool {
+        island
+            .pairs
+            .iter()
+            .any(|&k| -self.active_values[k] > tolerance)
+    }
+
     /// Number of active pairs penetrating deeper than `tolerance`.
     pub fn penetrating(&self, tolerance: f64) -> usize {
         self.active_values

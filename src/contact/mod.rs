@@ -169,6 +169,28 @@ impl ContactFriction {
     }
 }
 
+/// The body whose rotation carries a pair's contact normal: the body of
+/// the reference face ([`PenetrationFeatures::FaceOfA`] or
+/// [`PenetrationFeatures::FaceOfB`]); B for an edge–edge contact and for
+/// the closest points of a near pair without manifold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NormalBody {
+    /// The pair's first body.
+    A,
+    /// The pair's second body.
+    B,
+}
+
+/// The contact points of one pair, world frame, and the body that carries
+/// their normal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PairContactPoints {
+    /// The points (see [`contact_points`]).
+    pub points: Vec<ContactPoint>,
+    /// The body of the reference face.
+    pub normal_body: NormalBody,
+}
+
 /// The constraint rows of a pair with narrow-phase answer `query` (no row
 /// for a separated pair at or beyond `margin`). `manifold = false` keeps
 /// the deepest point of a penetration only. Rows get `friction` where it
@@ -181,6 +203,33 @@ pub fn contact_rows(
     manifold: bool,
     friction: ContactFriction,
 ) -> Vec<ConstraintRow> {
+    contact_points(query, a, b, margin, manifold)
+        .points
+        .iter()
+        .map(|point| {
+            friction.row(
+                &point.point_a_world,
+                &point.point_b_world,
+                &point.normal_world,
+                a,
+                b,
+            )
+        })
+        .collect()
+}
+
+/// The contact points of a pair with narrow-phase answer `query`, one per
+/// row of [`contact_rows`] and in the same order (none for a separated pair
+/// at or beyond `margin`): the manifold of a penetrating pair, or of a near
+/// pair on its widest separating axis; with `manifold = false`, the deepest
+/// point of a penetration, or V-Clip's closest points of a near pair.
+pub fn contact_points(
+    query: &PairQuery,
+    a: &BodyGeometry,
+    b: &BodyGeometry,
+    margin: f64,
+    manifold: bool,
+) -> PairContactPoints {
     let near = match (&query.penetration, &query.vclip.outcome) {
         (Some(penetration), _) => Some(*penetration),
         (None, Outcome::Separated { distance, .. }) if *distance < margin && manifold => {
@@ -195,22 +244,16 @@ pub fn contact_rows(
         _ => None,
     };
     if let Some(penetration) = near {
-        let contact = manifold::manifold(&penetration, a, b, margin, manifold);
-        return contact
-            .points
-            .iter()
-            .map(|point| {
-                friction.row(
-                    &point.point_a_world,
-                    &point.point_b_world,
-                    &point.normal_world,
-                    a,
-                    b,
-                )
-            })
-            .collect();
+        let normal_body = match penetration.reference.features {
+            PenetrationFeatures::FaceOfA { .. } => NormalBody::A,
+            _ => NormalBody::B,
+        };
+        return PairContactPoints {
+            points: manifold::manifold(&penetration, a, b, margin, manifold).points,
+            normal_body,
+        };
     }
-    match &query.vclip.outcome {
+    let points = match &query.vclip.outcome {
         Outcome::Separated {
             distance,
             witness_a_world,
@@ -224,9 +267,18 @@ pub fn contact_rows(
                 witness_b_world,
                 *distance,
             );
-            vec![friction.row(witness_a_world, witness_b_world, &normal, a, b)]
+            vec![ContactPoint {
+                point_a_world: *witness_a_world,
+                point_b_world: *witness_b_world,
+                normal_world: normal,
+                separation: normal.dot(&(witness_a_world - witness_b_world)),
+            }]
         }
         _ => Vec::new(),
+    };
+    PairContactPoints {
+        points,
+        normal_body: NormalBody::B,
     }
 }
 

@@ -17,7 +17,9 @@
 //!   nonnegative; see [`crate::body::Body::set_friction`]). `shape` is `{"cuboid": half_extents}` or `{"convex_hull": points}`.
 //! - `settings` is optional, and so is each of its fields: `tolerance`,
 //!   `contact_margin`, `target_margin`, `max_passes`, `solver`
-//!   (`auto|clarabel|lemke|pgs`), `cross_check`.
+//!   (`auto|clarabel|lemke|pgs`), `cross_check`, `method`
+//!   (`projection|gauss_seidel`: the projection, the default, or the
+//!   game-engine baseline of [`crate::gauss_seidel`] with its defaults).
 //! - Limits: a file of at most [`MAX_SCENE_FILE_BYTES`], at most
 //!   [`MAX_BODIES`] bodies, at most [`MAX_HULL_POINTS`] points per hull;
 //!   beyond them, an error before anything is built.
@@ -47,6 +49,7 @@ use thiserror::Error;
 
 use crate::body::{Body, BodyDesc, BodyError, MassSpec, Shape};
 use crate::scene::{Scene, SceneSettings, SettingsError, SolverChoice};
+use crate::stabilizer::Method;
 
 const BODY_FIELDS: [&str; 8] = [
     "name",
@@ -59,13 +62,14 @@ const BODY_FIELDS: [&str; 8] = [
     "friction",
 ];
 const TOP_FIELDS: [&str; 3] = ["bodies", "settings", "report"];
-const SETTINGS_FIELDS: [&str; 6] = [
+const SETTINGS_FIELDS: [&str; 7] = [
     "tolerance",
     "contact_margin",
     "target_margin",
     "max_passes",
     "solver",
     "cross_check",
+    "method",
 ];
 
 /// What is wrong with one field.
@@ -536,6 +540,17 @@ fn parse_settings(value: &Value) -> Result<SceneSettings, SceneFileError> {
             })
         })
         .transpose()?;
+    let method = object
+        .get("method")
+        .map(|v| {
+            v.as_str().and_then(Method::from_name).ok_or_else(|| {
+                settings_error(
+                    "method",
+                    FieldProblem::WrongType("one of \"projection\", \"gauss_seidel\""),
+                )
+            })
+        })
+        .transpose()?;
     Ok(SceneSettings {
         tolerance: number("tolerance")?,
         contact_margin: number("contact_margin")?,
@@ -543,6 +558,7 @@ fn parse_settings(value: &Value) -> Result<SceneSettings, SceneFileError> {
         max_passes,
         solver,
         cross_check,
+        method,
     })
 }
 
@@ -625,6 +641,8 @@ struct SettingsOut {
     solver: Option<&'static str>,
     #[serde(skip_serializing_if = "Option::is_none")]
     cross_check: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    method: Option<&'static str>,
 }
 
 impl SettingsOut {
@@ -636,6 +654,7 @@ impl SettingsOut {
             max_passes: settings.max_passes,
             solver: settings.solver.map(SolverChoice::name),
             cross_check: settings.cross_check,
+            method: settings.method.map(Method::name),
         }
     }
 }

@@ -28,6 +28,11 @@
 //! configuration returned; the passes after the first give clarabel the
 //! time left as its own limit.
 //!
+//! [`Settings::method`] chooses this projection (the default) or the
+//! nonlinear Gauss–Seidel baseline of [`crate::gauss_seidel`]: the same
+//! detection, report, log lines and guarantees, with the passes replaced
+//! by its sweeps.
+//!
 //! Guarantees: a scene with no penetration deeper than the tolerance is not
 //! touched (every pose bit-identical); bodies outside solved islands are not
 //! touched; the merit of each island never rises; the scene is never
@@ -47,17 +52,19 @@ use std::time::Instant;
 
 use nalgebra::{Isometry3, Vector3};
 
+pub use crate::gauss_seidel::{GaussSeidelSettings, GaussSeidelSettingsError};
 pub use report::{
     IslandLeft, IslandOutcome, IslandReport, PairPenetration, PassReport, Report, StageTimes,
     Status,
 };
-pub use settings::{ResolvedLengths, Settings, SettingsError};
+pub use settings::{Method, ResolvedLengths, Settings, SettingsError};
 pub use velocity::{BodyVelocity, VelocityOptions, VelocityReport};
 
 use crate::Error;
 use crate::contact::{
     Detection, DetectionLengths, QueryMemo, SceneGeometry, WarmStartCache, detect,
 };
+use crate::gauss_seidel;
 use crate::island::islands;
 use crate::parallel;
 use crate::projector::ProjectionSettings;
@@ -234,6 +241,13 @@ impl Stabilizer {
         start: Instant,
         observer: &mut dyn FnMut(&PassReport),
     ) -> Result<Report, Error> {
+        if self.settings.method == Method::GaussSeidel {
+            self.cache.forget_dropped_shapes();
+            let (report, last) =
+                gauss_seidel::call::run(scene, &self.settings, &mut self.cache, start, observer)?;
+            self.last_detection = Some(last);
+            return Ok(report);
+        }
         let lengths = self.settings.resolve(scene_scale(scene));
         let vclip = VClip::new(self.settings.vclip);
         let mut projection = ProjectionSettings {
@@ -390,12 +404,7 @@ impl Stabilizer {
         pass.islands = all_islands.len();
         let penetrating: Vec<_> = all_islands
             .into_iter()
-            .filter(|island| {
-                island
-                    .pairs
-                    .iter()
-                    .any(|&k| -detection.active_values[k] > lengths.tolerance)
-            })
+            .filter(|island| detection.island_penetrates(island, lengths.tolerance))
             .collect();
         let input = PassInput {
             scene,
@@ -439,7 +448,8 @@ fn log_pass(number: usize, pass: &PassReport, left: &[IslandLeft], start: Instan
     );
 }
 
-fn pass_report(detection: &Detection, tolerance: f64) -> PassReport {
+/// The report of a pass from its detection (no island solved yet).
+pub(crate) fn pass_report(detection: &Detection, tolerance: f64) -> PassReport {
     PassReport {
         candidate_pairs: detection.candidates,
         queried_pairs: detection.queried,

@@ -18,19 +18,64 @@
 //! after each pass (never before the first, so a call always does one), and
 //! the remaining time is clarabel's time limit in the passes after the
 //! first.
+//!
+//! [`Settings::method`] chooses the correction: the projection (the
+//! default; every setting but `gauss_seidel` is its) or the nonlinear
+//! Gauss–Seidel baseline ([`crate::gauss_seidel`]), which reads
+//! `gauss_seidel`, the lengths (`tolerance_*`, `contact_margin_*`,
+//! `allowed_penetration`), `contact_manifold`, `time_budget` and `vclip`,
+//! and ignores the rest (`max_passes` included: its sweeps are
+//! `gauss_seidel.iterations`).
 
 use std::time::Duration;
 
 use thiserror::Error;
 
+use crate::gauss_seidel::{GaussSeidelSettings, GaussSeidelSettingsError};
 use crate::projector::{LineSearchSettings, TrustRegion};
 use crate::scene::SceneSettings;
 use crate::solver::SolverSettings;
 use crate::vclip::VClipSettings;
 
+/// How a call corrects the poses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// The smallest mass-weighted correction: linearized contact rows, a QP
+    /// per island, line search, passes until resolved (DESIGN.md section 1).
+    #[default]
+    Projection,
+    /// The game-engine baseline: nonlinear Gauss–Seidel position correction
+    /// (Box2D v2.4's position solver), [`crate::gauss_seidel`], with
+    /// [`Settings::gauss_seidel`].
+    GaussSeidel,
+}
+
+impl Method {
+    /// Every method, in declaration order.
+    pub const ALL: [Method; 2] = [Method::Projection, Method::GaussSeidel];
+
+    /// Lowercase name, as in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Projection => "projection",
+            Method::GaussSeidel => "gauss_seidel",
+        }
+    }
+
+    /// The method of a [`Method::name`].
+    pub fn from_name(name: &str) -> Option<Method> {
+        Method::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
 /// Settings of [`super::Stabilizer`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
+    /// The correction method. Default [`Method::Projection`].
+    pub method: Method,
+    /// Parameters of [`Method::GaussSeidel`] (unused by the projection).
+    /// Default Box2D's.
+    pub gauss_seidel: GaussSeidelSettings,
     /// Penetration depth accepted as resolved, relative to `L`. Default 1e-6.
     pub tolerance_relative: f64,
     /// Absolute tolerance (length); overrides `tolerance_relative`. Default none.
@@ -118,6 +163,8 @@ pub const DEFAULT_STEP_MAX_TRANSLATION_RELATIVE: f64 = 1.0;
 impl Default for Settings {
     fn default() -> Self {
         Settings {
+            method: Method::default(),
+            gauss_seidel: GaussSeidelSettings::default(),
             tolerance_relative: 1e-6,
             tolerance_absolute: None,
             contact_margin_relative: 1e-2,
@@ -187,6 +234,9 @@ pub enum SettingsError {
     /// Fewer than three friction pyramid directions (no pyramid).
     #[error("setting `friction_directions` is {0}: at least 3 are needed")]
     FrictionDirections(usize),
+    /// A field of [`Settings::gauss_seidel`] is invalid.
+    #[error(transparent)]
+    GaussSeidel(#[from] GaussSeidelSettingsError),
 }
 
 /// The fewest directions of a friction pyramid (a triangle).
@@ -195,6 +245,7 @@ pub const MIN_FRICTION_DIRECTIONS: usize = 3;
 impl Settings {
     /// Checks every field.
     pub fn validate(&self) -> Result<(), SettingsError> {
+        self.gauss_seidel.validate()?;
         positive("tolerance_relative", self.tolerance_relative)?;
         non_negative("contact_margin_relative", self.contact_margin_relative)?;
         non_negative("target_margin_relative", self.target_margin_relative)?;
@@ -263,6 +314,9 @@ impl Settings {
         }
         if let Some(cross_check) = scene.cross_check {
             self.solver.cross_check = cross_check;
+        }
+        if let Some(method) = scene.method {
+            self.method = method;
         }
         self
     }

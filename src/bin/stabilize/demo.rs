@@ -12,7 +12,7 @@ use constraint_stabilization::io::scene_file::write_scene;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::SolverChoice;
 use constraint_stabilization::verify::parry_penetration;
-use constraint_stabilization::{Report, Settings, Stabilizer};
+use constraint_stabilization::{GaussSeidelSettings, Method, Report, Settings, Stabilizer};
 
 use crate::exit;
 use crate::progress::PassProgress;
@@ -29,6 +29,13 @@ pub struct DemoArgs {
     /// Solver: auto, clarabel, clarabel_dual, lemke or pgs.
     #[arg(long, default_value = "auto")]
     solver: String,
+    /// Method: projection, or gauss_seidel (the game-engine baseline,
+    /// Box2D's position correction; `--solver` is then unused).
+    #[arg(long, default_value = "projection")]
+    method: String,
+    /// Sweeps of the gauss_seidel method (Box2D's position iterations).
+    #[arg(long, default_value_t = GaussSeidelSettings::default().iterations)]
+    iterations: usize,
     /// Also write the corrected scene (with its report) to this file.
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -42,8 +49,16 @@ pub fn run(args: &DemoArgs) -> ExitCode {
     let Some(choice) = SolverChoice::from_name(&args.solver) else {
         return exit::bad_input(&format!("unknown solver `{}`", args.solver));
     };
+    let Some(method) = Method::from_name(&args.method) else {
+        return exit::bad_input(&format!("unknown method `{}`", args.method));
+    };
     let mut settings = Settings::default();
     settings.solver.choice = choice;
+    settings.method = method;
+    settings.gauss_seidel.iterations = args.iterations;
+    if let Err(error) = settings.validate() {
+        return exit::bad_input(&error);
+    }
     let mut scene = demo_scene(args.bodies, args.seed);
     if let Some(path) = &args.before
         && let Err(error) = write_scene(path, &scene, None)
