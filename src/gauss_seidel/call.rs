@@ -235,18 +235,22 @@ fn write_poses(scene: &mut Scene, poses: &[Isometry3<f64>]) -> Result<(), Error>
     Ok(())
 }
 
-/// Moves every body to its pose in `poses`: a body whose pose is its input
-/// pose gets its input user pose back, bit for bit.
+/// Moves every body whose pose differs from `poses` to it: a body sent back
+/// to its input pose gets its input user pose back, bit for bit (as the
+/// stabilizer's own restore does); a body at its pose is not touched.
 fn restore_poses(
     scene: &mut Scene,
     poses: &[Isometry3<f64>],
     input: &InputPoses,
 ) -> Result<(), Error> {
     for (i, (body, pose)) in scene.bodies_mut().iter_mut().zip(poses).enumerate() {
+        if body.com_pose() == pose {
+            continue;
+        }
         if *pose == input.com[i] {
             let (translation, rotation_xyzw) = input.user[i];
             body.set_user_pose(translation, rotation_xyzw)?;
-        } else if body.com_pose() != pose {
+        } else {
             body.set_com_pose(*pose)?;
         }
     }

@@ -34,7 +34,7 @@
 //! geometry re-measured, with new contacts). The call stops when a sweep's
 //! detection finds no penetration deeper than the tolerance, or after
 //! [`GaussSeidelSettings::iterations`] sweeps and a last detection, and
-//! returns the best configuration measured ([`call`]).
+//! returns the best configuration measured (`call`).
 //!
 //! It is the baseline of the error-against-run-time benchmark: the same
 //! detection and the same report as the projection, with the solve replaced
