@@ -66,6 +66,7 @@ fn parameters(iterations: usize, baumgarte: f64, slop: f64, cap: f64) -> GaussSe
         baumgarte,
         slop_relative: slop,
         max_correction_relative: cap,
+        detect_every_sweep: true,
     }
 }
 
@@ -79,10 +80,13 @@ fn run(scene: &mut Scene, settings: Settings) -> Report {
 #[test]
 fn lone_apex_loses_the_baumgarte_fraction_per_sweep() {
     let beta = 0.2;
-    for sweeps in 1..=5 {
+    for (sweeps, detect_every_sweep) in (1..=5).flat_map(|k| [(k, true), (k, false)]) {
         let mut scene = scene_of(&[ground(), pyramid_apex_down("apex", APEX_SINK)]);
         let settings = gauss_seidel(
-            parameters(sweeps, beta, 0.0, f64::INFINITY),
+            GaussSeidelSettings {
+                detect_every_sweep,
+                ..parameters(sweeps, beta, 0.0, f64::INFINITY)
+            },
             Some(NO_TOLERANCE),
         );
         let report = run(&mut scene, settings);
@@ -176,9 +180,24 @@ fn assert_within_tolerance(scene: &Scene, report: &Report, label: &str) {
 
 #[test]
 fn stack_of_boxes_converges_below_the_tolerance() {
-    for (beta, label) in [(1.0, "beta 1"), (0.8, "beta 0.8")] {
+    let cases = [
+        (1.0, true, "beta 1"),
+        (0.8, true, "beta 0.8"),
+        (
+            1.0,
+            false,
+            "beta 1, contacts detected once (again when spent)",
+        ),
+    ];
+    for (beta, detect_every_sweep, label) in cases {
         let mut scene = scene_of(&stack(4, 0.02));
-        let settings = gauss_seidel(parameters(STACK_SWEEPS, beta, 0.0, 0.2), None);
+        let settings = gauss_seidel(
+            GaussSeidelSettings {
+                detect_every_sweep,
+                ..parameters(STACK_SWEEPS, beta, 0.0, 0.2)
+            },
+            None,
+        );
         let report = run(&mut scene, settings);
         assert_within_tolerance(&scene, &report, label);
     }

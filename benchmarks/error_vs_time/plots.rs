@@ -20,7 +20,7 @@ const PANEL: (u32, u32) = (520, 380);
 const COLUMNS: usize = 3;
 
 /// The lines drawn, with their colours (others are in the CSV only).
-const DRAWN: [(&str, RGBColor); 8] = [
+const DRAWN: [(&str, RGBColor); 9] = [
     ("auto passes", BLACK),
     ("auto tol", RGBColor(120, 120, 120)),
     ("clarabel passes", BLUE),
@@ -28,6 +28,7 @@ const DRAWN: [(&str, RGBColor); 8] = [
     ("pgs passes", CYAN),
     ("gs_box2d", RGBColor(230, 140, 0)),
     ("gs_tuned", RED),
+    ("gs_tuned_redetect", RGBColor(150, 0, 0)),
     ("settle", MAGENTA),
 ];
 
@@ -179,7 +180,12 @@ fn scaling_plot(path: &Path, measured: &[Measured]) -> PlotResult {
     let panels = root.split_evenly((1, families.len()));
     let series: [(&str, &str, &str, RGBColor); 3] = [
         ("auto, default", DEFAULT_LINE.0, DEFAULT_LINE.1, BLACK),
-        ("gs_tuned, 1 sweep", "gs_tuned", "sweeps=1", RED),
+        (
+            "gs_tuned_redetect, 1 sweep",
+            "gs_tuned_redetect",
+            "sweeps=1",
+            RED,
+        ),
         ("settle, 1 step", "settle", "steps=1", MAGENTA),
     ];
     for (panel, family) in panels.iter().zip(families) {

@@ -44,6 +44,13 @@ pub struct GaussSeidelSettings {
     /// relative to `L`, positive; `f64::INFINITY` for no cap). Default 0.2
     /// (`b2_maxLinearCorrection`).
     pub max_correction_relative: f64,
+    /// Detect the contacts again before every sweep (true, the default:
+    /// new contacts are found and stale ones dropped as bodies move), or
+    /// once per call (false: Box2D exactly, whose position iterations
+    /// re-measure the points found by the step's collision detection; a
+    /// sweep then costs a visit of the stored points, and the call measures
+    /// the result once at the end).
+    pub detect_every_sweep: bool,
 }
 
 impl Default for GaussSeidelSettings {
@@ -53,6 +60,7 @@ impl Default for GaussSeidelSettings {
             baumgarte: DEFAULT_BAUMGARTE,
             slop_relative: DEFAULT_SLOP_RELATIVE,
             max_correction_relative: DEFAULT_MAX_CORRECTION_RELATIVE,
+            detect_every_sweep: true,
         }
     }
 }
