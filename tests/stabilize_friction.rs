@@ -8,7 +8,7 @@ mod stabilize_support;
 use constraint_stabilization::body::MassSpec;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::SolverChoice;
-use constraint_stabilization::{Settings, Status};
+use constraint_stabilization::{Report, Settings, Status};
 use nalgebra::{UnitQuaternion, Vector3};
 use stabilize_support::{
     IDENTITY_XYZW, cuboid, ground, sat_deepest, scene_of, stabilize_with, unit_cube_sunk, xyzw,
@@ -34,19 +34,25 @@ const LIGHT_HALF_WIDTH: f64 = 0.3;
 /// contact normals are tilted, as after an engine step), placed so that
 /// the light box's deepest top corner is `depth` inside it.
 fn heavy_on_light(ratio: f64, tilt: f64, depth: f64) -> Scene {
+    heavy_on_floating_light(ratio, tilt, depth, 0.0)
+}
+
+/// [`heavy_on_light`] with the light box (and the heavy one with it)
+/// raised by `gap` above the ground: its contact with the ground is open.
+fn heavy_on_floating_light(ratio: f64, tilt: f64, depth: f64, gap: f64) -> Scene {
     let rotation = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), tilt);
     let w = LIGHT_HALF_WIDTH;
     let light = cuboid(
         "light",
         [w, 0.5, w],
-        [0.0, 0.5, 0.0],
+        [0.0, 0.5 + gap, 0.0],
         IDENTITY_XYZW,
         MassSpec::Mass(1.0),
     );
     // Depth of a top corner (x, 1) below the heavy box's bottom face, for
     // its centre at height y: -x sin(tilt) + (1 - y) cos(tilt) + 0.5,
     // largest at x = -w.
-    let y = 1.0 + (0.5 + w * tilt.sin() - depth) / tilt.cos();
+    let y = 1.0 + gap + (0.5 + w * tilt.sin() - depth) / tilt.cos();
     let heavy = cuboid(
         "heavy",
         [0.5, 0.5, 0.5],
@@ -55,6 +61,21 @@ fn heavy_on_light(ratio: f64, tilt: f64, depth: f64) -> Scene {
         MassSpec::Mass(ratio),
     );
     scene_of(&[ground(), light, heavy])
+}
+
+/// `input` stabilized with `settings` and solver `choice`: resolved, and
+/// no penetration beyond the tolerance left (separating-axis oracle).
+fn stabilized_by(input: &Scene, mut settings: Settings, choice: SolverChoice) -> (Scene, Report) {
+    let mut scene = input.clone();
+    settings.solver.choice = choice;
+    let (report, _) = stabilize_with(&mut scene, settings);
+    assert!(report.status.is_resolved(), "{choice:?}: {report:#?}");
+    let (deepest, pair) = sat_deepest(&scene);
+    assert!(
+        deepest <= report.tolerance,
+        "{choice:?}: {deepest:e} at {pair:?}"
+    );
+    (scene, report)
 }
 
 fn translation(before: &Scene, after: &Scene, index: usize) -> Vector3<f64> {
@@ -88,16 +109,7 @@ fn a_heavy_box_on_a_tilted_light_one_is_lifted_and_the_light_one_stays() {
         SolverChoice::Clarabel,
         SolverChoice::Lemke,
     ] {
-        let mut scene = input.clone();
-        let mut settings = with_friction(0.5);
-        settings.solver.choice = choice;
-        let (report, _) = stabilize_with(&mut scene, settings);
-        assert!(report.status.is_resolved(), "{choice:?}: {report:#?}");
-        let (deepest, pair) = sat_deepest(&scene);
-        assert!(
-            deepest <= report.tolerance,
-            "{choice:?}: {deepest:e} at {pair:?}"
-        );
+        let (scene, report) = stabilized_by(&input, with_friction(0.5), choice);
         let light = translation(&input, &scene, 1);
         let heavy = translation(&input, &scene, 2);
         let turn = input.bodies()[1]
@@ -122,6 +134,74 @@ fn a_heavy_box_on_a_tilted_light_one_is_lifted_and_the_light_one_stays() {
             (heavy.y - expected).abs() <= 1e-2 * depth,
             "{choice:?}: heavy lifted by {} for a depth {depth}",
             heavy.y
+        );
+    }
+}
+
+/// Gap of the light box's open contact with the ground in
+/// [`an_open_contact_slides_at_most_the_gap_it_keeps`], relative to the
+/// scene's scale: beyond the tolerance and the target margin (1e-6 of the
+/// scale each), within the contact margin (1e-2), so that the contact is a
+/// row of the problem that starts open.
+const OPEN_GAP_RELATIVE: f64 = 1e-3;
+
+/// Largest ratio of a sliding distance allowed by the friction pyramid to
+/// the one allowed by the cone: `1 / cos(pi / K)` for `K = 4` facets
+/// (`projector::friction`).
+const PYRAMID_CORNER: f64 = std::f64::consts::SQRT_2;
+
+/// Issue 10's drift inside the call: a contact open at the start of the
+/// call got no friction rows, and the correction closed it while sliding it
+/// freely (the 1:1000 stack of `examples/slide_probe.rs`: 6e-5 to 2.4e-4 m
+/// per call, whatever `mu`). A light box floating just above the ground
+/// under a tilted box 1,000 times heavier that penetrates it: the cheap
+/// correction pushes the light box down along the heavy box's tilted
+/// normal. The light and heavy boxes have no friction of their own and the
+/// ground `2 mu`, so only the light box's open contact with the ground has
+/// friction (`mu`, the mean). Every row now has the friction cone with its
+/// apex where the row reaches its target, so the light box slides at most
+/// `1 / mu` times the gap its ground contact keeps (Anitescu and Tasora's
+/// relaxation); without friction it closes the gap and slides dozens of
+/// times further (the contrast), and so it did with friction before (no
+/// friction row on a contact open at the start).
+#[test]
+fn an_open_contact_slides_at_most_the_gap_it_keeps() {
+    let (ratio, tilt, depth, mu) = (1000.0, 2e-2, 2e-3, 0.5);
+    let scale = heavy_on_light(ratio, tilt, depth).bodies()[1]
+        .polyhedron()
+        .scale();
+    let mut input = heavy_on_floating_light(ratio, tilt, depth, OPEN_GAP_RELATIVE * scale);
+    for (body, own) in [(0, 2.0 * mu), (1, 0.0), (2, 0.0)] {
+        let body = input.body_mut(body).expect("a body of the scene");
+        body.set_friction(Some(own)).expect("a valid coefficient");
+    }
+    let sideways = |scene: &Scene| {
+        let moved = translation(&input, scene, 1);
+        moved.x.hypot(moved.z)
+    };
+    let mut frictionless = input.clone();
+    for body in 0..3 {
+        let body = frictionless.body_mut(body).expect("a body of the scene");
+        body.set_friction(None).expect("no coefficient");
+    }
+    let (report, _) = stabilize_with(&mut frictionless, Settings::default());
+    assert!(report.status.is_resolved(), "{report:#?}");
+    let free = sideways(&frictionless);
+    for choice in [SolverChoice::Auto, SolverChoice::Clarabel] {
+        let (scene, report) = stabilized_by(&input, Settings::default(), choice);
+        // The light box is not turned (its rotation is second order), so
+        // its gap is its height above the ground less its half height.
+        let kept = scene.bodies()[1].translation_user().y - 0.5;
+        let target = Settings::default().target_margin_relative * report.scale;
+        let slid = sideways(&scene);
+        println!("{choice:?}: slid {slid:e} keeping a gap of {kept:e}; frictionless {free:e}");
+        assert!(
+            mu * slid <= PYRAMID_CORNER * (kept - target).max(0.0) + report.tolerance,
+            "{choice:?}: slid {slid:e} keeping a gap of {kept:e}"
+        );
+        assert!(
+            free > 10.0 * slid,
+            "the contrast: frictionless {free:e}, with {slid:e}"
         );
     }
 }

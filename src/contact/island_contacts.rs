@@ -47,8 +47,6 @@ pub struct ContactOptions {
     pub margin: f64,
     /// Up to four rows per face contact (else the deepest point only).
     pub manifold: bool,
-    /// Rows no further apart than this get friction (when the pair has).
-    pub friction_max_gap: f64,
 }
 
 /// Contacts of one island.
@@ -208,7 +206,6 @@ impl ConstraintProvider for IslandContacts<'_> {
             let options = &self.options;
             let friction = ContactFriction {
                 mu: self.friction[k],
-                max_gap: options.friction_max_gap,
             };
             let pair_rows =
                 contact_rows(result, &a, &b, options.margin, options.manifold, friction);

@@ -134,25 +134,20 @@ pub fn query(
     })
 }
 
-/// Coulomb friction of a pair's rows: coefficient `mu`, given to the rows
-/// whose points are no further apart than `max_gap` (resting or
-/// penetrating contacts; a contact that is open has no friction).
+/// Coulomb friction of a pair's rows: coefficient `mu`, given to every row
+/// of the pair, open ones included (the pyramid's apex is where a row
+/// reaches its target, [`crate::projector::friction`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactFriction {
     /// Friction coefficient (0: frictionless rows).
     pub mu: f64,
-    /// Largest separation `phi` of a row that gets friction.
-    pub max_gap: f64,
 }
 
 impl ContactFriction {
     /// No friction.
-    pub const NONE: ContactFriction = ContactFriction {
-        mu: 0.0,
-        max_gap: 0.0,
-    };
+    pub const NONE: ContactFriction = ContactFriction { mu: 0.0 };
 
-    /// The row of a contact point, with friction if it applies.
+    /// The row of a contact point, with friction if the pair has any.
     fn row(
         &self,
         p_a: &Point3<f64>,
@@ -161,7 +156,7 @@ impl ContactFriction {
         a: &BodyGeometry,
         b: &BodyGeometry,
     ) -> ConstraintRow {
-        if self.mu > 0.0 && normal.dot(&(p_a - p_b)) <= self.max_gap {
+        if self.mu > 0.0 {
             contact_row_with_friction(p_a, p_b, normal, a.side(), b.side(), self.mu)
         } else {
             contact_row(p_a, p_b, normal, a.side(), b.side())
@@ -193,8 +188,8 @@ pub struct PairContactPoints {
 
 /// The constraint rows of a pair with narrow-phase answer `query` (no row
 /// for a separated pair at or beyond `margin`). `manifold = false` keeps
-/// the deepest point of a penetration only. Rows get `friction` where it
-/// applies ([`ContactFriction`]).
+/// the deepest point of a penetration only. Every row gets `friction`
+/// ([`ContactFriction`]).
 pub fn contact_rows(
     query: &PairQuery,
     a: &BodyGeometry,

@@ -1,12 +1,13 @@
 //! Coulomb friction at the position level, as a friction pyramid of linear
 //! rows.
 //!
-//! A resting (or sticking) contact may slide only as far as its friction
-//! allows. With `dn = J_n dq` the relative displacement along the contact
-//! normal, `dt = (J_t1 dq, J_t2 dq)` the relative displacement in its
-//! tangent plane, and `r = max(0, target - phi)` the normal displacement
-//! the contact's row requires (its penetration plus the target margin, or
-//! 0 for an open contact),
+//! A contact may slide only as far as its friction allows. With
+//! `dn = J_n dq` the relative displacement along the contact normal,
+//! `dt = (J_t1 dq, J_t2 dq)` the relative displacement in its tangent
+//! plane, and `r = target - phi` the normal displacement at which the
+//! contact's row reaches its target (its penetration plus the target
+//! margin for a penetrating contact; minus its gap beyond the target, a
+//! negative number, for an open one),
 //!
 //! ```text
 //! mu |dt| <= dn - r                                        (1)
@@ -18,14 +19,33 @@
 //! Coulomb's cone: a larger `mu` allows a larger tangential force, hence
 //! less sliding, and `mu -> 0` allows any sliding (the frictionless
 //! problem, which `mu = 0` gives exactly since no row is then added). Only
-//! the opening beyond the required correction counts: removing a
-//! penetration buys no sliding, so a light box under a heavy one whose
-//! contact normals are tilted (as after an engine step) is not slid
-//! sideways to spare the heavy box's lift. (1) is a second-order cone in
-//! `dq`, so the projection `min 1/2 dq^T M dq` subject to the contact rows
-//! and (1) stays convex. It is linearized here as the friction pyramid of
-//! Anitescu and Potra: with `K` directions `d_k = cos(theta_k) t_1 +
-//! sin(theta_k) t_2`, `theta_k = 2 pi k / K`,
+//! the opening beyond the row's target counts: removing a penetration buys
+//! no sliding, so a light box under a heavy one whose contact normals are
+//! tilted (as after an engine step) is not slid sideways to spare the
+//! heavy box's lift.
+//!
+//! **Open contacts.** Every row of the problem gets (1), the open ones
+//! (gap within the contact margin) too, with the cone's apex where the
+//! row reaches its target: a contact open by `g = phi - target` may slide
+//! `(g + dn) / mu`, the gap it keeps, and a contact that the correction
+//! closes onto its target may not slide at all. This is the convex
+//! relaxation of Anitescu and Tasora's cone complementarity problem
+//! (`phi / h + J_n v >= mu |J_t v|` at the velocity level, "An iterative
+//! approach for cone complementarity problems for nonsmooth dynamics",
+//! Comput. Optim. Appl. 2010) with the displacement for `h v`. Without it
+//! an open contact had no friction row and closed while sliding freely:
+//! measured on the 1:1000 stack of `examples/slide_probe.rs`, where
+//! Rapier's step leaves a light box's lower contact open by 3e-5 to
+//! 1.5e-4 m and the call closed it while sliding it 6e-5 to 2.4e-4 m,
+//! whatever `mu`. The relaxation's price, as in Anitescu and Tasora's
+//! scheme: an open contact that stays open may slide only by `mu` times
+//! the gap it keeps; beyond that the correction opens it further.
+//!
+//! (1) is a second-order cone in `dq`, so the projection
+//! `min 1/2 dq^T M dq` subject to the contact rows and (1) stays convex. It
+//! is linearized here as the friction pyramid of Anitescu and Potra: with
+//! `K` directions `d_k = cos(theta_k) t_1 + sin(theta_k) t_2`,
+//! `theta_k = 2 pi k / K`,
 //!
 //! ```text
 //! (J_n - mu cos(theta_k) J_t1 - mu sin(theta_k) J_t2) dq >= r,   k = 0..K-1   (2)
@@ -36,10 +56,12 @@
 //! constraints, and its KKT conditions are an LCP with one nonnegative,
 //! complementary multiplier per facet: every solver (clarabel, Lemke, PGS)
 //! solves the same problem, and the cross-check between them holds on it.
-//! The polygon (2) has inradius `(dn - r) / mu`: it contains the cone (1)
-//! and exceeds it by at most `1 / cos(pi / K)` in its corners (41 % for
-//! `K = 4`, 8 % for `K = 8`). Wherever the frictionless answer slides
-//! nothing, it satisfies (2) and is the answer with friction too.
+//! `dq = 0` satisfies (2) exactly when it satisfies the contact row, so
+//! the pyramid never makes a configuration that needs no correction
+//! infeasible. The polygon (2) has inradius `(dn - r) / mu`: it contains
+//! the cone (1) and exceeds it by at most `1 / cos(pi / K)` in its corners
+//! (41 % for `K = 4`, 8 % for `K = 8`). Wherever the frictionless answer
+//! slides nothing, it satisfies (2) and is the answer with friction too.
 //!
 //! A multiplier `beta_k >= 0` of a facet is a force on the contact
 //! `beta_k (n - mu d_k)`: normal part `beta_k`, tangential part
@@ -56,8 +78,9 @@ use crate::solver::JacobianRow;
 pub const DEFAULT_FRICTION_DIRECTIONS: usize = 4;
 
 /// The pyramid rows (2) of every row with friction, for contact rows with
-/// target `target`: Jacobians, `phi = -r`, and the index of the contact
-/// row of each.
+/// target `target`: Jacobians, `phi = -r = phi_row - target` (module docs:
+/// the apex where the row reaches its target, for open rows too), and the
+/// index of the contact row of each.
 pub fn pyramid_rows(
     rows: &[ConstraintRow],
     target: f64,
@@ -70,7 +93,7 @@ pub fn pyramid_rows(
         let Some(friction) = &row.friction else {
             continue;
         };
-        let required = (target - row.phi).max(0.0);
+        let required = target - row.phi;
         for k in 0..directions {
             let theta = std::f64::consts::TAU * k as f64 / directions as f64;
             let (sin, cos) = theta.sin_cos();

@@ -115,10 +115,10 @@ pub struct Settings {
     pub contact_manifold: bool,
     /// Coulomb friction coefficient of a body that has none of its own
     /// ([`crate::body::Body::set_friction`]); a pair's coefficient is the
-    /// mean of its two bodies'. Rows of resting and penetrating contacts
-    /// (separation at most the tolerance) get the friction pyramid of
-    /// [`crate::projector::friction`]: a contact slides at most `mu` times
-    /// its normal correction. Default 0: frictionless, the seed's
+    /// mean of its two bodies'. Every contact row (penetrating, resting,
+    /// or open within the contact margin) gets the friction pyramid of
+    /// [`crate::projector::friction`]: a contact slides at most `1 / mu`
+    /// times its normal opening beyond its target. Default 0: frictionless, the seed's
     /// projection bit for bit (the Rapier bridge reads each collider's
     /// friction instead).
     pub friction: f64,

@@ -168,7 +168,6 @@ fn plan_region<'a>(
         vclip: VClip::new(input.settings.vclip),
         margin: input.lengths.contact_margin,
         manifold: input.settings.contact_manifold,
-        friction_max_gap: input.lengths.tolerance + input.lengths.target_margin,
     };
     let mut contacts = IslandContacts::new(
         input.geometry,

@@ -19,9 +19,13 @@
 //! `phi >= 0` may close at most that gap in one step, `J_k v' >= -phi / h`
 //! (so a body falling onto another is slowed to land, not stopped in the
 //! air); without it only touching contacts (`phi` within the tolerance and
-//! target margin) count, with `J_k v' >= 0`; with friction, the pyramid of [`crate::projector::friction`]
-//! with `dv` for `dq` and the approach speed `max(0, -J_k v)` as the
-//! required normal change: removing an approach adds no sliding. It is the
+//! target margin) count, with `J_k v' >= 0`; with friction, the pyramid of
+//! [`crate::projector::friction`] on every such row, with `dv` for `dq` and
+//! its apex where the row becomes tight (`-(J_k v + phi / h)`, the
+//! approach speed beyond what the gap allows): removing an approach adds
+//! no sliding, and a contact that keeps separating (or keeps part of its
+//! gap) may slide `1 / mu` of that margin, as in Anitescu and Tasora's
+//! cone complementarity. It is the
 //! position problem with `phi_k = J_k v`, target 0, so it is solved by the
 //! same solvers ([`crate::solver::solve_projection`]). Fixed bodies
 //! (kinematic ones included) are taken at rest. Velocities of bodies in
@@ -139,7 +143,6 @@ impl Stabilizer {
                 pairs: &island_pairs,
                 detection,
                 contact_gap,
-                friction_gap: lengths.tolerance + lengths.target_margin,
                 gap_rate,
                 friction: options.friction,
             };
@@ -174,7 +177,6 @@ impl Stabilizer {
             let friction = match contacts.friction {
                 true => ContactFriction {
                     mu: super::solve_island::pair_friction(scene, settings, pair),
-                    max_gap: contacts.friction_gap,
                 },
                 false => ContactFriction::NONE,
             };
@@ -254,8 +256,6 @@ struct IslandContacts<'a> {
     detection: &'a Detection,
     /// Rows of points further apart than this are left out.
     contact_gap: f64,
-    /// Rows of points no further apart than this get friction.
-    friction_gap: f64,
     /// `1 / h`, or 0 without speculative contacts.
     gap_rate: f64,
     /// Whether the rows get friction.

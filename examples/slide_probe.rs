@@ -1,0 +1,272 @@
+//! Where the heavy stacks' sideways drift comes from (issue 10): the 1:1000
+//! stack run with the bridge's default settings, and per step each box's
+//! horizontal displacement split into the part Rapier's step made and the
+//! part the bridge's call made (the velocity write-back acts through the
+//! next step: its horizontal velocity change times the time step is listed
+//! apart).
+//!
+//! ```text
+//! cargo run --release --features rapier,serde --example slide_probe -- [--steps N] [--ratio R] [--verbose FROM TO]
+//! ```
+
+#[path = "common/rapier_scenes.rs"]
+mod scenes;
+
+use constraint_stabilization::rapier_bridge::{BridgeSettings, RapierBridge};
+use constraint_stabilization::scene::Scene;
+use nalgebra::{Isometry3, Point3};
+use rapier3d::prelude::*;
+
+/// Steps of the run (5 s at 60 Hz).
+const DEFAULT_STEPS: usize = 300;
+
+/// The user poses of the scene's bodies.
+fn poses(scene: &Scene) -> Vec<Isometry3<f64>> {
+    scene.bodies().iter().map(|b| b.user_pose()).collect()
+}
+
+/// For each stacked pair (lower, upper) of scene indices, the upper box's
+/// four lowest corners in the lower body's frame, before and after: their
+/// heights above the lower's top face, and the mean tangential slide of
+/// those corners over that face (lower's frame). Prints when `print`.
+fn contact_motion(
+    scene: &Scene,
+    before: &[Isometry3<f64>],
+    after: &[Isometry3<f64>],
+    stack: &[usize],
+    print: bool,
+) -> Vec<[f64; 2]> {
+    let mut slides = Vec::new();
+    for w in stack.windows(2) {
+        let (lower, upper) = (w[0], w[1]);
+        let top = scene.bodies()[lower]
+            .polyhedron()
+            .vertices()
+            .iter()
+            .map(|v| v.z)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let mut corners: Vec<(Point3<f64>, Point3<f64>)> = scene.bodies()[upper]
+            .polyhedron()
+            .vertices()
+            .iter()
+            .map(|v| {
+                (
+                    before[lower].inverse() * (before[upper] * v),
+                    after[lower].inverse() * (after[upper] * v),
+                )
+            })
+            .collect();
+        corners.sort_by(|a, b| a.0.z.total_cmp(&b.0.z));
+        let mut mean = [0.0; 2];
+        for (b, a) in &corners[..4] {
+            mean[0] += (a.x - b.x) / 4.0;
+            mean[1] += (a.y - b.y) / 4.0;
+        }
+        slides.push(mean);
+        if print {
+            let text: Vec<String> = corners[..4]
+                .iter()
+                .map(|(b, a)| {
+                    format!(
+                        "h {:+.2e}->{:+.2e} slide {:.2e}",
+                        b.z - top,
+                        a.z - top,
+                        (a.xy() - b.xy()).norm()
+                    )
+                })
+                .collect();
+            println!("    pair {lower}-{upper}: {}", text.join(" | "));
+        }
+    }
+    slides
+}
+
+fn horizontal(v: Vector) -> [f64; 2] {
+    [f64::from(v.x), f64::from(v.y)]
+}
+
+fn norm(v: [f64; 2]) -> f64 {
+    v[0].hypot(v[1])
+}
+
+fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+fn add(a: &mut [f64; 2], b: [f64; 2]) {
+    a[0] += b[0];
+    a[1] += b[1];
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let value = |flag: &str, k: usize| {
+        args.iter()
+            .position(|a| a == flag)
+            .and_then(|i| args.get(i + k).cloned())
+    };
+    let steps: usize = value("--steps", 1).map_or(Ok(DEFAULT_STEPS), |s| s.parse())?;
+    let ratio: f32 = value("--ratio", 1).map_or(Ok(1000.0), |s| s.parse())?;
+    let verbose_from: usize = value("--verbose", 1).map_or(Ok(usize::MAX), |s| s.parse())?;
+    let verbose_to: usize = value("--verbose", 2).map_or(Ok(0), |s| s.parse())?;
+    let (mut world, handles) = scenes::aligned_heavy_stack_world(ratio);
+    let mut bridge = RapierBridge::with_settings(BridgeSettings::default())?;
+    let dt = f64::from(world.integration_parameters.dt);
+    let n = handles.len();
+    let start: Vec<[f64; 2]> = handles
+        .iter()
+        .map(|&h| horizontal(world.bodies[h].translation()))
+        .collect();
+    // Signed sums per box: Rapier's steps, the calls' positions, the
+    // velocity write-back's horizontal change times dt.
+    let mut by_step = vec![[0.0; 2]; n];
+    let mut by_call = vec![[0.0; 2]; n];
+    let mut by_velocity = vec![[0.0; 2]; n];
+    // Sums of magnitudes.
+    let (mut abs_step, mut abs_call, mut abs_velocity) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    // Signed sums of the contacts' slides (pairs ground-box 0, box 0-1, ...).
+    let mut slide_by_step = vec![[0.0; 2]; n];
+    let mut slide_by_call = vec![[0.0; 2]; n];
+    for step in 1..=steps {
+        let p0: Vec<[f64; 2]> = handles
+            .iter()
+            .map(|&h| horizontal(world.bodies[h].translation()))
+            .collect();
+        world.step();
+        let p1: Vec<[f64; 2]> = handles
+            .iter()
+            .map(|&h| horizontal(world.bodies[h].translation()))
+            .collect();
+        let v1: Vec<[f64; 2]> = handles
+            .iter()
+            .map(|&h| horizontal(world.bodies[h].linvel()))
+            .collect();
+        let z1: Vec<f64> = handles
+            .iter()
+            .map(|&h| f64::from(world.bodies[h].translation().z))
+            .collect();
+        let corrected = poses(bridge.scene());
+        bridge.sync(&world.bodies, &world.colliders)?;
+        let scene_before = poses(bridge.scene());
+        let verbose = (verbose_from..=verbose_to).contains(&step);
+        let stack = stack_of(&bridge, &handles);
+        if verbose {
+            println!("  Rapier's step, contacts:");
+        }
+        if step > 1 {
+            for (sum, slide) in slide_by_step.iter_mut().zip(contact_motion(
+                bridge.scene(),
+                &corrected,
+                &scene_before,
+                &stack,
+                verbose,
+            )) {
+                add(sum, slide);
+            }
+        }
+        let report = bridge.stabilize(
+            &mut world.bodies,
+            &world.colliders,
+            &world.integration_parameters,
+        )?;
+        let p2: Vec<[f64; 2]> = handles
+            .iter()
+            .map(|&h| horizontal(world.bodies[h].translation()))
+            .collect();
+        let v2: Vec<[f64; 2]> = handles
+            .iter()
+            .map(|&h| horizontal(world.bodies[h].linvel()))
+            .collect();
+        let z2: Vec<f64> = handles
+            .iter()
+            .map(|&h| f64::from(world.bodies[h].translation().z))
+            .collect();
+        for i in 0..n {
+            let (s, c) = (sub(p1[i], p0[i]), sub(p2[i], p1[i]));
+            let dv = sub(v2[i], v1[i]);
+            let w = [dv[0] * dt, dv[1] * dt];
+            add(&mut by_step[i], s);
+            add(&mut by_call[i], c);
+            add(&mut by_velocity[i], w);
+            abs_step[i] += norm(s);
+            abs_call[i] += norm(c);
+            abs_velocity[i] += norm(w);
+        }
+        if verbose {
+            println!("  the call, contacts:");
+        }
+        for (sum, slide) in slide_by_call.iter_mut().zip(contact_motion(
+            bridge.scene(),
+            &scene_before,
+            &poses(bridge.scene()),
+            &stack,
+            verbose,
+        )) {
+            add(sum, slide);
+        }
+        if verbose {
+            let stabilizer = report.stabilizer.as_ref();
+            println!(
+                "step {step}: passes {:?}, depth {:.3e} -> {:.3e}, tolerance {:.2e}, velocities written {}",
+                stabilizer.map(|r| r.passes),
+                stabilizer.map_or(0.0, |r| r.depth_before),
+                stabilizer.map_or(0.0, |r| r.depth_after),
+                stabilizer.map_or(0.0, |r| r.tolerance),
+                report.velocities_written
+            );
+            for i in 0..n {
+                println!(
+                    "  box {i}: step dxy {:+.3e} {:+.3e}  call dxy {:+.3e} {:+.3e} dz {:+.3e}  v after step {:+.3e} {:+.3e}  dv by call {:+.3e} {:+.3e}",
+                    p1[i][0] - p0[i][0],
+                    p1[i][1] - p0[i][1],
+                    p2[i][0] - p1[i][0],
+                    p2[i][1] - p1[i][1],
+                    z2[i] - z1[i],
+                    v1[i][0],
+                    v1[i][1],
+                    v2[i][0] - v1[i][0],
+                    v2[i][1] - v1[i][1],
+                );
+            }
+        }
+    }
+    println!("ratio 1:{ratio}, {steps} steps, dt {dt:.5} s; horizontal motion per box (mm):");
+    println!(
+        "box | net drift | by Rapier's steps (signed sum, |.| sum) | by the calls' positions (signed, |.|) | velocity write-back x dt (signed, |.|)"
+    );
+    for i in 0..n {
+        let end = horizontal(world.bodies[handles[i]].translation());
+        println!(
+            "{i} | {:.3} | {:.3} {:.3} | {:.3} {:.3} | {:.3} {:.3}",
+            norm(sub(end, start[i])) * 1e3,
+            norm(by_step[i]) * 1e3,
+            abs_step[i] * 1e3,
+            norm(by_call[i]) * 1e3,
+            abs_call[i] * 1e3,
+            norm(by_velocity[i]) * 1e3,
+            abs_velocity[i] * 1e3,
+        );
+    }
+    println!(
+        "pair (lower-upper) | contact slide by Rapier's steps (signed sum, mm) | by the calls (mm)"
+    );
+    for i in 0..n {
+        println!(
+            "{i} | {:.3} | {:.3}",
+            norm(slide_by_step[i]) * 1e3,
+            norm(slide_by_call[i]) * 1e3
+        );
+    }
+    Ok(())
+}
+
+/// Scene indices of the ground and the boxes, bottom to top.
+fn stack_of(bridge: &RapierBridge, handles: &[RigidBodyHandle]) -> Vec<usize> {
+    let mut stack = vec![0];
+    stack.extend(
+        handles
+            .iter()
+            .filter_map(|&h| bridge.body_map().scene_index_of_body(h)),
+    );
+    stack
+}
