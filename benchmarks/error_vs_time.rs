@@ -43,14 +43,22 @@ mod summary;
 
 use common::sat::exact_depth;
 use common::{Provenance, bench_command};
+use constraint_stabilization::solver::{SolverChoice, SolverSettings};
 use constraint_stabilization::stabilizer::scene_scale;
 use families::Case;
 use indicatif::{ProgressBar, ProgressStyle};
 use methods::{Config, Kind, RunPoint};
 
 /// A configuration whose first run takes longer than this (seconds) is
-/// not repeated.
+/// not repeated; a solver whose probing call (default tolerance, unlimited
+/// passes) takes longer gets that one point, no pass or tolerance line
+/// (Lemke's dense tableau on the engine bins' 700-row islands).
 const SLOW_RUN_SECONDS: f64 = 3.0;
+/// Forced Lemke is measured on a scene only when `auto`'s largest island
+/// has at most this many times the rows up to which `auto` itself uses
+/// Lemke: beyond, a single call took minutes (a dense tableau of 1,000
+/// rows and more, `n^3` per solve).
+const LEMKE_ROWS_FACTOR: usize = 4;
 /// Repeats per configuration on scenes of at most [`SMALL_SCENE`] bodies.
 const REPEATS_SMALL: usize = 5;
 /// Repeats on larger scenes.
@@ -117,7 +125,13 @@ fn main() {
     for case in &cases {
         progress.set_message(format!("{} ({} bodies)", case.name, case.scene.len()));
         let m = measure(case, quick);
-        progress.println(summary::one_line(&m));
+        // A hidden bar (no terminal, as in CI) prints nothing: say it on
+        // standard error instead.
+        if progress.is_hidden() {
+            eprintln!("{}", summary::one_line(&m));
+        } else {
+            progress.println(summary::one_line(&m));
+        }
         measured.push(m);
         progress.inc(1);
     }
@@ -150,7 +164,7 @@ fn measure(case: &Case, quick: bool) -> Measured {
         points: Vec::new(),
         errors: Vec::new(),
     };
-    let configs = plan(case, quick, &mut measured.errors);
+    let (configs, probed) = plan(case, quick, &mut measured.errors);
     let checkpoints: &[usize] = if quick {
         &methods::STEPS_QUICK
     } else {
@@ -168,6 +182,13 @@ fn measure(case: &Case, quick: bool) -> Measured {
     let mut times: Vec<Vec<Vec<f64>>> = vec![Vec::new(); configs.len()];
     let mut last: Vec<Option<Vec<RunPoint>>> = (0..configs.len()).map(|_| None).collect();
     let mut skip = vec![false; configs.len()];
+    for (c, probe) in probed.into_iter().enumerate() {
+        if let Some(points) = probe {
+            times[c] = points.iter().map(|p| vec![p.seconds]).collect();
+            last[c] = Some(points);
+            skip[c] = true;
+        }
+    }
     for repeat in 0..repeats {
         for (c, config) in configs.iter().enumerate() {
             if skip[c] {
@@ -222,10 +243,16 @@ fn label(config: &Config) -> String {
     format!("{} {}", config.line, config.parameter)
 }
 
-/// The configurations of one scene. The library's pass lines end at the
-/// passes each solver needs at the default tolerance (one probing call
-/// per solver finds it; a solver whose probe fails gets no line).
-fn plan(case: &Case, quick: bool, errors: &mut Vec<(String, String)>) -> Vec<Config> {
+/// The configurations of one scene, and beside each the points already
+/// measured for it (a slow solver's probe, see [`SLOW_RUN_SECONDS`]). The
+/// library's pass lines end at the passes each solver needs at the
+/// default tolerance (one probing call per solver finds it; a solver whose
+/// probe fails gets no line).
+fn plan(
+    case: &Case,
+    quick: bool,
+    errors: &mut Vec<(String, String)>,
+) -> (Vec<Config>, Vec<Option<Vec<RunPoint>>>) {
     let (pass_limits, tolerances, iterations): (&[usize], &[f64], &[usize]) = if quick {
         (
             &methods::PASS_LIMITS_QUICK,
@@ -241,7 +268,21 @@ fn plan(case: &Case, quick: bool, errors: &mut Vec<(String, String)>) -> Vec<Con
     };
     let default_passes = constraint_stabilization::Settings::default().max_passes;
     let mut configs = Vec::new();
+    let mut probed = Vec::new();
+    // Rows of the largest island of `auto`'s probe (the first solver).
+    let mut auto_rows = 0;
+    let lemke_limit = SolverSettings::default().auto_lemke_max_rows;
     for &(solver, name) in &methods::SOLVERS {
+        if solver == SolverChoice::Lemke && auto_rows > LEMKE_ROWS_FACTOR * lemke_limit {
+            errors.push((
+                format!("{name} lines"),
+                format!(
+                    "not measured: islands of {auto_rows} rows, over {LEMKE_ROWS_FACTOR} times the \
+                     {lemke_limit} up to which auto uses Lemke (dense tableau, n^3)"
+                ),
+            ));
+            continue;
+        }
         let probe = Config {
             line: format!("{name} passes"),
             parameter: "passes=all".into(),
@@ -251,13 +292,27 @@ fn plan(case: &Case, quick: bool, errors: &mut Vec<(String, String)>) -> Vec<Con
                 max_passes: default_passes,
             },
         };
-        let needed = match methods::run(&case.scene, &probe, &[]) {
-            Ok(points) => points.first().map_or(0, |p| p.iterations),
+        let points = match methods::run(&case.scene, &probe, &[]) {
+            Ok(points) => points,
             Err(e) => {
                 errors.push((label(&probe), e));
                 continue;
             }
         };
+        let needed = points.first().map_or(0, |p| p.iterations);
+        if solver == SolverChoice::Auto {
+            auto_rows = points.first().map_or(0, |p| p.largest_island_rows);
+        }
+        if points.iter().any(|p| p.seconds > SLOW_RUN_SECONDS) {
+            errors.push((
+                format!("{name} lines"),
+                format!("not measured: its call took more than {SLOW_RUN_SECONDS} s"),
+            ));
+            configs.push(probe);
+            probed.resize_with(configs.len() - 1, || None);
+            probed.push(Some(points));
+            continue;
+        }
         for &k in pass_limits.iter().filter(|&&k| k < needed) {
             configs.push(Config {
                 line: format!("{name} passes"),
@@ -270,6 +325,13 @@ fn plan(case: &Case, quick: bool, errors: &mut Vec<(String, String)>) -> Vec<Con
             });
         }
         configs.push(probe);
+        // Tolerance lines for `auto` only: the other solvers' would double
+        // the run (see the module doc).
+        let tolerances = if solver == SolverChoice::Auto {
+            tolerances
+        } else {
+            &[]
+        };
         for &tolerance in tolerances
             .iter()
             .filter(|&&t| t != methods::DEFAULT_TOLERANCE)
@@ -302,5 +364,6 @@ fn plan(case: &Case, quick: bool, errors: &mut Vec<(String, String)>) -> Vec<Con
         parameter: "steps".into(),
         kind: Kind::Settle,
     });
-    configs
+    probed.resize_with(configs.len(), || None);
+    (configs, probed)
 }

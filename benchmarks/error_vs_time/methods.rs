@@ -4,8 +4,8 @@
 //! - **This library** (`Stabilizer::stabilize`, fresh stabilizer per run,
 //!   default settings otherwise), per solver choice: a line over pass
 //!   limits ([`PASS_LIMITS`], up to what the solver needs at the default
-//!   tolerance) and a line over tolerances ([`TOLERANCES`], relative to the
-//!   scene scale, unlimited passes).
+//!   tolerance), and for `auto` a line over tolerances ([`TOLERANCES`],
+//!   relative to the scene scale, unlimited passes).
 //! - **Nonlinear Gauss–Seidel position correction** (the library's
 //!   `Method::GaussSeidel`, see `src/gauss_seidel/`), two parameter sets,
 //!   [`GaussSeidelPreset`], over [`ITERATIONS`] sweeps.
@@ -125,6 +125,8 @@ pub struct RunPoint {
     pub iterations: usize,
     /// The method's own status (`resolved`, `max-passes`, `steps`).
     pub status: String,
+    /// Rows of the largest island solved (library runs; 0 otherwise).
+    pub largest_island_rows: usize,
 }
 
 /// Settings of a library configuration.
@@ -175,5 +177,12 @@ fn stabilize(scene: &Scene, settings: Settings, parameter: &str) -> Result<Vec<R
         scene: work,
         iterations: report.passes,
         status: report.status.name().to_string(),
+        largest_island_rows: report
+            .pass_reports
+            .iter()
+            .flat_map(|p| &p.solved)
+            .map(|island| island.constraints)
+            .max()
+            .unwrap_or(0),
     }])
 }

@@ -93,6 +93,7 @@ mod with_rapier {
                 scene: after,
                 iterations: step,
                 status: format!("{sleeping} asleep"),
+                largest_island_rows: 0,
             });
         }
         Ok(points)
