@@ -7,7 +7,9 @@
 mod stabilize_support;
 
 use constraint_stabilization::body::MassSpec;
-use constraint_stabilization::stabilizer::{BodyVelocity, VelocityFriction, VelocityOptions};
+use constraint_stabilization::stabilizer::{
+    BodyVelocity, VelocityFriction, VelocityOptions, VelocityReport,
+};
 use constraint_stabilization::{Settings, Stabilizer};
 use nalgebra::{Matrix3, Point3, Vector3, Vector6};
 use stabilize_support::{
@@ -261,10 +263,14 @@ fn sliding_cube() -> (constraint_stabilization::scene::Scene, BodyVelocity) {
     (scene, velocity)
 }
 
-/// The cube's velocity after the projection with friction `friction` and
-/// coefficient `mu`.
-fn project_sliding_cube(friction: VelocityFriction, mu: f64) -> BodyVelocity {
-    let (scene, velocity) = sliding_cube();
+/// The resting cube's velocity after the projection of `velocity` with
+/// friction `friction` and coefficient `mu`, and the report.
+fn project_resting_cube(
+    velocity: BodyVelocity,
+    friction: VelocityFriction,
+    mu: f64,
+) -> (BodyVelocity, VelocityReport) {
+    let (scene, _) = sliding_cube();
     let settings = Settings {
         friction: mu,
         ..Settings::default()
@@ -278,13 +284,21 @@ fn project_sliding_cube(friction: VelocityFriction, mu: f64) -> BodyVelocity {
     let report = stabilizer
         .project_velocities(&scene, &mut velocities, &[1], &options)
         .expect("projects");
+    println!("{friction:?}, mu {mu}: {:?} ({report:?})", velocities[1]);
+    (velocities[1], report)
+}
+
+/// [`project_resting_cube`] of the sliding cube's velocity: four contact
+/// rows, one island projected.
+fn project_sliding_cube(friction: VelocityFriction, mu: f64) -> BodyVelocity {
+    let (_, velocity) = sliding_cube();
+    let (after, report) = project_resting_cube(velocity, friction, mu);
     assert_eq!(
         (report.contacts, report.islands_solved),
         (4, 1),
         "{report:?}"
     );
-    println!("{friction:?}, mu {mu}: {:?} ({report:?})", velocities[1]);
-    velocities[1]
+    after
 }
 
 /// Closed form of friction on the velocity: a box resting on a fixed plane
@@ -314,6 +328,23 @@ fn a_resting_box_sliding_on_a_plane_sticks_with_friction_on_the_velocity() {
         );
         assert!(sliding.angular.norm() <= CLOSED_FORM, "{sliding:?}");
     }
+}
+
+/// With friction on the velocity, a contact outside its cone starts no
+/// projection by itself: the resting box sliding without approach keeps
+/// its velocity bit for bit, and the report says how far outside it is.
+#[test]
+fn a_slide_without_approach_is_not_projected() {
+    let gliding = BodyVelocity {
+        linear: Vector3::new(0.3, 0.0, 0.0),
+        angular: Vector3::zeros(),
+    };
+    let (after, report) = project_resting_cube(gliding, VelocityFriction::OnVelocity, 1.0);
+    assert_eq!((report.islands_solved, after), (0, gliding));
+    assert!(
+        report.cone_before > 0.0 && report.approach_before <= 0.0,
+        "{report:?}"
+    );
 }
 
 /// Issue 10's drift through the velocity write-back: a box 1,000 times

@@ -72,10 +72,10 @@ pub struct BridgeSettings {
     /// of the heavy stacks leave each call without sideways velocity, yet
     /// the stacks drift as much (41.8 and 44.4 mm on the 1:100 and 1:1000
     /// stacks against 28.6 and 46.4: Rapier's next step gives the
-    /// velocity back), the pile creeps three times further (300 mm against
-    /// 94; not analysed, the cone's artefact, a sliding contact leaving
-    /// separating at `mu |v_t|`, is a suspect) and calls cost more; with
-    /// friction on the change the 1:1000 stack falls.
+    /// velocity back), worse on the 1:100 stack, while the pile (51 mm of
+    /// creep against 94), the thrown box and the pyramid are somewhat
+    /// better; calls cost a little more. With friction on the change the
+    /// 1:1000 stack falls.
     pub velocity_friction: VelocityFriction,
 }
 

@@ -78,13 +78,20 @@
 //!   velocity of `mu |J_t v'| - phi / h` (within the pyramid's excess over
 //!   the cone), and the projection takes that (part lift, part braking)
 //!   where it is cheaper than stopping the slide: a body sliding at `v_t`
-//!   along a facet's direction `d_k` with no approach, at one contact
-//!   without lever, leaves with `v_t' = v_t / (1 + mu^2)` and a lift of
-//!   `mu v_t'`. The engine's gravity then brings it back: a hop of about
-//!   `mu v_t h` per step.
+//!   along a facet's direction `d_k` and approaching at `v_n < v_t / mu`,
+//!   at one contact without lever, leaves with
+//!   `v_t' = (v_t - mu v_n) / (1 + mu^2)` and a lift of `mu v_t'` (the
+//!   projection on that facet's half-space); with `v_n >= v_t / mu` it
+//!   stops. The engine's gravity then brings it back: a hop of about
+//!   `mu v_t' h` per step.
 //!
-//! An island is projected when some row is violated (an approach, or with
-//! friction on the velocity a contact outside its cone).
+//! An island is projected when one of its contacts approaches (beyond what
+//! its gap allows), with or without friction; a contact outside its cone
+//! alone does not start a projection (it is reported, `cone_before`).
+//! Measured (`examples/with_and_without.rs`): projecting on it too tripled
+//! the creep of the settled pile of 200 (300 mm against 94 frictionless),
+//! without it the creep is 51 mm; the stacks, the thrown box and the
+//! pyramid did not change.
 
 use nalgebra::{DVector, Vector3, Vector6};
 
@@ -148,8 +155,7 @@ pub struct VelocityOptions {
 pub struct VelocityReport {
     /// Contact rows of the islands asked for.
     pub contacts: usize,
-    /// Islands whose velocities were projected (some contact approaching,
-    /// or with friction on the velocity outside its cone).
+    /// Islands whose velocities were projected (some contact approaching).
     pub islands_solved: usize,
     /// Islands whose projection failed (their velocities left as they were).
     pub islands_failed: usize,
@@ -257,7 +263,9 @@ impl Stabilizer {
         report.contacts += contact_count;
         let before = Violations::of(&rows, contact_count);
         report.record_before(before);
-        if before.approach <= 0.0 && before.cone <= 0.0 {
+        // An approach starts a projection, a cone violation alone does not
+        // (module docs).
+        if before.approach <= 0.0 {
             return;
         }
         // Islands hold dynamic bodies only, so their states exist; an
