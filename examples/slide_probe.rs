@@ -6,14 +6,18 @@
 //! apart).
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example slide_probe -- [--steps N] [--ratio R] [--verbose FROM TO]
+//! cargo run --release --features rapier,serde --example slide_probe -- [--steps N] [--ratio R] [--velocity-friction none|change|velocity] [--verbose FROM TO]
 //! ```
+//!
+//! `--velocity-friction` sets the friction of the velocity projection
+//! (`BridgeSettings::velocity_friction`; the bridge's default otherwise).
 
 #[path = "common/rapier_scenes.rs"]
 mod scenes;
 
 use constraint_stabilization::rapier_bridge::{BridgeSettings, RapierBridge};
 use constraint_stabilization::scene::Scene;
+use constraint_stabilization::stabilizer::VelocityFriction;
 use nalgebra::{Isometry3, Point3};
 use rapier3d::prelude::*;
 
@@ -109,8 +113,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ratio: f32 = value("--ratio", 1).map_or(Ok(1000.0), |s| s.parse())?;
     let verbose_from: usize = value("--verbose", 1).map_or(Ok(usize::MAX), |s| s.parse())?;
     let verbose_to: usize = value("--verbose", 2).map_or(Ok(0), |s| s.parse())?;
+    let velocity_friction = match value("--velocity-friction", 1).as_deref() {
+        None => BridgeSettings::default().velocity_friction,
+        Some("none") => VelocityFriction::None,
+        Some("change") => VelocityFriction::OnChange,
+        Some("velocity") => VelocityFriction::OnVelocity,
+        Some(other) => return Err(format!("unknown velocity friction {other}").into()),
+    };
     let (mut world, handles) = scenes::aligned_heavy_stack_world(ratio);
-    let mut bridge = RapierBridge::with_settings(BridgeSettings::default())?;
+    let mut bridge = RapierBridge::with_settings(BridgeSettings {
+        velocity_friction,
+        ..BridgeSettings::default()
+    })?;
     let dt = f64::from(world.integration_parameters.dt);
     let n = handles.len();
     let start: Vec<[f64; 2]> = handles
@@ -127,6 +141,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Signed sums of the contacts' slides (pairs ground-box 0, box 0-1, ...).
     let mut slide_by_step = vec![[0.0; 2]; n];
     let mut slide_by_call = vec![[0.0; 2]; n];
+    // Velocity projections of islands that failed, calls not resolved.
+    let (mut velocity_failures, mut unresolved) = (0, 0);
     for step in 1..=steps {
         let p0: Vec<[f64; 2]> = handles
             .iter()
@@ -169,6 +185,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             &world.colliders,
             &world.integration_parameters,
         )?;
+        velocity_failures += report.velocities.as_ref().map_or(0, |v| v.islands_failed);
+        unresolved += usize::from(
+            report
+                .stabilizer
+                .as_ref()
+                .is_some_and(|r| !r.status.is_resolved()),
+        );
         let p2: Vec<[f64; 2]> = handles
             .iter()
             .map(|&h| horizontal(world.bodies[h].translation()))
@@ -230,7 +253,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     }
-    println!("ratio 1:{ratio}, {steps} steps, dt {dt:.5} s; horizontal motion per box (mm):");
+    println!(
+        "ratio 1:{ratio}, {steps} steps, dt {dt:.5} s, velocity friction {velocity_friction:?}; horizontal motion per box (mm):"
+    );
     println!(
         "box | net drift | by Rapier's steps (signed sum, |.| sum) | by the calls' positions (signed, |.|) | velocity write-back x dt (signed, |.|)"
     );
@@ -247,6 +272,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             abs_velocity[i] * 1e3,
         );
     }
+    let top = world.bodies[handles[n - 1]].translation().z;
+    println!(
+        "top box at z {top:.4} m; calls not resolved {unresolved}, velocity islands failed {velocity_failures}"
+    );
     println!(
         "pair (lower-upper) | contact slide by Rapier's steps (signed sum, mm) | by the calls (mm)"
     );

@@ -11,8 +11,11 @@
 //! a box 100 and 1,000 times heavier; a box thrown at 15 m/s into a stack;
 //! a pyramid of 55 boxes. Runs, from the same initial world:
 //! - `plain`: Rapier alone;
-//! - `coupled`: a [`RapierBridge`] call after every step with the bridge's
-//!   default settings;
+//! - `velocity (...)`: a [`RapierBridge`] call after every step with
+//!   velocity consistency and the colliders' friction, the velocity
+//!   projection with the kinematic cone on `v'` or frictionless (the
+//!   bridge's default is marked);
+//! - `allowed+friction`: Rapier's allowed penetration left, positions only;
 //! - `positions`: a call after every step with the library's defaults
 //!   (positions only, no friction: the seed's behaviour).
 //!
@@ -37,6 +40,7 @@ use std::time::Instant;
 
 use constraint_stabilization::Settings;
 use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
+use constraint_stabilization::stabilizer::VelocityFriction;
 use plotters::prelude::*;
 use rapier3d::prelude::*;
 
@@ -108,8 +112,9 @@ fn scenes() -> Vec<Scene> {
 enum Run {
     /// Rapier alone.
     Plain,
-    /// The bridge's default settings.
-    Default,
+    /// Velocity consistency with the colliders' friction, the velocity
+    /// projection with this friction (one of them is the bridge's default).
+    Velocity(VelocityFriction),
     /// Rapier's allowed penetration respected, with the colliders'
     /// friction, positions only.
     Allowed,
@@ -118,21 +123,37 @@ enum Run {
 }
 
 impl Run {
-    const ALL: [Run; 4] = [Run::Plain, Run::Default, Run::Allowed, Run::Positions];
+    const ALL: [Run; 5] = [
+        Run::Plain,
+        Run::Velocity(VelocityFriction::OnVelocity),
+        Run::Velocity(VelocityFriction::None),
+        Run::Allowed,
+        Run::Positions,
+    ];
 
-    fn name(self) -> &'static str {
+    fn name(self) -> String {
         match self {
-            Run::Plain => "plain",
-            Run::Default => "default (velocity+friction)",
-            Run::Allowed => "allowed+friction",
-            Run::Positions => "positions (seed)",
+            Run::Plain => "plain".into(),
+            Run::Velocity(friction) => {
+                let default = BridgeSettings::default().velocity_friction == friction;
+                let projection = match friction {
+                    VelocityFriction::None => "frictionless",
+                    VelocityFriction::OnChange => "friction on dv",
+                    VelocityFriction::OnVelocity => "cone on v'",
+                };
+                let marker = if default { "default: " } else { "" };
+                format!("{marker}velocity ({projection})+friction")
+            }
+            Run::Allowed => "allowed+friction".into(),
+            Run::Positions => "positions (seed)".into(),
         }
     }
 
     fn colour(self) -> RGBColor {
         match self {
             Run::Plain => RGBColor(200, 60, 40),
-            Run::Default => RGBColor(30, 110, 200),
+            Run::Velocity(VelocityFriction::OnVelocity) => RGBColor(30, 110, 200),
+            Run::Velocity(_) => RGBColor(150, 80, 190),
             Run::Allowed => RGBColor(40, 160, 60),
             Run::Positions => RGBColor(120, 120, 120),
         }
@@ -141,7 +162,12 @@ impl Run {
     fn bridge(self) -> Option<RapierBridge> {
         let settings = match self {
             Run::Plain => return None,
-            Run::Default => BridgeSettings::default(),
+            Run::Velocity(velocity_friction) => BridgeSettings {
+                coupling: CouplingMode::VelocityConsistency,
+                collider_friction: true,
+                velocity_friction,
+                ..BridgeSettings::default()
+            },
             Run::Allowed => BridgeSettings {
                 coupling: CouplingMode::RespectAllowedPenetration,
                 collider_friction: true,

@@ -11,7 +11,8 @@ use constraint_stabilization::solver::SolverChoice;
 use constraint_stabilization::{Report, Settings, Status};
 use nalgebra::{UnitQuaternion, Vector3};
 use stabilize_support::{
-    IDENTITY_XYZW, cuboid, ground, sat_deepest, scene_of, stabilize_with, unit_cube_sunk, xyzw,
+    IDENTITY_XYZW, LIGHT_HALF_WIDTH, cuboid, ground, heavy_on_floating_light, heavy_on_light,
+    sat_deepest, scene_of, stabilize_with, unit_cube_sunk, xyzw,
 };
 
 /// Sideways motion that counts as none (the bound).
@@ -22,45 +23,6 @@ fn with_friction(mu: f64) -> Settings {
         friction: mu,
         ..Settings::default()
     }
-}
-
-/// Half width (x and z) of the light box: narrower than the heavy one, so
-/// that its top corners are the ones inside the heavy box and the contact
-/// normal is the heavy box's (tilted) face normal.
-const LIGHT_HALF_WIDTH: f64 = 0.3;
-
-/// A light box (half extents 0.3, 0.5, 0.3) resting flat on the ground and
-/// a unit box `ratio` times heavier on it, turned by `tilt` about z (so the
-/// contact normals are tilted, as after an engine step), placed so that
-/// the light box's deepest top corner is `depth` inside it.
-fn heavy_on_light(ratio: f64, tilt: f64, depth: f64) -> Scene {
-    heavy_on_floating_light(ratio, tilt, depth, 0.0)
-}
-
-/// [`heavy_on_light`] with the light box (and the heavy one with it)
-/// raised by `gap` above the ground: its contact with the ground is open.
-fn heavy_on_floating_light(ratio: f64, tilt: f64, depth: f64, gap: f64) -> Scene {
-    let rotation = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), tilt);
-    let w = LIGHT_HALF_WIDTH;
-    let light = cuboid(
-        "light",
-        [w, 0.5, w],
-        [0.0, 0.5 + gap, 0.0],
-        IDENTITY_XYZW,
-        MassSpec::Mass(1.0),
-    );
-    // Depth of a top corner (x, 1) below the heavy box's bottom face, for
-    // its centre at height y: -x sin(tilt) + (1 - y) cos(tilt) + 0.5,
-    // largest at x = -w.
-    let y = 1.0 + gap + (0.5 + w * tilt.sin() - depth) / tilt.cos();
-    let heavy = cuboid(
-        "heavy",
-        [0.5, 0.5, 0.5],
-        [0.0, y, 0.0],
-        xyzw(&rotation),
-        MassSpec::Mass(ratio),
-    );
-    scene_of(&[ground(), light, heavy])
 }
 
 /// `input` stabilized with `settings` and solver `choice`: resolved, and

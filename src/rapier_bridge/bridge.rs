@@ -192,7 +192,7 @@ impl RapierBridge {
         let mut projected = velocities.clone();
         let options = VelocityOptions {
             time_step: Some(f64::from(parameters.dt)).filter(|dt| *dt > 0.0),
-            friction: false,
+            friction: self.settings.velocity_friction,
         };
         let report =
             self.stabilizer

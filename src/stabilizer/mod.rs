@@ -58,7 +58,7 @@ pub use report::{
     Status,
 };
 pub use settings::{Method, ResolvedLengths, Settings, SettingsError};
-pub use velocity::{BodyVelocity, VelocityOptions, VelocityReport};
+pub use velocity::{BodyVelocity, VelocityFriction, VelocityOptions, VelocityReport};
 
 use crate::Error;
 use crate::contact::{

@@ -19,18 +19,79 @@
 //! `phi >= 0` may close at most that gap in one step, `J_k v' >= -phi / h`
 //! (so a body falling onto another is slowed to land, not stopped in the
 //! air); without it only touching contacts (`phi` within the tolerance and
-//! target margin) count, with `J_k v' >= 0`; with friction, the pyramid of
-//! [`crate::projector::friction`] on every such row, with `dv` for `dq` and
-//! its apex where the row becomes tight (`-(J_k v + phi / h)`, the
-//! approach speed beyond what the gap allows): removing an approach adds
-//! no sliding, and a contact that keeps separating (or keeps part of its
-//! gap) may slide `1 / mu` of that margin, as in Anitescu and Tasora's
-//! cone complementarity. It is the
-//! position problem with `phi_k = J_k v`, target 0, so it is solved by the
-//! same solvers ([`crate::solver::solve_projection`]). Fixed bodies
-//! (kinematic ones included) are taken at rest. Velocities of bodies in
-//! islands that are not asked for, or that need no change, are left bit
-//! for bit.
+//! target margin) count, with `J_k v' >= 0`. It is the position problem
+//! with `phi_k = J_k v`, target 0, so it is solved by the same solvers
+//! ([`crate::solver::solve_projection`]). Fixed bodies (kinematic ones
+//! included) are taken at rest. Velocities of bodies in islands that are
+//! not asked for, or that need no change, are left bit for bit.
+//!
+//! **Friction** ([`VelocityFriction`], the pair's `mu` as in the position
+//! projection), two formulations:
+//!
+//! - *On the change* ([`VelocityFriction::OnChange`]): the pyramid of
+//!   [`crate::projector::friction`] on every row, with `dv = v' - v` for
+//!   `dq` and its apex where the row becomes tight (`-(J_k v + phi / h)`,
+//!   the approach speed beyond what the gap allows):
+//!   `mu |J_t dv| <= J_n dv + J_n v + phi / h`. Removing an approach adds
+//!   no sliding, but the sliding velocity `v` already had is kept, and a
+//!   contact whose normal velocity the projection raises beyond its
+//!   approach may slide `1 / mu` of the excess.
+//! - *On the velocity* ([`VelocityFriction::OnVelocity`]): the kinematic
+//!   cone of Anitescu and Tasora's cone complementarity problem ("An
+//!   iterative approach for cone complementarity problems for nonsmooth
+//!   dynamics", Comput. Optim. Appl. 47, 2010) on the relative velocity
+//!   after the projection, for every contact with friction:
+//!
+//!   ```text
+//!   mu |J_t v'| <= J_n v' + phi / h                                (1)
+//!   ```
+//!
+//!   (`J_t` the Jacobian of the relative tangential velocity along the two
+//!   tangents, `phi / h` as above, 0 without a time step). It is linearized
+//!   as the same friction pyramid as the position projection, `K`
+//!   directions `d_k` ([`crate::Settings::friction_directions`]):
+//!
+//!   ```text
+//!   (J_n - mu d_k J_t) v' >= -phi / h,      k = 0..K-1               (2)
+//!   ```
+//!
+//!   rows of the same form as the contact rows, so they are solved as such
+//!   (`phi_k = (J_n - mu d_k J_t) v + phi / h`, target 0). *Convex*: (1) is
+//!   a second-order cone in `v'` and (2) its polyhedral outer
+//!   approximation, half-spaces in `v'`; the objective is a positive
+//!   definite quadratic, so the problem is a strictly convex QP with a
+//!   unique answer and an LCP for Lemke, as the frictionless one. It is
+//!   *always feasible*: `v' = 0` satisfies every row, since fixed bodies
+//!   are at rest and `phi / h >= 0` (gaps are clamped at 0). *Why*: the
+//!   multipliers of (2) are contact impulses `beta_k (n - mu d_k)`, inside
+//!   Coulomb's pyramid, and a resting contact (`phi = 0`) that the
+//!   projection leaves closed (`J_n v' = 0`) has no relative tangential
+//!   velocity at all: it sticks. A
+//!   heavy body's large normal impulse through slightly tilted normals
+//!   (as after an engine step) can no longer push the light bodies below
+//!   it sideways, which the frictionless projection does (issue 10).
+//!   Averaging (2) over symmetric directions gives the contact row, so the
+//!   contact row is implied; it is kept all the same (its approach is the
+//!   one reported). *Artefact*, as in Anitescu and Tasora's scheme: a
+//!   contact can satisfy (1) while sliding only by separating, so a
+//!   sliding contact (`|J_t v'| > 0`) leaves with a separating normal
+//!   velocity of `mu |J_t v'| - phi / h` (within the pyramid's excess over
+//!   the cone), and the projection takes that (part lift, part braking)
+//!   where it is cheaper than stopping the slide: a body sliding at `v_t`
+//!   along a facet's direction `d_k` and approaching at `v_n < v_t / mu`,
+//!   at one contact without lever, leaves with
+//!   `v_t' = (v_t - mu v_n) / (1 + mu^2)` and a lift of `mu v_t'` (the
+//!   projection on that facet's half-space); with `v_n >= v_t / mu` it
+//!   stops. The engine's gravity then brings it back: a hop of about
+//!   `mu v_t' h` per step.
+//!
+//! An island is projected when one of its contacts approaches (beyond what
+//! its gap allows), with or without friction; a contact outside its cone
+//! alone does not start a projection (it is reported, `cone_before`).
+//! Measured (`examples/with_and_without.rs`): projecting on it too tripled
+//! the creep of the settled pile of 200 (300 mm against 94 frictionless),
+//! without it the creep is 51 mm; the stacks, the thrown box and the
+//! pyramid did not change.
 
 use nalgebra::{DVector, Vector3, Vector6};
 
@@ -39,6 +100,7 @@ use crate::Error;
 use crate::broad_phase::BodyPair;
 use crate::contact::{BodyGeometry, ContactFriction, Detection, contact_rows};
 use crate::island::islands;
+use crate::projector::friction::pyramid_rows;
 use crate::projector::{ConstraintRow, projection_qp};
 use crate::scene::Scene;
 use crate::solver::solve_projection;
@@ -53,6 +115,25 @@ pub struct BodyVelocity {
     pub angular: Vector3<f64>,
 }
 
+/// Where the velocity projection applies Coulomb friction (module docs),
+/// with the pairs' coefficients (`Body::set_friction`, else
+/// [`crate::Settings::friction`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VelocityFriction {
+    /// No friction: the contact rows only.
+    #[default]
+    None,
+    /// The friction pyramid on the velocity change `v' - v`, apex where a
+    /// row becomes tight: removing an approach adds no sliding, the
+    /// sliding `v` had is kept.
+    OnChange,
+    /// The kinematic cone on the velocity after the projection,
+    /// `mu |J_t v'| <= J_n v' + phi / h` (Anitescu and Tasora), as a
+    /// pyramid: resting contacts stick; a sliding one separates by about
+    /// `mu |J_t v'|`.
+    OnVelocity,
+}
+
 /// Options of [`Stabilizer::project_velocities`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct VelocityOptions {
@@ -60,14 +141,13 @@ pub struct VelocityOptions {
     /// as speculative contacts, `J_k v' >= -phi / h` (module docs). `None`:
     /// touching contacts only.
     pub time_step: Option<f64>,
-    /// Apply the friction pyramid to the velocity change (the settings'
-    /// friction coefficients). Default false: measured in
-    /// `examples/with_and_without.rs`, the frictionless velocity projection
-    /// keeps the heavy stacks standing and the friction-aware one does not
-    /// (the pyramid lets a contact whose normal velocity is raised beyond
-    /// its approach slide by `mu` times the excess, and a tilted stack then
-    /// creeps; README).
-    pub friction: bool,
+    /// Friction of the projection (default none). Measured in
+    /// `examples/with_and_without.rs` (README): friction on the change
+    /// lets the 1:1000 stack creep and fall (a contact whose normal
+    /// velocity is raised beyond its approach slides by `1 / mu` of the
+    /// excess); the Rapier bridge's choice is its
+    /// `BridgeSettings::velocity_friction`.
+    pub friction: VelocityFriction,
 }
 
 /// What [`Stabilizer::project_velocities`] did.
@@ -83,6 +163,12 @@ pub struct VelocityReport {
     pub approach_before: f64,
     /// The same after.
     pub approach_after: f64,
+    /// With [`VelocityFriction::OnVelocity`], the largest violation of a
+    /// pyramid facet (2), `max(0, -((J_n - mu d_k J_t) v + phi / h))`,
+    /// over the same contacts, before (speed; 0 otherwise).
+    pub cone_before: f64,
+    /// The same after.
+    pub cone_after: f64,
 }
 
 impl Stabilizer {
@@ -161,33 +247,7 @@ impl Stabilizer {
     ) {
         let settings = &self.settings;
         let bodies = contacts.bodies;
-        let geometry = |body: usize| {
-            let b = &scene.bodies()[body];
-            BodyGeometry {
-                shape: b.polyhedron(),
-                pose: *b.com_pose(),
-                configuration_index: bodies.binary_search(&body).ok(),
-            }
-        };
-        let mut rows: Vec<ConstraintRow> = Vec::new();
-        let mut gaps: Vec<f64> = Vec::new();
-        for &k in contacts.pairs {
-            let pair = contacts.detection.active_pairs[k];
-            let (a, b) = (geometry(pair.body_a), geometry(pair.body_b));
-            let friction = match contacts.friction {
-                true => ContactFriction {
-                    mu: super::solve_island::pair_friction(scene, settings, pair),
-                },
-                false => ContactFriction::NONE,
-            };
-            let query = &contacts.detection.active_queries[k];
-            let gap = contacts.contact_gap;
-            let pair_rows = contact_rows(query, &a, &b, gap, settings.contact_manifold, friction);
-            for row in pair_rows.into_iter().filter(|row| row.phi <= gap) {
-                gaps.push(row.phi.max(0.0) * contacts.gap_rate);
-                rows.push(row);
-            }
-        }
+        let (mut rows, gaps, contact_count) = self.island_rows(scene, contacts);
         let v = island_velocity(velocities, bodies);
         let rate = |rows: &mut [ConstraintRow], v: &DVector<f64>| {
             for (row, gap) in rows.iter_mut().zip(&gaps) {
@@ -200,18 +260,19 @@ impl Stabilizer {
             }
         };
         rate(&mut rows, &v);
-        report.contacts += rows.len();
-        let approach = |rows: &[ConstraintRow]| rows.iter().fold(0.0, |m: f64, r| m.max(-r.phi));
-        let before = approach(&rows);
-        report.approach_before = report.approach_before.max(before);
-        if before <= 0.0 {
+        report.contacts += contact_count;
+        let before = Violations::of(&rows, contact_count);
+        report.record_before(before);
+        // An approach starts a projection, a cone violation alone does not
+        // (module docs).
+        if before.approach <= 0.0 {
             return;
         }
         // Islands hold dynamic bodies only, so their states exist; an
         // inconsistency is reported as a failed island, velocities kept.
         let Ok((configuration, inertias)) = super::solve_island::island_state(scene, bodies) else {
             report.islands_failed += 1;
-            report.approach_after = report.approach_after.max(before);
+            report.record_after(before);
             return;
         };
         let (qp, _) = projection_qp(
@@ -226,7 +287,7 @@ impl Stabilizer {
                 report.islands_solved += 1;
                 let v_new = &v + &solution.dq;
                 rate(&mut rows, &v_new);
-                report.approach_after = report.approach_after.max(approach(&rows));
+                report.record_after(Violations::of(&rows, contact_count));
                 for (i, &body) in bodies.iter().enumerate() {
                     let block: Vector6<f64> = v_new.fixed_rows::<6>(6 * i).into_owned();
                     velocities[body] = BodyVelocity {
@@ -241,9 +302,106 @@ impl Stabilizer {
                     bodies[0]
                 );
                 report.islands_failed += 1;
-                report.approach_after = report.approach_after.max(before);
+                report.record_after(before);
             }
         }
+    }
+
+    /// The rows of an island's projection, each with its gap rate
+    /// `max(0, phi) / h` (0 without a time step), and how many of them,
+    /// first, are contact rows (the others: the cone rows of friction on
+    /// the velocity, module docs).
+    fn island_rows(
+        &self,
+        scene: &Scene,
+        contacts: &IslandContacts,
+    ) -> (Vec<ConstraintRow>, Vec<f64>, usize) {
+        let settings = &self.settings;
+        let geometry = |body: usize| {
+            let b = &scene.bodies()[body];
+            BodyGeometry {
+                shape: b.polyhedron(),
+                pose: *b.com_pose(),
+                configuration_index: contacts.bodies.binary_search(&body).ok(),
+            }
+        };
+        let mut rows: Vec<ConstraintRow> = Vec::new();
+        let mut gaps: Vec<f64> = Vec::new();
+        for &k in contacts.pairs {
+            let pair = contacts.detection.active_pairs[k];
+            let (a, b) = (geometry(pair.body_a), geometry(pair.body_b));
+            let friction = match contacts.friction {
+                VelocityFriction::None => ContactFriction::NONE,
+                VelocityFriction::OnChange | VelocityFriction::OnVelocity => ContactFriction {
+                    mu: super::solve_island::pair_friction(scene, settings, pair),
+                },
+            };
+            let query = &contacts.detection.active_queries[k];
+            let gap = contacts.contact_gap;
+            let pair_rows = contact_rows(query, &a, &b, gap, settings.contact_manifold, friction);
+            for row in pair_rows.into_iter().filter(|row| row.phi <= gap) {
+                gaps.push(row.phi.max(0.0) * contacts.gap_rate);
+                rows.push(row);
+            }
+        }
+        let contact_count = rows.len();
+        if contacts.friction == VelocityFriction::OnVelocity {
+            append_velocity_cones(&mut rows, &mut gaps, settings.friction_directions);
+        }
+        (rows, gaps, contact_count)
+    }
+}
+
+impl VelocityReport {
+    fn record_before(&mut self, violations: Violations) {
+        self.approach_before = self.approach_before.max(violations.approach);
+        self.cone_before = self.cone_before.max(violations.cone);
+    }
+
+    fn record_after(&mut self, violations: Violations) {
+        self.approach_after = self.approach_after.max(violations.approach);
+        self.cone_after = self.cone_after.max(violations.cone);
+    }
+}
+
+/// The largest violations of an island's rows at some velocity (speeds,
+/// 0 if none): of the contact rows (approach) and of the cone rows.
+#[derive(Debug, Clone, Copy)]
+struct Violations {
+    approach: f64,
+    cone: f64,
+}
+
+impl Violations {
+    /// Of `rows` rated at a velocity (`phi` the row's rate): the first
+    /// `contact_count` are contact rows, the others cone rows.
+    fn of(rows: &[ConstraintRow], contact_count: usize) -> Self {
+        let largest = |rows: &[ConstraintRow]| rows.iter().fold(0.0, |m: f64, r| m.max(-r.phi));
+        let (contact_rows, cone_rows) = rows.split_at(contact_count);
+        Violations {
+            approach: largest(contact_rows),
+            cone: largest(cone_rows),
+        }
+    }
+}
+
+/// Friction on the velocity: replaces the friction of every contact row by
+/// the rows (2) of its pyramid (module docs), frictionless rows of their
+/// own appended to `rows`, each with its contact row's gap rate in `gaps`.
+fn append_velocity_cones(rows: &mut Vec<ConstraintRow>, gaps: &mut Vec<f64>, directions: usize) {
+    // The pyramid's Jacobians; its `phi` (apex for the position problem)
+    // is not used: a cone row is rated at the velocity like a contact row.
+    let (facets, _, parents) = pyramid_rows(rows, 0.0, directions);
+    for (facet, parent) in facets.into_iter().zip(parents) {
+        gaps.push(gaps[parent]);
+        rows.push(ConstraintRow {
+            phi: 0.0,
+            blocks: facet.blocks,
+            friction: None,
+        });
+    }
+    for row in rows.iter_mut() {
+        row.friction = None;
     }
 }
 
@@ -258,8 +416,8 @@ struct IslandContacts<'a> {
     contact_gap: f64,
     /// `1 / h`, or 0 without speculative contacts.
     gap_rate: f64,
-    /// Whether the rows get friction.
-    friction: bool,
+    /// The friction of the rows.
+    friction: VelocityFriction,
 }
 
 /// The stacked `[v; omega]` of an island's bodies.
