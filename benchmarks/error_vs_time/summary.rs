@@ -101,9 +101,10 @@ pub fn smallest_displacement(m: &Measured) -> Option<f64> {
         .min_by(f64::total_cmp)
 }
 
-/// `displacement / smallest - 1`, or NaN without a smallest.
-pub fn excess(m: &Measured, p: &Point) -> f64 {
-    match smallest_displacement(m) {
+/// `displacement / smallest - 1` with `smallest` from
+/// [`smallest_displacement`], or NaN without one.
+pub fn excess(p: &Point, smallest: Option<f64>) -> f64 {
+    match smallest {
         Some(d) if d > 0.0 => p.motion.displacement / d - 1.0,
         _ => f64::NAN,
     }
@@ -191,6 +192,7 @@ pub fn csv(measured: &[Measured]) -> String {
          tolerance,initial,displacement,excess,largest_motion,velocities_changed\n",
     );
     for m in measured {
+        let smallest = smallest_displacement(m);
         for p in &m.points {
             let _ = writeln!(
                 out,
@@ -208,7 +210,7 @@ pub fn csv(measured: &[Measured]) -> String {
                 m.tolerance,
                 m.initial,
                 p.motion.displacement,
-                excess(m, p),
+                excess(p, smallest),
                 p.motion.largest,
                 p.velocities_changed
             );
@@ -478,7 +480,10 @@ fn per_scene(measured: &[Measured]) -> String {
             auto.map_or("-".into(), |p| format!("{:.3}", p.seconds * 1e3)),
             auto.map_or("-".into(), |p| p.iterations.to_string()),
             auto.map_or("-".into(), |p| format!("{:.1e}", p.exact)),
-            auto.map_or("-".into(), |p| format!("{:.2}", excess(m, p))),
+            auto.map_or("-".into(), |p| format!(
+                "{:.2}",
+                excess(p, smallest_displacement(m))
+            )),
             cells.join(" | "),
             m.errors
                 .iter()

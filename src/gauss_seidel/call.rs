@@ -96,7 +96,6 @@ pub fn run(
             let summary = bodies.sweep(&contacts.points, parameters);
             report.times.solve += solve_start.elapsed().as_secs_f64();
             report.passes += 1;
-            write_poses(scene, &bodies.poses)?;
             log::debug!(
                 "gauss-seidel sweep {} on the stored points: {} visited, {} pushed",
                 report.passes,
@@ -109,6 +108,9 @@ pub fn run(
             }
             continue;
         }
+        // The scene follows the sweeps before each detection (its broad
+        // phase reads the bodies' poses), not after every stored sweep.
+        write_poses(scene, &bodies.poses)?;
         let geometry = SceneGeometry {
             shapes: &shapes,
             poses: &bodies.poses,
@@ -149,7 +151,6 @@ pub fn run(
         }
         report.times.solve += solve_start.elapsed().as_secs_f64();
         report.passes += 1;
-        write_poses(scene, &bodies.poses)?;
         log_sweep(report.passes, &pass, &summary, start);
         observer(&pass);
         report.pass_reports.push(pass);
@@ -188,19 +189,13 @@ fn stop_status(
     settings: &Settings,
     start: Instant,
 ) -> Option<Status> {
-    if detection.deepest <= report.tolerance {
-        Some(if report.passes == 0 {
-            Status::NothingToDo
-        } else {
-            Status::Converged
-        })
-    } else if report.passes == settings.gauss_seidel.iterations {
-        Some(Status::PassLimit)
-    } else if report.passes > 0 && budget_spent(settings, start) {
-        Some(Status::TimeLimit)
-    } else {
-        None
-    }
+    Status::after_detection(
+        detection.deepest,
+        report.tolerance,
+        report.passes,
+        settings.gauss_seidel.iterations,
+        || budget_spent(settings, start),
+    )
 }
 
 /// Whether the time budget is spent.

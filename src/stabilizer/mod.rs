@@ -288,19 +288,13 @@ impl Stabilizer {
             )?;
             report.record_detection(&detection);
             let mut pass = pass_report(&detection, lengths.tolerance);
-            let finished = if detection.deepest <= lengths.tolerance {
-                Some(if report.passes == 0 {
-                    Status::NothingToDo
-                } else {
-                    Status::Converged
-                })
-            } else if report.passes == self.settings.max_passes {
-                Some(Status::PassLimit)
-            } else if report.passes > 0 && self.time_left(start) == Some(0.0) {
-                Some(Status::TimeLimit)
-            } else {
-                None
-            };
+            let finished = Status::after_detection(
+                detection.deepest,
+                lengths.tolerance,
+                report.passes,
+                self.settings.max_passes,
+                || self.time_left(start) == Some(0.0),
+            );
             if let Some(status) = finished {
                 log::debug!(
                     "stop: deepest penetration {:.3e}, tolerance {:.1e}: {}",

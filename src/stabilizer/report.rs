@@ -50,6 +50,33 @@ impl Status {
     pub fn is_resolved(self) -> bool {
         matches!(self, Status::NothingToDo | Status::Converged)
     }
+
+    /// The status that ends a call after a detection, if any, for either
+    /// method: the deepest penetration within the tolerance
+    /// ([`Status::NothingToDo`] before any pass, else
+    /// [`Status::Converged`]), the pass limit reached, or the time budget
+    /// spent after at least one pass (`out_of_time`, asked only then).
+    pub(crate) fn after_detection(
+        deepest: f64,
+        tolerance: f64,
+        passes: usize,
+        pass_limit: usize,
+        out_of_time: impl FnOnce() -> bool,
+    ) -> Option<Status> {
+        if deepest <= tolerance {
+            Some(if passes == 0 {
+                Status::NothingToDo
+            } else {
+                Status::Converged
+            })
+        } else if passes == pass_limit {
+            Some(Status::PassLimit)
+        } else if passes > 0 && out_of_time() {
+            Some(Status::TimeLimit)
+        } else {
+            None
+        }
+    }
 }
 
 /// What one island's step did.
