@@ -6,7 +6,8 @@ mod proptest_support;
 
 use constraint_stabilization::body::{BodyDesc, MassSpec, Shape};
 use constraint_stabilization::broad_phase::{
-    BodyPair, BroadPhaseError, candidate_pairs, candidate_pairs_of_aabbs,
+    BodyPair, BroadPhaseError, BroadPhaseUpdate, IncrementalBroadPhase, REBUILD_MOVED_FRACTION,
+    candidate_pairs, candidate_pairs_of_aabbs,
 };
 use constraint_stabilization::scene::Scene;
 use nalgebra::Vector3;
@@ -140,6 +141,75 @@ proptest! {
             }
         }
     }
+}
+
+/// One pass's moves: (body index, translation added) pairs.
+fn moves() -> impl Strategy<Value = Vec<Vec<(usize, [f64; 3])>>> {
+    let step = (0..40usize, (-1.5..1.5f64, -1.5..1.5f64, -1.5..1.5f64)).prop_map(|(i, t)| (i, [t.0, t.1, t.2]));
+    prop::collection::vec(prop::collection::vec(step, 0..30), 1..6)
+}
+
+proptest! {
+    #![proptest_config(proptest_support::config(200))]
+
+    /// The broad phase kept across passes finds exactly the pairs of a full
+    /// build at every pass: a few bodies moved (refit), many (rebuild),
+    /// none (reused), moves that make and break overlaps, fixed bodies.
+    #[test]
+    fn incremental_pairs_equal_a_full_build_after_every_move(
+        specs in boxes(), passes in moves(), margin in 0.0..0.3f64,
+    ) {
+        let mut scene = scene_of(&specs);
+        let mut incremental = IncrementalBroadPhase::new();
+        let (first, update) = incremental.candidate_pairs(&scene, margin).unwrap();
+        prop_assert_eq!(first.to_vec(), candidate_pairs(&scene, margin).unwrap());
+        prop_assert_eq!(update, BroadPhaseUpdate::Rebuilt);
+        for pass in passes {
+            let mut moved = std::collections::BTreeSet::new();
+            for (i, shift) in pass {
+                let Some(body) = scene.bodies_mut().get_mut(i) else { continue };
+                if body.is_fixed() {
+                    continue;
+                }
+                let translation = body.translation_user() + Vector3::from(shift);
+                let rotation = body.rotation_user_xyzw();
+                body.set_user_pose(translation, rotation).unwrap();
+                moved.insert(i);
+            }
+            let (found, update) = incremental.candidate_pairs(&scene, margin).unwrap();
+            prop_assert_eq!(found.to_vec(), candidate_pairs(&scene, margin).unwrap());
+            let refit = moved.len() as f64 <= REBUILD_MOVED_FRACTION * specs.len() as f64;
+            let expected = if refit { BroadPhaseUpdate::Refitted(moved.len()) } else { BroadPhaseUpdate::Rebuilt };
+            prop_assert_eq!(update, expected);
+        }
+    }
+}
+
+/// A changed margin or a body made fixed cannot reuse the stored pairs.
+#[test]
+fn incremental_rebuilds_when_the_margin_or_the_fixed_flags_change() {
+    let specs: Vec<BoxSpec> = (0..4)
+        .map(|k| BoxSpec {
+            half: [0.5; 3],
+            translation: [k as f64 * 1.1, 0.0, 0.0],
+            rotation: [0.0, 0.0, 0.0, 1.0],
+            fixed: false,
+        })
+        .collect();
+    let mut scene = scene_of(&specs);
+    let mut incremental = IncrementalBroadPhase::new();
+    let (pairs, _) = incremental.candidate_pairs(&scene, 0.05).unwrap();
+    assert!(pairs.is_empty(), "gaps of 0.1 are beyond the margin 0.05");
+    let (pairs, update) = incremental.candidate_pairs(&scene, 0.05).unwrap();
+    assert_eq!((pairs.len(), update), (0, BroadPhaseUpdate::Refitted(0)));
+    let (pairs, update) = incremental.candidate_pairs(&scene, 0.2).unwrap();
+    assert_eq!((pairs.len(), update), (3, BroadPhaseUpdate::Rebuilt));
+    let mut fixed_specs = specs.clone();
+    fixed_specs[0].fixed = true;
+    fixed_specs[1].fixed = true;
+    scene = scene_of(&fixed_specs);
+    let (pairs, update) = incremental.candidate_pairs(&scene, 0.2).unwrap();
+    assert_eq!((pairs.len(), update), (2, BroadPhaseUpdate::Rebuilt));
 }
 
 #[test]

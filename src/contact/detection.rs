@@ -14,7 +14,7 @@ use super::island_contacts::{SceneGeometry, shape_pair};
 use super::memo::{PosedQuery, QueryMemo};
 use super::{BodyGeometry, PairQuery, PenetrationFeatures, WarmStartCache, query};
 use crate::Error;
-use crate::broad_phase::{self, BodyPair};
+use crate::broad_phase::{BodyPair, IncrementalBroadPhase};
 use crate::island::Island;
 use crate::parallel;
 use crate::scene::Scene;
@@ -85,18 +85,34 @@ pub struct DetectionLengths {
     pub contact_margin: f64,
 }
 
-/// Broad and narrow phase at the scene's current poses; updates the warm
-/// starts and the memo.
+/// What detection keeps from one pass (and call) to the next.
+#[derive(Debug)]
+pub struct DetectionState<'a> {
+    /// The broad phase of the call's earlier passes.
+    pub broad_phase: &'a mut IncrementalBroadPhase,
+    /// V-Clip's last feature pair per body pair (across calls).
+    pub cache: &'a mut WarmStartCache,
+    /// The call's narrow-phase answers by pair and poses.
+    pub memo: &'a mut QueryMemo,
+}
+
+/// Broad and narrow phase at the scene's current poses; updates the broad
+/// phase, the warm starts and the memo.
 pub fn detect(
     scene: &Scene,
     geometry: SceneGeometry,
-    cache: &mut WarmStartCache,
-    memo: &mut QueryMemo,
+    state: DetectionState<'_>,
     vclip: &VClip,
     lengths: DetectionLengths,
 ) -> Result<Detection, Error> {
+    let DetectionState {
+        broad_phase,
+        cache,
+        memo,
+    } = state;
     let broad_start = Instant::now();
-    let candidates = broad_phase::candidate_pairs(scene, lengths.contact_margin)?;
+    let (candidates, _) = broad_phase.candidate_pairs(scene, lengths.contact_margin)?;
+    let candidates = candidates.to_vec();
     let broad_phase_seconds = broad_start.elapsed().as_secs_f64();
     let narrow_start = Instant::now();
     let poses_of = |pair: BodyPair| [&geometry.poses[pair.body_a], &geometry.poses[pair.body_b]];

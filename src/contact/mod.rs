@@ -51,7 +51,7 @@ use crate::geometry::{ConvexPolyhedron, Feature};
 use crate::projector::ConstraintRow;
 use crate::vclip::{FeaturePair, Outcome, VClip, VClipError, VClipResult};
 pub use contact_row::{ContactSide, contact_row, contact_row_with_friction, tangent_basis};
-pub use detection::{Detection, DetectionLengths, PairPenetration, detect};
+pub use detection::{Detection, DetectionLengths, DetectionState, PairPenetration, detect};
 pub use island_contacts::{ContactOptions, IslandContacts, SceneGeometry};
 pub use manifold::{ContactPoint, Manifold};
 pub use memo::{PosedQuery, QueryMemo};

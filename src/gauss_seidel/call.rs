@@ -25,8 +25,9 @@ use nalgebra::{Isometry3, Vector3};
 use super::contacts::{SweepContacts, sweep_points};
 use super::sweep::{InverseMass, PushParameters, SweepBodies, SweepSummary};
 use crate::Error;
+use crate::broad_phase::IncrementalBroadPhase;
 use crate::contact::{
-    Detection, DetectionLengths, QueryMemo, SceneGeometry, WarmStartCache, detect,
+    Detection, DetectionLengths, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect,
 };
 use crate::scene::Scene;
 use crate::stabilizer::{PassReport, Report, Settings, Status, pass_report, scene_scale};
@@ -84,6 +85,7 @@ pub fn run(
     let input = InputPoses::of(scene);
     let mut report = Report::new(&lengths);
     let mut memo = QueryMemo::default();
+    let mut broad_phase = IncrementalBroadPhase::new();
     let mut best: Option<Best> = None;
     // The contacts of the first sweep, kept when they are detected once.
     let mut stored: Option<SweepContacts> = None;
@@ -115,7 +117,12 @@ pub fn run(
             shapes: &shapes,
             poses: &bodies.poses,
         };
-        let detection = detect(scene, geometry, cache, &mut memo, &vclip, detection_lengths)?;
+        let state = DetectionState {
+            broad_phase: &mut broad_phase,
+            cache,
+            memo: &mut memo,
+        };
+        let detection = detect(scene, geometry, state, &vclip, detection_lengths)?;
         report.record_detection(&detection);
         let mut pass = pass_report(&detection, lengths.tolerance);
         let solve_start = Instant::now();

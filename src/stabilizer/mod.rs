@@ -61,8 +61,9 @@ pub use settings::{Method, ResolvedLengths, Settings, SettingsError};
 pub use velocity::{BodyVelocity, VelocityFriction, VelocityOptions, VelocityReport};
 
 use crate::Error;
+use crate::broad_phase::IncrementalBroadPhase;
 use crate::contact::{
-    Detection, DetectionLengths, QueryMemo, SceneGeometry, WarmStartCache, detect,
+    Detection, DetectionLengths, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect,
 };
 use crate::gauss_seidel;
 use crate::island::islands;
@@ -209,11 +210,15 @@ impl Stabilizer {
             shapes: &shapes,
             poses: &poses,
         };
+        let state = DetectionState {
+            broad_phase: &mut IncrementalBroadPhase::new(),
+            cache: &mut self.cache,
+            memo: &mut QueryMemo::default(),
+        };
         let detection = detect(
             scene,
             geometry,
-            &mut self.cache,
-            &mut QueryMemo::default(),
+            state,
             &VClip::new(self.settings.vclip),
             DetectionLengths {
                 tolerance: lengths.tolerance,
@@ -267,6 +272,7 @@ impl Stabilizer {
         let mut report = Report::new(&lengths);
         self.cache.forget_dropped_shapes();
         let mut memo = QueryMemo::default();
+        let mut broad_phase = IncrementalBroadPhase::new();
         let detection_lengths = DetectionLengths {
             tolerance: lengths.tolerance,
             contact_margin: lengths.contact_margin,
@@ -278,14 +284,12 @@ impl Stabilizer {
                 poses: &poses,
             };
             log::debug!("pass {}: detection", report.passes + 1);
-            let detection = detect(
-                scene,
-                geometry,
-                &mut self.cache,
-                &mut memo,
-                &vclip,
-                detection_lengths,
-            )?;
+            let state = DetectionState {
+                broad_phase: &mut broad_phase,
+                cache: &mut self.cache,
+                memo: &mut memo,
+            };
+            let detection = detect(scene, geometry, state, &vclip, detection_lengths)?;
             report.record_detection(&detection);
             let mut pass = pass_report(&detection, lengths.tolerance);
             let finished = Status::after_detection(

@@ -18,7 +18,12 @@ use parry3d_f64::math::Vector;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 use thiserror::Error;
 
+use crate::body::Body;
 use crate::scene::Scene;
+
+mod incremental;
+
+pub use incremental::{BroadPhaseUpdate, IncrementalBroadPhase, REBUILD_MOVED_FRACTION};
 
 /// Two bodies, by index, with `body_a < body_b`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -71,18 +76,17 @@ pub enum BroadPhaseError {
 /// Candidate pairs of a scene: every pair (not both fixed) whose world AABBs
 /// come within `margin` of each other on every axis.
 pub fn candidate_pairs(scene: &Scene, margin: f64) -> Result<Vec<BodyPair>, BroadPhaseError> {
-    let aabbs: Vec<Aabb> = scene
-        .bodies()
-        .iter()
-        .map(|body| {
-            let (min, max) = body.world_aabb();
-            Aabb::new(
-                Vector::new(min.x, min.y, min.z),
-                Vector::new(max.x, max.y, max.z),
-            )
-        })
-        .collect();
+    let aabbs: Vec<Aabb> = scene.bodies().iter().map(body_aabb).collect();
     candidate_pairs_of_aabbs(&aabbs, &scene.fixed_flags(), margin)
+}
+
+/// A body's world AABB as parry's type.
+fn body_aabb(body: &Body) -> Aabb {
+    let (min, max) = body.world_aabb();
+    Aabb::new(
+        Vector::new(min.x, min.y, min.z),
+        Vector::new(max.x, max.y, max.z),
+    )
 }
 
 /// Candidate pairs among boxes `aabbs` (index = body index), `fixed[i]`
@@ -92,6 +96,40 @@ pub fn candidate_pairs_of_aabbs(
     fixed: &[bool],
     margin: f64,
 ) -> Result<Vec<BodyPair>, BroadPhaseError> {
+    check_inputs(aabbs, fixed, margin)?;
+    let enlarged: Vec<Aabb> = aabbs.iter().map(|a| a.loosened(margin / 2.0)).collect();
+    let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &enlarged);
+    let mut workspace = BvhWorkspace::default();
+    let pairs = overlapping_pairs(&bvh, &mut workspace, fixed);
+    log::debug!(
+        "  broad phase: {} bodies, AABBs grown by the contact margin {margin:.3e}, {} candidate pairs",
+        aabbs.len(),
+        pairs.len()
+    );
+    Ok(pairs)
+}
+
+/// The overlapping leaf pairs of `bvh` (leaf index = body index), not both
+/// fixed, normalized: ascending, without duplicates.
+fn overlapping_pairs(bvh: &Bvh, workspace: &mut BvhWorkspace, fixed: &[bool]) -> Vec<BodyPair> {
+    let mut pairs = Vec::new();
+    bvh.traverse_bvtt_single_tree::<false>(workspace, &mut |leaf_1, leaf_2| {
+        let (i, j) = (leaf_1 as usize, leaf_2 as usize);
+        if fixed[i] && fixed[j] {
+            return;
+        }
+        if let Some(pair) = BodyPair::new(i, j) {
+            pairs.push(pair);
+        }
+    });
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs
+}
+
+/// The broad phase's input checks: a finite non-negative margin, a flag
+/// per box, valid boxes, indices that fit the hierarchy's `u32` leaves.
+fn check_inputs(aabbs: &[Aabb], fixed: &[bool], margin: f64) -> Result<(), BroadPhaseError> {
     if !(margin.is_finite() && margin >= 0.0) {
         return Err(BroadPhaseError::InvalidMargin(margin));
     }
@@ -107,27 +145,7 @@ pub fn candidate_pairs_of_aabbs(
     if u32::try_from(aabbs.len()).is_err() {
         return Err(BroadPhaseError::TooManyBodies(aabbs.len()));
     }
-    let enlarged: Vec<Aabb> = aabbs.iter().map(|a| a.loosened(margin / 2.0)).collect();
-    let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &enlarged);
-    let mut workspace = BvhWorkspace::default();
-    let mut pairs = Vec::new();
-    bvh.traverse_bvtt_single_tree::<false>(&mut workspace, &mut |leaf_1, leaf_2| {
-        let (i, j) = (leaf_1 as usize, leaf_2 as usize);
-        if fixed[i] && fixed[j] {
-            return;
-        }
-        if let Some(pair) = BodyPair::new(i, j) {
-            pairs.push(pair);
-        }
-    });
-    pairs.sort_unstable();
-    pairs.dedup();
-    log::debug!(
-        "  broad phase: {} bodies, AABBs grown by the contact margin {margin:.3e}, {} candidate pairs",
-        aabbs.len(),
-        pairs.len()
-    );
-    Ok(pairs)
+    Ok(())
 }
 
 fn is_valid(aabb: &Aabb) -> bool {
