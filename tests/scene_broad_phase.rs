@@ -145,7 +145,8 @@ proptest! {
 
 /// One pass's moves: (body index, translation added) pairs.
 fn moves() -> impl Strategy<Value = Vec<Vec<(usize, [f64; 3])>>> {
-    let step = (0..40usize, (-1.5..1.5f64, -1.5..1.5f64, -1.5..1.5f64)).prop_map(|(i, t)| (i, [t.0, t.1, t.2]));
+    let step = (0..40usize, (-1.5..1.5f64, -1.5..1.5f64, -1.5..1.5f64))
+        .prop_map(|(i, t)| (i, [t.0, t.1, t.2]));
     prop::collection::vec(prop::collection::vec(step, 0..30), 1..6)
 }
 
