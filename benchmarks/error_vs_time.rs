@@ -85,6 +85,8 @@ pub struct Point {
     pub motion: motion::Motion,
     /// Whether the method changed velocities (settling does).
     pub velocities_changed: bool,
+    /// Rows of every island solved, summed (library runs; 0 otherwise).
+    pub rows_solved: usize,
 }
 
 /// Everything measured on one scene.
@@ -233,6 +235,7 @@ fn measure(case: &Case, quick: bool) -> Measured {
                 exact: exact_depth(&run.scene, tolerance).deepest,
                 motion: motion::motion(&case.scene, &run.scene),
                 velocities_changed: matches!(config.kind, Kind::Settle),
+                rows_solved: run.rows_solved,
             });
         }
     }

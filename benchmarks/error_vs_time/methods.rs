@@ -127,6 +127,9 @@ pub struct RunPoint {
     pub status: String,
     /// Rows of the largest island solved (library runs; 0 otherwise).
     pub largest_island_rows: usize,
+    /// Rows of every island solved in every pass, summed (the work the
+    /// call did; library runs, 0 otherwise).
+    pub rows_solved: usize,
 }
 
 /// Settings of a library configuration.
@@ -184,5 +187,11 @@ fn stabilize(scene: &Scene, settings: Settings, parameter: &str) -> Result<Vec<R
             .map(|island| island.constraints)
             .max()
             .unwrap_or(0),
+        rows_solved: report
+            .pass_reports
+            .iter()
+            .flat_map(|p| &p.solved)
+            .map(|island| island.constraints)
+            .sum(),
     }])
 }

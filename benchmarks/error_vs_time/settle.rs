@@ -94,6 +94,7 @@ mod with_rapier {
                 iterations: step,
                 status: format!("{sleeping} asleep"),
                 largest_island_rows: 0,
+                rows_solved: 0,
             });
         }
         Ok(points)

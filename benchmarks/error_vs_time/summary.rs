@@ -167,6 +167,22 @@ pub fn family_times(
         .collect()
 }
 
+/// `(rows solved, seconds)` of `auto` at the default settings on the
+/// scenes of `family` that solved any row.
+fn family_rows(measured: &[Measured], family: &str) -> Vec<(f64, f64)> {
+    measured
+        .iter()
+        .filter(|m| m.family == family)
+        .filter_map(|m| {
+            m.points
+                .iter()
+                .find(|p| p.line == DEFAULT_LINE.0 && p.parameter == DEFAULT_LINE.1)
+                .filter(|p| p.rows_solved > 0)
+                .map(|p| (p.rows_solved as f64, p.seconds))
+        })
+        .collect()
+}
+
 /// One line per scene for the progress output.
 pub fn one_line(m: &Measured) -> String {
     let default = default_point(m);
@@ -189,14 +205,14 @@ pub fn one_line(m: &Measured) -> String {
 pub fn csv(measured: &[Measured]) -> String {
     let mut out = String::from(
         "family,scene,bodies,line,parameter,iterations,status,time_ms,repeats,exact,\
-         tolerance,initial,displacement,excess,largest_motion,velocities_changed\n",
+         tolerance,initial,displacement,excess,largest_motion,velocities_changed,rows_solved\n",
     );
     for m in measured {
         let smallest = smallest_displacement(m);
         for p in &m.points {
             let _ = writeln!(
                 out,
-                "{},{},{},{},{},{},{},{:.6},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{}",
+                "{},{},{},{},{},{},{},{:.6},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{},{}",
                 m.family,
                 m.name,
                 m.bodies,
@@ -212,7 +228,8 @@ pub fn csv(measured: &[Measured]) -> String {
                 p.motion.displacement,
                 excess(p, smallest),
                 p.motion.largest,
-                p.velocities_changed
+                p.velocities_changed,
+                p.rows_solved
             );
         }
     }
@@ -391,7 +408,10 @@ fn goals(measured: &[Measured]) -> String {
     let _ = write!(
         md,
         "\n### 3. Time against body count (fitted exponent of `t ~ n^k`, `auto` at the default settings; goal k <= 1 on piles)\n\n\
-         | family | sizes | k (auto) | k (gs_tuned_redetect, 1 sweep) | k (settle, 1 step) |\n|---|---|---|---|---|\n"
+         The work of a call is its rows: `rows solved` sums the rows of every island solved in every pass, \
+         and `k (auto, rows)` fits `t ~ rows^k`: a scene whose bodies touch more neighbours as it grows \
+         costs more per body, not more per row.\n\n\
+         | family | sizes | k (auto) | rows solved (auto) | k (auto, rows) | µs per row (auto) | k (gs_tuned_redetect, 1 sweep) | k (settle, 1 step) |\n|---|---|---|---|---|---|---|---|\n"
     );
     for family in ["stack", "pyramid", "pile"] {
         let auto = family_times(measured, family, DEFAULT_LINE.0, DEFAULT_LINE.1);
@@ -400,14 +420,20 @@ fn goals(measured: &[Measured]) -> String {
         }
         let sweep = family_times(measured, family, "gs_tuned_redetect", "sweeps=1");
         let step = family_times(measured, family, "settle", "steps=1");
+        let rows = family_rows(measured, family);
+        let list = |values: Vec<String>| values.join(", ");
         let _ = writeln!(
             md,
-            "| {family} | {} | {:.2} | {:.2} | {:.2} |",
-            auto.iter()
-                .map(|(n, _)| format!("{n}"))
-                .collect::<Vec<_>>()
-                .join(", "),
+            "| {family} | {} | {:.2} | {} | {:.2} | {} | {:.2} | {:.2} |",
+            list(auto.iter().map(|(n, _)| format!("{n}")).collect()),
             fitted_exponent(&auto),
+            list(rows.iter().map(|(r, _)| format!("{r}")).collect()),
+            fitted_exponent(&rows),
+            list(
+                rows.iter()
+                    .map(|(r, t)| format!("{:.1}", t / r * 1e6))
+                    .collect()
+            ),
             fitted_exponent(&sweep),
             fitted_exponent(&step)
         );
