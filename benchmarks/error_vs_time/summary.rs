@@ -148,6 +148,25 @@ pub fn fitted_exponent(points: &[(f64, f64)]) -> f64 {
     if sxx > 0.0 { sxy / sxx } else { f64::NAN }
 }
 
+/// The point of `line` / `parameter` on each of a family's scenes.
+fn family_points<'a>(
+    measured: &'a [Measured],
+    family: &'a str,
+    line: &'a str,
+    parameter: &'a str,
+) -> impl Iterator<Item = (&'a Measured, &'a Point)> {
+    measured
+        .iter()
+        .filter(move |m| m.family == family)
+        .filter_map(move |m| {
+            let point = m
+                .points
+                .iter()
+                .find(|p| p.line == line && p.parameter == parameter);
+            point.map(|p| (m, p))
+        })
+}
+
 /// (bodies, seconds) of `line` / `parameter` over a family's scenes.
 pub fn family_times(
     measured: &[Measured],
@@ -155,31 +174,17 @@ pub fn family_times(
     line: &str,
     parameter: &str,
 ) -> Vec<(f64, f64)> {
-    measured
-        .iter()
-        .filter(|m| m.family == family)
-        .filter_map(|m| {
-            m.points
-                .iter()
-                .find(|p| p.line == line && p.parameter == parameter)
-                .map(|p| (m.bodies as f64, p.seconds))
-        })
+    family_points(measured, family, line, parameter)
+        .map(|(m, p)| (m.bodies as f64, p.seconds))
         .collect()
 }
 
 /// `(rows solved, seconds)` of `auto` at the default settings on the
 /// scenes of `family` that solved any row.
 fn family_rows(measured: &[Measured], family: &str) -> Vec<(f64, f64)> {
-    measured
-        .iter()
-        .filter(|m| m.family == family)
-        .filter_map(|m| {
-            m.points
-                .iter()
-                .find(|p| p.line == DEFAULT_LINE.0 && p.parameter == DEFAULT_LINE.1)
-                .filter(|p| p.rows_solved > 0)
-                .map(|p| (p.rows_solved as f64, p.seconds))
-        })
+    family_points(measured, family, DEFAULT_LINE.0, DEFAULT_LINE.1)
+        .filter(|(_, p)| p.rows_solved > 0)
+        .map(|(_, p)| (p.rows_solved as f64, p.seconds))
         .collect()
 }
 
