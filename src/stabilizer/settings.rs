@@ -130,7 +130,11 @@ pub struct Settings {
     /// of the cross-check.
     pub friction_directions: usize,
     /// The friction pyramid or the exact cone ([`FrictionModel`]). Default
-    /// [`FrictionModel::Pyramid`] (see the README for the measurement).
+    /// [`FrictionModel::Pyramid`], by measurement
+    /// (`examples/friction_models.rs`, README): the pyramid of 4 facets
+    /// took 0.77x the cone's time on the Rapier 1:1000 stack and 0.57x on
+    /// a pile with `mu = 0.5`, and differed from the cone by 1e-4 of the
+    /// box size on the stack; 8 facets cost more than the cone.
     pub friction_model: FrictionModel,
     /// Solve every body of a penetrating island in every pass. Default
     /// false: a pass solves the bodies of the pairs that still penetrate,
