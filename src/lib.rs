@@ -41,6 +41,7 @@ pub mod vclip;
 pub mod verify;
 
 pub use error::Error;
+pub use projector::friction::FrictionModel;
 pub use stabilizer::{GaussSeidelSettings, Method, Report, Settings, Stabilizer, Status};
 
 /// The README's examples, compiled and run as doctests.

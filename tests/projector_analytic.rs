@@ -2,6 +2,7 @@
 //! providers whose exact answers are known in closed form.
 
 use approx::assert_relative_eq;
+use constraint_stabilization::FrictionModel;
 use constraint_stabilization::contact::contact_row;
 use constraint_stabilization::projector::{
     BodyInertia, BodyState, ConstraintProvider, ConstraintRow, LineSearchSettings, Measurement,
@@ -21,6 +22,7 @@ fn settings(target_margin: f64) -> ProjectionSettings {
         solver: SolverSettings::default(),
         max_steps: 20,
         friction_directions: 4,
+        friction_model: FrictionModel::Pyramid,
     }
 }
 

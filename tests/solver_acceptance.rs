@@ -51,6 +51,7 @@ fn box_face_down(depth: f64, copies: usize) -> ProjectionQp {
         rows,
         phi: vec![-depth; n],
         target: vec![1e-6; n],
+        ..Default::default()
     }
 }
 

@@ -1,14 +1,15 @@
 //! Friction in the projection (issue 10): a resting contact slides at most
-//! `mu` times its normal correction (the pyramid of
-//! `projector::friction`). Closed forms and the frictionless answer as the
-//! contrast; depths by the brute-force separating-axis oracle.
+//! `mu` times its normal correction (the pyramid or the cone of
+//! `projector::friction`; every test runs under both models). Closed forms
+//! and the frictionless answer as the contrast; depths by the brute-force
+//! separating-axis oracle.
 
 mod stabilize_support;
 
 use constraint_stabilization::body::MassSpec;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::SolverChoice;
-use constraint_stabilization::{Report, Settings, Status};
+use constraint_stabilization::{FrictionModel, Report, Settings, Status};
 use nalgebra::{UnitQuaternion, Vector3};
 use stabilize_support::{
     IDENTITY_XYZW, LIGHT_HALF_WIDTH, cuboid, ground, heavy_on_floating_light, heavy_on_light,
@@ -18,9 +19,19 @@ use stabilize_support::{
 /// Sideways motion that counts as none (the issue's bound).
 const NO_SLIDE: f64 = 1e-9;
 
-fn with_friction(mu: f64) -> Settings {
+fn with_friction(mu: f64, model: FrictionModel) -> Settings {
     Settings {
         friction: mu,
+        friction_model: model,
+        ..Settings::default()
+    }
+}
+
+/// The default settings under `model` (for scenes with their bodies' own
+/// friction).
+fn with_model(model: FrictionModel) -> Settings {
+    Settings {
+        friction_model: model,
         ..Settings::default()
     }
 }
@@ -66,19 +77,24 @@ fn a_heavy_box_on_a_tilted_light_one_is_lifted_and_the_light_one_stays() {
         "the contrast: without friction the light box slides ({slide:?})"
     );
 
-    for choice in [
-        SolverChoice::Auto,
-        SolverChoice::Clarabel,
-        SolverChoice::Lemke,
-    ] {
-        let (scene, report) = stabilized_by(&input, with_friction(0.5), choice);
+    for (model, choice) in FrictionModel::ALL.into_iter().flat_map(|model| {
+        [
+            SolverChoice::Auto,
+            SolverChoice::Clarabel,
+            SolverChoice::Lemke,
+        ]
+        .map(|choice| (model, choice))
+    }) {
+        let (scene, report) = stabilized_by(&input, with_friction(0.5, model), choice);
         let light = translation(&input, &scene, 1);
         let heavy = translation(&input, &scene, 2);
         let turn = input.bodies()[1]
             .com_pose()
             .rotation
             .angle_to(&scene.bodies()[1].com_pose().rotation);
-        println!("{choice:?}: light moved {light:?} turned {turn:e}, heavy moved {heavy:?}");
+        println!(
+            "{model:?} {choice:?}: light moved {light:?} turned {turn:e}, heavy moved {heavy:?}"
+        );
         // Sideways: not at all; up: at most the target margin that its
         // resting contact with the ground is opened to.
         let target = Settings::default().target_margin_relative * report.scale;
@@ -149,17 +165,27 @@ fn an_open_contact_slides_at_most_the_gap_it_keeps() {
     let (report, _) = stabilize_with(&mut frictionless, Settings::default());
     assert!(report.status.is_resolved(), "{report:#?}");
     let free = sideways(&frictionless);
-    for choice in [SolverChoice::Auto, SolverChoice::Clarabel] {
-        let (scene, report) = stabilized_by(&input, Settings::default(), choice);
+    for (model, choice) in FrictionModel::ALL.into_iter().flat_map(|model| {
+        [SolverChoice::Auto, SolverChoice::Clarabel].map(|choice| (model, choice))
+    }) {
+        let (scene, report) = stabilized_by(&input, with_model(model), choice);
+        // The cone allows `1 / mu` times the gap kept; the pyramid up to
+        // `1 / cos(pi / K)` more in its corners.
+        let excess = match model {
+            FrictionModel::Cone => 1.0,
+            FrictionModel::Pyramid => PYRAMID_CORNER,
+        };
         // The light box is not turned (its rotation is second order), so
         // its gap is its height above the ground less its half height.
         let kept = scene.bodies()[1].translation_user().y - 0.5;
         let target = Settings::default().target_margin_relative * report.scale;
         let slid = sideways(&scene);
-        println!("{choice:?}: slid {slid:e} keeping a gap of {kept:e}; frictionless {free:e}");
+        println!(
+            "{model:?} {choice:?}: slid {slid:e} keeping a gap of {kept:e}; frictionless {free:e}"
+        );
         assert!(
-            mu * slid <= PYRAMID_CORNER * (kept - target).max(0.0) + report.tolerance,
-            "{choice:?}: slid {slid:e} keeping a gap of {kept:e}"
+            mu * slid <= excess * (kept - target).max(0.0) + report.tolerance,
+            "{model:?} {choice:?}: slid {slid:e} keeping a gap of {kept:e}"
         );
         assert!(
             free > 10.0 * slid,
@@ -199,16 +225,29 @@ fn a_box_on_a_plane_below_its_friction_angle_does_not_slide() {
     let mu = 0.5;
     assert!(theta.tan() < mu, "below the friction angle");
     let (input, normal) = box_on_tilted_plane(theta, sink);
+    for model in FrictionModel::ALL {
+        box_stays_on_the_tilted_plane(&input, normal, (theta, sink, mu), model);
+    }
+}
+
+fn box_stays_on_the_tilted_plane(
+    input: &Scene,
+    normal: Vector3<f64>,
+    (theta, sink, mu): (f64, f64, f64),
+    model: FrictionModel,
+) {
     let mut scene = input.clone();
-    let (report, _) = stabilize_with(&mut scene, with_friction(mu));
+    let (report, _) = stabilize_with(&mut scene, with_friction(mu, model));
     assert_eq!(report.status, Status::Converged);
-    let moved = translation(&input, &scene, 1);
+    let moved = translation(input, &scene, 1);
     let along_normal = moved.dot(&normal);
     let tangential = (moved - normal * along_normal).norm();
     let overlap = sink * theta.cos();
     let target = Settings::default().target_margin_relative * report.scale;
-    println!("moved {moved:?}: {along_normal} along the normal, {tangential:e} along the plane");
-    assert!(tangential <= NO_SLIDE, "slid by {tangential:e}");
+    println!(
+        "{model:?}: moved {moved:?}: {along_normal} along the normal, {tangential:e} along the plane"
+    );
+    assert!(tangential <= NO_SLIDE, "{model:?}: slid by {tangential:e}");
     assert!(
         (along_normal - overlap - target).abs() <= 1e-3 * target,
         "{along_normal} for an overlap of {overlap}"
@@ -241,17 +280,27 @@ fn friction_and_no_friction_agree_where_nothing_slides() {
     ] {
         let mut plain = scene.clone();
         let (plain_report, _) = stabilize_with(&mut plain, Settings::default());
-        let mut rough = scene.clone();
-        let (rough_report, _) = stabilize_with(&mut rough, with_friction(0.8));
-        assert!(plain_report.status.is_resolved() && rough_report.status.is_resolved());
-        for (a, b) in plain.bodies().iter().zip(rough.bodies()) {
-            let gap = (a.translation_user() - b.translation_user()).norm();
-            let turn = a.com_pose().rotation.angle_to(&b.com_pose().rotation);
-            assert!(
-                gap <= 1e-12 && turn <= 1e-12,
-                "{}: {gap:e}, {turn:e}",
-                a.name()
-            );
+        assert!(plain_report.status.is_resolved());
+        for model in FrictionModel::ALL {
+            let mut rough = scene.clone();
+            let (rough_report, _) = stabilize_with(&mut rough, with_friction(0.8, model));
+            assert!(rough_report.status.is_resolved());
+            // The pyramid's answer is the frictionless one to rounding (the
+            // same active rows); the cone's is clarabel's interior point,
+            // to its tolerance: the issue's 1e-9.
+            let agree = match model {
+                FrictionModel::Pyramid => 1e-12,
+                FrictionModel::Cone => NO_SLIDE,
+            };
+            for (a, b) in plain.bodies().iter().zip(rough.bodies()) {
+                let gap = (a.translation_user() - b.translation_user()).norm();
+                let turn = a.com_pose().rotation.angle_to(&b.com_pose().rotation);
+                assert!(
+                    gap <= agree && turn <= agree,
+                    "{model:?} {}: {gap:e}, {turn:e}",
+                    a.name()
+                );
+            }
         }
     }
 }
@@ -259,7 +308,9 @@ fn friction_and_no_friction_agree_where_nothing_slides() {
 #[test]
 fn invalid_friction_is_rejected() {
     for mu in [-0.1, f64::NAN, f64::INFINITY] {
-        assert!(constraint_stabilization::Stabilizer::new(with_friction(mu)).is_err());
+        for model in FrictionModel::ALL {
+            assert!(constraint_stabilization::Stabilizer::new(with_friction(mu, model)).is_err());
+        }
     }
     let settings = Settings {
         friction_directions: 2,

@@ -43,7 +43,7 @@
 //!
 //! (1) is a second-order cone in `dq`, so the projection
 //! `min 1/2 dq^T M dq` subject to the contact rows and (1) stays convex. It
-//! is linearized here as the friction pyramid of Anitescu and Potra: with
+//! can be linearized as the friction pyramid of Anitescu and Potra: with
 //! `K` directions `d_k = cos(theta_k) t_1 + sin(theta_k) t_2`,
 //! `theta_k = 2 pi k / K`,
 //!
@@ -63,19 +63,83 @@
 //! (41 % for `K = 4`, 8 % for `K = 8`). Wherever the frictionless answer
 //! slides nothing, it satisfies (2) and is the answer with friction too.
 //!
+//! **Which one is solved** ([`FrictionModel`]): the pyramid (2) for every
+//! solver ([`FrictionModel::Pyramid`]), or the cone (1) itself as a
+//! second-order cone of clarabel's primal form ([`FrictionModel::Cone`],
+//! [`crate::solver::friction_cone`]), with Lemke and PGS on the pyramid
+//! (they take linear rows only).
+//!
 //! A multiplier `beta_k >= 0` of a facet is a force on the contact
 //! `beta_k (n - mu d_k)`: normal part `beta_k`, tangential part
 //! `mu beta_k`, so the contact's total force lies in Coulomb's pyramid of
 //! coefficient `mu`: frictional forces appear only when the contact would
 //! slide.
 
-use nalgebra::Vector6;
-
 use super::ConstraintRow;
-use crate::solver::JacobianRow;
+use crate::solver::{FrictionCone, JacobianRow};
 
 /// Default number of pyramid directions `K`.
 pub const DEFAULT_FRICTION_DIRECTIONS: usize = 4;
+
+/// How the projection treats the friction cone (1) of a row with friction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum FrictionModel {
+    /// The pyramid (2) of `K` facets for every solver: a QP with linear
+    /// rows, which clarabel, Lemke and PGS solve alike. It allows up to
+    /// `1 / cos(pi / K)` times the cone's sliding in its corners.
+    #[default]
+    Pyramid,
+    /// The exact cone (1) as a second-order cone of clarabel's primal form
+    /// ([`crate::solver::friction_cone`]). Lemke, PGS and clarabel's dual
+    /// form, which take linear rows only, solve the pyramid (2) instead
+    /// when they run (a named choice, a fallback, the cross-check); under
+    /// `SolverChoice::Auto` a problem with cones goes to clarabel.
+    Cone,
+}
+
+impl FrictionModel {
+    /// Both models, with [`FrictionModel::name`] as in files.
+    pub const ALL: [FrictionModel; 2] = [FrictionModel::Pyramid, FrictionModel::Cone];
+
+    /// `pyramid` or `cone`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FrictionModel::Pyramid => "pyramid",
+            FrictionModel::Cone => "cone",
+        }
+    }
+
+    /// The model with the given name, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
+/// The cone (1) of every row with friction, for contact rows with target
+/// `target` (apex where the row reaches its target, for open rows too),
+/// and the index of the contact row of each.
+pub fn friction_cones(rows: &[ConstraintRow], target: f64) -> (Vec<FrictionCone>, Vec<usize>) {
+    rows.iter()
+        .enumerate()
+        .filter_map(|(index, row)| {
+            let friction = row.friction.as_ref()?;
+            let tangent = |t: usize| JacobianRow {
+                blocks: friction.tangents[t].clone(),
+            };
+            let cone = FrictionCone {
+                normal: JacobianRow {
+                    blocks: row.blocks.clone(),
+                },
+                tangents: [tangent(0), tangent(1)],
+                mu: friction.mu,
+                phi: row.phi,
+                target,
+            };
+            Some((cone, index))
+        })
+        .unzip()
+}
 
 /// The pyramid rows (2) of every row with friction, for contact rows with
 /// target `target`: Jacobians, `phi = -r = phi_row - target` (module docs:
@@ -86,40 +150,25 @@ pub fn pyramid_rows(
     target: f64,
     directions: usize,
 ) -> (Vec<JacobianRow>, Vec<f64>, Vec<usize>) {
+    let (cones, parents) = friction_cones(rows, target);
     let mut pyramid = Vec::new();
     let mut phi = Vec::new();
-    let mut parents = Vec::new();
-    for (index, row) in rows.iter().enumerate() {
-        let Some(friction) = &row.friction else {
-            continue;
-        };
-        let required = target - row.phi;
-        for k in 0..directions {
-            let theta = std::f64::consts::TAU * k as f64 / directions as f64;
-            let (sin, cos) = theta.sin_cos();
-            let blocks = row
-                .blocks
-                .iter()
-                .zip(&friction.tangents[0])
-                .zip(&friction.tangents[1])
-                .map(|(((body, n), (_, t1)), (_, t2))| {
-                    let facet: Vector6<f64> = n - (t1 * cos + t2 * sin) * friction.mu;
-                    (*body, facet)
-                })
-                .collect();
-            pyramid.push(JacobianRow { blocks });
-            phi.push(-required);
-            parents.push(index);
+    let mut facet_parents = Vec::new();
+    for (cone, parent) in cones.iter().zip(parents) {
+        for (facet, facet_phi) in cone.facets(directions) {
+            pyramid.push(facet);
+            phi.push(facet_phi);
+            facet_parents.push(parent);
         }
     }
-    (pyramid, phi, parents)
+    (pyramid, phi, facet_parents)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::projector::RowFriction;
-    use nalgebra::Vector3;
+    use nalgebra::{Vector3, Vector6};
 
     /// One contact of body 0 against a fixed body: normal z, tangents x
     /// and y, at the centre of mass (no lever), penetrating by `depth`.

@@ -12,12 +12,13 @@
 
 use std::time::Instant;
 
-use super::friction::pyramid_rows;
+use super::friction::{FrictionModel, friction_cones};
 use super::line_search::{LineSearchOutcome, LineSearchSettings, line_search};
 use super::trust_region::TrustRegion;
 use nalgebra::DVector;
 
 use super::{BodyInertia, BodyState, ConstraintProvider, ConstraintRow, Measurement};
+use crate::solver::friction_cone::CONE_DIM;
 use crate::solver::{
     BodyMetric, JacobianRow, ProjectionQp, ProjectionSolution, SolverError, SolverSettings,
     solve_projection,
@@ -42,8 +43,12 @@ pub struct ProjectionSettings {
     /// Largest number of steps of [`project`].
     pub max_steps: usize,
     /// Directions `K` of the friction pyramid of rows with friction
-    /// ([`super::friction`]).
+    /// ([`super::friction`]): the problem's under
+    /// [`FrictionModel::Pyramid`], the one that Lemke and PGS solve under
+    /// [`FrictionModel::Cone`].
     pub friction_directions: usize,
+    /// The pyramid or the exact cone ([`FrictionModel`]).
+    pub friction_model: FrictionModel,
 }
 
 /// What a step did.
@@ -119,9 +124,11 @@ pub struct PlannedStep {
     pub solution: ProjectionSolution,
     /// The linearized constraints.
     pub rows: Vec<ConstraintRow>,
-    /// The problem solved: the rows, then the friction pyramid's rows.
+    /// The problem solved: the rows, then the friction pyramid's rows
+    /// (or the friction cones).
     pub qp: ProjectionQp,
-    /// For each row of `qp`, the index in `rows` of its contact row.
+    /// For each multiplier of `qp` (a row, or one of the three of a cone),
+    /// the index in `rows` of its contact row.
     pub qp_parents: Vec<usize>,
     /// Factor by which the trust region scaled the solver's correction.
     pub trust_scale: f64,
@@ -167,6 +174,7 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
         &rows,
         settings.target_margin,
         settings.friction_directions,
+        settings.friction_model,
     );
     let solution = solve_projection(&qp, &settings.solver)?;
     let trust_scale = settings
@@ -317,14 +325,15 @@ pub fn project<P: ConstraintProvider + ?Sized>(
 
 /// The projection QP of `rows` at `configuration`: the rows with target
 /// `target_margin`, then the friction pyramid of the rows with friction
-/// (target 0; [`super::friction`]); and for each of its rows the
-/// index of its contact row in `rows`.
+/// (target 0; [`super::friction`]) or their cones; and for each of its
+/// multipliers the index of its contact row in `rows`.
 pub fn projection_qp(
     configuration: &[BodyState],
     inertias: &[BodyInertia],
     rows: &[ConstraintRow],
     target_margin: f64,
     friction_directions: usize,
+    friction_model: FrictionModel,
 ) -> (ProjectionQp, Vec<usize>) {
     let bodies = configuration
         .iter()
@@ -334,26 +343,34 @@ pub fn projection_qp(
             inertia_world: inertia.inertia_world(&state.rotation),
         })
         .collect();
-    let (pyramid, pyramid_phi, pyramid_parents) =
-        pyramid_rows(rows, target_margin, friction_directions);
-    let mut qp_rows: Vec<JacobianRow> = rows
-        .iter()
-        .map(|row| JacobianRow {
-            blocks: row.blocks.clone(),
-        })
-        .collect();
-    let mut phi: Vec<f64> = rows.iter().map(|row| row.phi).collect();
-    let mut target = vec![target_margin; rows.len()];
-    let mut parents: Vec<usize> = (0..rows.len()).collect();
-    phi.extend(pyramid_phi);
-    target.resize(rows.len() + pyramid.len(), 0.0);
-    qp_rows.extend(pyramid);
-    parents.extend(pyramid_parents);
+    let (cones, cone_parents) = friction_cones(rows, target_margin);
     let qp = ProjectionQp {
         bodies,
-        rows: qp_rows,
-        phi,
-        target,
+        rows: rows
+            .iter()
+            .map(|row| JacobianRow {
+                blocks: row.blocks.clone(),
+            })
+            .collect(),
+        phi: rows.iter().map(|row| row.phi).collect(),
+        target: vec![target_margin; rows.len()],
+        cones,
+        cone_facets: friction_directions,
     };
-    (qp, parents)
+    let mut parents: Vec<usize> = (0..rows.len()).collect();
+    match friction_model {
+        FrictionModel::Cone => {
+            parents.extend(cone_parents.iter().flat_map(|&p| [p; CONE_DIM]));
+            (qp, parents)
+        }
+        FrictionModel::Pyramid => {
+            let (pyramid, origins) = qp.pyramid();
+            parents.extend(
+                origins[rows.len()..]
+                    .iter()
+                    .map(|&c| cone_parents[c - rows.len()]),
+            );
+            (pyramid, parents)
+        }
+    }
 }

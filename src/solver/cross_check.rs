@@ -47,6 +47,10 @@ pub struct CrossCheck {
     pub reference: SolverKind,
     /// Its residuals and the differences, or why it failed.
     pub outcome: CrossCheckOutcome,
+    /// The problem had friction cones: both sides solved its pyramid, one
+    /// problem with linear rows that both solvers take
+    /// ([`super::solve`]).
+    pub on_pyramid: bool,
 }
 
 /// What the second solver produced.

@@ -77,6 +77,17 @@ pub enum SolverError {
         /// Row index.
         row: usize,
     },
+    /// A friction cone with a negative coefficient, or tangents whose
+    /// blocks are not over the normal's bodies in its order.
+    #[error("friction cone {cone}: negative mu, or tangents over other bodies than the normal")]
+    InvalidCone {
+        /// Cone index.
+        cone: usize,
+    },
+    /// A problem with cones whose pyramid would have fewer than three
+    /// directions.
+    #[error("cone_facets is {0}: a pyramid needs at least 3 directions")]
+    ConeFacets(usize),
     /// An LCP matrix is not square.
     #[error("LCP matrix is {rows}x{cols}, not square")]
     NotSquare {

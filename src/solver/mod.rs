@@ -7,7 +7,9 @@
 //! ```
 //!
 //! ([`ProjectionQp`], `M` block diagonal), whose dual is the LCP
-//! `A = J M^-1 J^T`, `b = phi - target` ([`projection_lcp`]). Solvers:
+//! `A = J M^-1 J^T`, `b = phi - target` ([`projection_lcp`]), possibly with
+//! friction cones ([`friction_cone`]; clarabel's primal form solves them,
+//! the others their pyramid). Solvers:
 //! - [`closed_form`]: one row;
 //! - [`clarabel_qp::primal`]: clarabel on the primal QP (sparse);
 //! - [`clarabel_qp::dual`]: clarabel on the dual QP `min 1/2 z^T A z + b^T z, z >= 0`;
@@ -20,8 +22,10 @@
 
 pub mod clarabel_qp;
 pub mod closed_form;
+pub mod cone_residuals;
 pub mod cross_check;
 pub mod error;
+pub mod friction_cone;
 pub mod lcp;
 pub mod lemke;
 pub mod metric;
@@ -35,6 +39,7 @@ pub mod solve;
 
 pub use cross_check::{CrossCheck, CrossCheckOutcome, Differences};
 pub use error::SolverError;
+pub use friction_cone::FrictionCone;
 pub use lcp::Lcp;
 pub use outcome::{FailureReason, Fallback, SolverKind};
 pub use projection::{BodyMetric, JacobianRow, ProjectionQp};

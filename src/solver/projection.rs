@@ -20,10 +20,19 @@
 //! `lambda >= 0, w = A lambda + b >= 0, lambda^T w = 0`, with
 //! `dq = M^-1 J^T lambda` (see [`super::projection_lcp`]). `dq` is unique
 //! because `M` is positive definite; `lambda` is not when rows are redundant.
+//!
+//! A problem may also carry friction cones ([`FrictionCone`], three-dimensional
+//! second-order cones `w_c = (b_c + J_n dq, mu J_t1 dq, mu J_t2 dq) in K`).
+//! It is then a second-order cone program that only clarabel solves as it
+//! is; the other solvers solve its pyramid ([`ProjectionQp::pyramid`], with
+//! [`ProjectionQp::cone_facets`] directions), a QP with linear rows only.
+//! The multipliers of a problem with cones are the rows' `lambda_i`, then
+//! three per cone (`z_c`, [`super::friction_cone`]).
 
 use nalgebra::{DVector, Matrix3, Vector6};
 
 use super::error::SolverError;
+use super::friction_cone::{CONE_DIM, FrictionCone};
 use super::metric::BlockMetric;
 
 /// Mass properties of one dynamic body of an island.
@@ -58,12 +67,23 @@ pub struct ProjectionQp {
     pub phi: Vec<f64>,
     /// Required values `target_i` (length units, usually a small margin >= 0).
     pub target: Vec<f64>,
+    /// Friction cones (module docs); empty for a QP with linear rows only.
+    pub cones: Vec<FrictionCone>,
+    /// Directions `K >= 3` of the pyramid that replaces the cones for the
+    /// solvers of linear rows ([`ProjectionQp::pyramid`]); unused without
+    /// cones.
+    pub cone_facets: usize,
 }
 
 impl ProjectionQp {
     /// Number of constraint rows.
     pub fn num_rows(&self) -> usize {
         self.rows.len()
+    }
+
+    /// Number of multipliers: one per row, three per cone.
+    pub fn num_multipliers(&self) -> usize {
+        self.rows.len() + CONE_DIM * self.cones.len()
     }
 
     /// Number of entries of `dq`: six per body.
@@ -92,7 +112,8 @@ impl ProjectionQp {
         )
     }
 
-    /// `J^T lambda` (length `num_dofs`).
+    /// `J^T lambda` (length `num_dofs`), with the cones' forces when
+    /// `lambda` has their multipliers too (module docs).
     pub fn apply_jt(&self, lambda: &DVector<f64>) -> DVector<f64> {
         let mut out = DVector::zeros(self.num_dofs());
         for (row, l) in self.rows.iter().zip(lambda.iter()) {
@@ -101,7 +122,44 @@ impl ProjectionQp {
                 block += g * *l;
             }
         }
+        let n = self.rows.len();
+        for (c, cone) in self.cones.iter().enumerate() {
+            if lambda.len() >= n + CONE_DIM * (c + 1) {
+                let z = lambda.fixed_rows::<CONE_DIM>(n + CONE_DIM * c).into_owned();
+                cone.add_force(&z, &mut out);
+            }
+        }
         out
+    }
+
+    /// The rows whose transposes carry the multipliers, in their order:
+    /// the rows, then `(J_n, mu J_t1, mu J_t2)` of each cone.
+    pub fn multiplier_rows(&self) -> Vec<JacobianRow> {
+        let mut rows = self.rows.clone();
+        rows.extend(self.cones.iter().flat_map(FrictionCone::rows));
+        rows
+    }
+
+    /// The problem with every cone replaced by its [`Self::cone_facets`]
+    /// facets (appended after the rows, cone by cone, with target 0), and
+    /// for each of its rows the index of the row or cone it comes from
+    /// (cone `c` as `num_rows + c`).
+    pub fn pyramid(&self) -> (ProjectionQp, Vec<usize>) {
+        let n = self.rows.len();
+        let mut pyramid = ProjectionQp {
+            cones: Vec::new(),
+            ..self.clone()
+        };
+        let mut origins: Vec<usize> = (0..n).collect();
+        for (c, cone) in self.cones.iter().enumerate() {
+            for (row, phi) in cone.facets(self.cone_facets) {
+                pyramid.rows.push(row);
+                pyramid.phi.push(phi);
+                pyramid.target.push(0.0);
+                origins.push(n + c);
+            }
+        }
+        (pyramid, origins)
     }
 
     /// Checks dimensions, finiteness, masses and inertia tensors, and
@@ -115,6 +173,7 @@ impl ProjectionQp {
         for (i, row) in self.rows.iter().enumerate() {
             self.validate_row(i, row)?;
         }
+        self.validate_cones()?;
         self.bodies
             .iter()
             .enumerate()
@@ -145,6 +204,44 @@ impl ProjectionQp {
         Ok(())
     }
 }
+
+impl ProjectionQp {
+    /// Each cone: finite data, `mu >= 0`, valid rows, tangents over the
+    /// normal's bodies in its order, and enough pyramid directions.
+    fn validate_cones(&self) -> Result<(), SolverError> {
+        if !self.cones.is_empty() && self.cone_facets < MIN_CONE_FACETS {
+            return Err(SolverError::ConeFacets(self.cone_facets));
+        }
+        for (c, cone) in self.cones.iter().enumerate() {
+            let values = [cone.mu, cone.phi, cone.target];
+            check_finite("friction cone", &values).map_err(|_| SolverError::NonFinite {
+                what: "friction cone",
+                index: c,
+            })?;
+            if cone.mu < 0.0 {
+                return Err(SolverError::InvalidCone { cone: c });
+            }
+            let index = self.rows.len() + c;
+            self.validate_row(index, &cone.normal)?;
+            for tangent in &cone.tangents {
+                self.validate_row(index, tangent)?;
+                let same_bodies = tangent.blocks.len() == cone.normal.blocks.len()
+                    && tangent
+                        .blocks
+                        .iter()
+                        .zip(&cone.normal.blocks)
+                        .all(|((a, _), (b, _))| a == b);
+                if !same_bodies {
+                    return Err(SolverError::InvalidCone { cone: c });
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The fewest directions of a pyramid (a triangle).
+pub const MIN_CONE_FACETS: usize = 3;
 
 fn check_len(what: &'static str, expected: usize, found: usize) -> Result<(), SolverError> {
     if expected == found {

@@ -64,9 +64,16 @@
 //!   unit roundoff), so `gap / E` has a floor of about `n u` and the
 //!   optimality measure one of about `sqrt(n u)` (1e-7 at 500 rows): the
 //!   tolerance on it cannot be much below 1e-6.
+//!
+//! Friction cones enter every measure in the cone's sense (a cone's
+//! infeasibility is `max(0, |w_t| - w_0)`, its multiplier is projected onto
+//! the cone rather than clamped, its gap term is `z^T w`):
+//! [`super::cone_residuals`]. The length scale `l` then includes the cones'
+//! `|b_c|`.
 
 use nalgebra::{DMatrix, DVector};
 
+use super::cone_residuals::{ConeAtCandidate, cones_at, projected_multipliers};
 use super::metric::BlockMetric;
 use super::projection::ProjectionQp;
 
@@ -234,34 +241,49 @@ pub fn projection_residuals(
 }
 
 /// The acceptance measures of `dq` (module docs): feasibility relative to
-/// `l_accept`, the relative duality gap, and its square root.
+/// `l_accept`, the relative duality gap, and its square root; with the
+/// cones' terms ([`super::cone_residuals`]).
 fn acceptance_measures(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
     dq: &DVector<f64>,
     lambda: &DVector<f64>,
     w: &DVector<f64>,
+    cones: &[ConeAtCandidate],
     l_accept: f64,
 ) -> (f64, f64, f64) {
     let b = qp.b();
     let a = row_diagonal(qp, metric);
-    let feasibility = w.iter().fold(0.0, |m: f64, wi| m.max(-wi)) / l_accept;
-    let lambda_plus = lambda.map(|x| x.max(0.0));
+    let feasibility = cones
+        .iter()
+        .map(ConeAtCandidate::infeasibility)
+        .chain(w.iter().map(|wi| -wi))
+        .fold(0.0, f64::max)
+        / l_accept;
+    let lambda_plus = projected_multipliers(qp, lambda);
     let v = m_inv(metric, &qp.apply_jt(&lambda_plus));
     let stationarity_energy = 0.5 * m_inner(metric, &(dq - &v), &(dq - &v)).max(0.0);
     let complementarity_energy: f64 = lambda_plus
         .iter()
         .zip(w.iter())
         .map(|(l, wi)| l * wi.max(0.0))
-        .sum();
+        .sum::<f64>()
+        + cones.iter().map(ConeAtCandidate::gap).sum::<f64>();
     let gap = stationarity_energy + complementarity_energy;
+    // The cost of a single violated row (or cone's normal row) alone.
     let single_row_bound = (0..b.len())
         .filter(|&i| a[i] > 0.0)
-        .map(|i| b[i].min(0.0).powi(2) / (2.0 * a[i]))
+        .map(|i| (b[i], a[i]))
+        .chain(cones.iter().map(|cone| (cone.b, cone.a)))
+        .map(|(b, a)| b.min(0.0).powi(2) / (2.0 * a))
         .fold(0.0, f64::max);
     // No violated row: `dq* = 0`, and the scale is the cost of moving by
     // `L` the row with the largest `a_i` (the one that moves most easily).
-    let a_max = a.iter().copied().fold(0.0, f64::max);
+    let a_max = a
+        .iter()
+        .copied()
+        .chain(cones.iter().map(|cone| cone.a))
+        .fold(0.0, f64::max);
     let floor = if single_row_bound > 0.0 || a_max == 0.0 {
         single_row_bound
     } else {
@@ -286,13 +308,20 @@ pub fn projection_residuals_scaled(
 ) -> ProjectionResiduals {
     let b = qp.b();
     let w = &b + qp.apply_j(dq);
-    let l = length_scale(&b);
     let a = row_diagonal(qp, metric);
     let a_fallback = a.iter().copied().fold(0.0, f64::max);
+    let cones = cones_at(qp, metric, dq, lambda, a_fallback);
+    let l = cones
+        .iter()
+        .fold(length_scale(&b), |l, cone| l.max(cone.b.abs()));
     let force: Vec<f64> = (0..w.len())
         .map(|i| if a[i] > 0.0 { a[i] } else { a_fallback } * lambda[i])
         .collect();
-    let f = force.iter().fold(l, |m, x| m.max(x.abs()));
+    let f = cones
+        .iter()
+        .map(ConeAtCandidate::force)
+        .chain(force.iter().map(|x| x.abs()))
+        .fold(l, f64::max);
     let mut natural_map: f64 = 0.0;
     let mut complementarity: f64 = 0.0;
     let mut primal_infeasibility: f64 = 0.0;
@@ -300,6 +329,11 @@ pub fn projection_residuals_scaled(
         natural_map = natural_map.max(force[i].min(w[i]).abs() / l);
         complementarity = complementarity.max((force[i] * w[i]).abs() / (l * f));
         primal_infeasibility = primal_infeasibility.max((-w[i]).max(0.0) / l);
+    }
+    for cone in &cones {
+        natural_map = natural_map.max(cone.natural_map() / l);
+        complementarity = complementarity.max(cone.complementarity() / (l * f));
+        primal_infeasibility = primal_infeasibility.max(cone.infeasibility() / l);
     }
     let dq_dual = m_inv(metric, &qp.apply_jt(lambda));
     let norm = m_norm(metric, dq).max(m_norm(metric, &dq_dual));
@@ -310,7 +344,7 @@ pub fn projection_residuals_scaled(
     };
     let displacement = m_norm(metric, dq);
     let (feasibility, duality_gap, optimality) =
-        acceptance_measures(qp, metric, dq, lambda, &w, l.max(scene_length));
+        acceptance_measures(qp, metric, dq, lambda, &w, &cones, l.max(scene_length));
     ProjectionResiduals {
         feasibility,
         duality_gap,

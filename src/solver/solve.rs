@@ -17,6 +17,17 @@
 //! cube 1e6 times heavier, the ladder's four extra runs made `auto` 1.3 to
 //! 1.6 times slower than clarabel alone; without them it is faster.
 //!
+//! **Friction cones** ([`ProjectionQp::cones`]): only clarabel's primal
+//! form solves a second-order cone program. Under `Auto` a problem with
+//! cones (and some violated row or cone) goes to clarabel whatever its
+//! size; every other solver (a named choice, a fallback) solves the
+//! problem's pyramid ([`ProjectionQp::pyramid`]), is checked on it, and
+//! returns its facet multipliers as cone multipliers (the same forces,
+//! [`super::friction_cone::cone_multipliers_of_facets`]), with
+//! [`ProjectionSolution::pyramid_of_cones`] set. The cross-check of a
+//! problem with cones compares clarabel and Lemke on the pyramid, one
+//! problem for both ([`CrossCheck::on_pyramid`]).
+//!
 //! Every candidate, from any solver, passes the same check before it is
 //! returned: [`ProjectionResiduals::acceptance`] at most
 //! [`SolverSettings::tol_residual`], i.e. the linearized rows hold to that
@@ -34,12 +45,13 @@ use super::clarabel_qp::{self, ClarabelSettings};
 use super::closed_form::solve_single_row;
 use super::cross_check::{CrossCheck, CrossCheckOutcome, differences};
 use super::error::SolverError;
+use super::friction_cone::{CONE_DIM, cone_multipliers_of_facets};
 use super::lcp::Lcp;
 use super::lemke::{self, LemkeSettings};
 use super::metric::BlockMetric;
 use super::outcome::{Candidate, FailureReason, Fallback, SolverKind};
 use super::pgs::{self, PgsSettings};
-use super::projection::ProjectionQp;
+use super::projection::{JacobianRow, ProjectionQp};
 use super::projection_lcp::{dq_from_lambda, projection_to_lcp};
 use super::residuals::{ProjectionResiduals, projection_residuals_scaled};
 
@@ -173,6 +185,10 @@ pub struct ProjectionSolution {
     /// Interior-point iterations, pivots or sweeps of the solver that
     /// succeeded.
     pub iterations: usize,
+    /// The problem had friction cones and the solver that answered takes
+    /// linear rows only: `dq` is the answer of the cones' pyramid, and the
+    /// residuals are checked on it (module docs).
+    pub pyramid_of_cones: bool,
 }
 
 /// The fallback order after the first choice, up to
@@ -192,17 +208,27 @@ pub fn solve_projection(
 ) -> Result<ProjectionSolution, SolverError> {
     let metric = qp.validate()?;
     check_zero_rows(qp)?;
+    let pyramid_qp = (!qp.cones.is_empty()).then(|| qp.pyramid().0);
+    let pyramid = pyramid_qp.as_ref().map(|pyramid_qp| Problem {
+        qp: pyramid_qp,
+        metric: &metric,
+        lcp: OnceCell::new(),
+        settings,
+        pyramid: None,
+    });
     let problem = Problem {
         qp,
         metric: &metric,
         lcp: OnceCell::new(),
         settings,
+        pyramid: pyramid.as_ref(),
     };
     let mut fallbacks = Vec::new();
     let order = solver_order(qp, settings);
     log::debug!(
-        "solver for {} rows: {:?} ({}), then {:?}",
+        "solver for {} rows and {} cones: {:?} ({}), then {:?}",
         qp.num_rows(),
+        qp.cones.len(),
         order[0],
         choice_reason(qp, settings),
         &order[1..]
@@ -221,6 +247,7 @@ pub fn solve_projection(
                     residuals,
                     cross_check,
                     iterations: candidate.iterations,
+                    pyramid_of_cones: problem.on_pyramid(kind),
                 });
             }
             Err(reason) => {
@@ -239,15 +266,29 @@ pub fn solve_projection(
     Err(SolverError::AllSolversFailed(fallbacks))
 }
 
-/// A violated row with no nonzero Jacobian entry cannot be satisfied.
+/// A violated row with no nonzero Jacobian cannot be satisfied; nor can a
+/// violated cone whose normal row no body moves (its `w_0` stays below 0).
+/// A cone is reported as row `num_rows + c`.
 fn check_zero_rows(qp: &ProjectionQp) -> Result<(), SolverError> {
+    let zero = |j: &JacobianRow| j.blocks.iter().all(|(_, g)| g.iter().all(|&x| x == 0.0));
     for (row, j) in qp.rows.iter().enumerate() {
-        let zero = j.blocks.iter().all(|(_, g)| g.iter().all(|&x| x == 0.0));
-        if zero && qp.phi[row] < qp.target[row] {
+        if zero(j) && qp.phi[row] < qp.target[row] {
             return Err(SolverError::InfeasibleRow { row });
         }
     }
+    for (c, cone) in qp.cones.iter().enumerate() {
+        if zero(&cone.normal) && cone.b() < 0.0 {
+            return Err(SolverError::InfeasibleRow {
+                row: qp.num_rows() + c,
+            });
+        }
+    }
     Ok(())
+}
+
+/// Whether `dq = 0` satisfies every row and cone.
+fn nothing_violated(qp: &ProjectionQp) -> bool {
+    qp.phi.iter().zip(&qp.target).all(|(p, t)| p >= t) && qp.cones.iter().all(|c| c.b() >= 0.0)
 }
 
 /// The solvers to try, in order.
@@ -278,6 +319,9 @@ fn choice_reason(qp: &ProjectionQp, settings: &SolverSettings) -> String {
     match (settings.choice, auto_choice(qp, settings)) {
         (SolverChoice::Auto, SolverKind::Trivial) => "auto: no row violated".into(),
         (SolverChoice::Auto, SolverKind::ClosedForm) => "auto: one row".into(),
+        (SolverChoice::Auto, SolverKind::Clarabel) if !qp.cones.is_empty() => {
+            "auto: friction cones, which only clarabel solves".into()
+        }
         (SolverChoice::Auto, SolverKind::Lemke) => format!(
             "auto: dense pivoting is fastest up to {} rows",
             settings.auto_lemke_max_rows
@@ -292,8 +336,10 @@ fn choice_reason(qp: &ProjectionQp, settings: &SolverSettings) -> String {
 
 fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
     let n = qp.num_rows();
-    if qp.phi.iter().zip(&qp.target).all(|(p, t)| p >= t) {
+    if nothing_violated(qp) {
         SolverKind::Trivial
+    } else if !qp.cones.is_empty() {
+        SolverKind::Clarabel
     } else if n == 1 {
         SolverKind::ClosedForm
     } else if n <= settings.auto_lemke_max_rows {
@@ -303,15 +349,49 @@ fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
     }
 }
 
-/// A validated problem with its dual LCP built on first use.
+/// A validated problem with its dual LCP built on first use, and the
+/// problem of its cones' pyramid when it has cones.
 struct Problem<'a> {
     qp: &'a ProjectionQp,
     metric: &'a [BlockMetric],
     lcp: OnceCell<Option<Lcp>>,
     settings: &'a SolverSettings,
+    pyramid: Option<&'a Problem<'a>>,
 }
 
 impl Problem<'_> {
+    /// The pyramid, when `kind` cannot solve this problem's cones.
+    fn pyramid_for(&self, kind: SolverKind) -> Option<&Problem<'_>> {
+        self.pyramid
+            .filter(|_| !matches!(kind, SolverKind::Clarabel | SolverKind::Trivial))
+    }
+
+    /// Whether `kind` answers this problem on its pyramid.
+    fn on_pyramid(&self, kind: SolverKind) -> bool {
+        self.pyramid_for(kind).is_some()
+    }
+
+    /// A candidate of the pyramid with cone multipliers (module docs).
+    fn cone_candidate(&self, pyramid: Candidate) -> Candidate {
+        let n = self.qp.num_rows();
+        let facets = self.qp.cone_facets;
+        let mut lambda = DVector::zeros(self.qp.num_multipliers());
+        lambda.rows_mut(0, n).copy_from(&pyramid.lambda.rows(0, n));
+        for c in 0..self.qp.cones.len() {
+            let beta: Vec<f64> = pyramid
+                .lambda
+                .rows(n + c * facets, facets)
+                .iter()
+                .copied()
+                .collect();
+            let z = cone_multipliers_of_facets(&beta);
+            lambda
+                .fixed_rows_mut::<CONE_DIM>(n + CONE_DIM * c)
+                .copy_from(&z);
+        }
+        Candidate { lambda, ..pyramid }
+    }
+
     fn lcp(&self) -> Result<&Lcp, FailureReason> {
         self.lcp
             .get_or_init(|| projection_to_lcp(self.qp, self.metric).ok())
@@ -326,6 +406,10 @@ impl Problem<'_> {
         &self,
         kind: SolverKind,
     ) -> Result<(Candidate, ProjectionResiduals), FailureReason> {
+        if let Some(pyramid) = self.pyramid_for(kind) {
+            let (candidate, residuals) = pyramid.run_checked(kind)?;
+            return Ok((self.cone_candidate(candidate), residuals));
+        }
         let candidate = self.run(kind)?;
         let residuals = projection_residuals_scaled(
             self.qp,
@@ -361,7 +445,7 @@ impl Problem<'_> {
         match kind {
             SolverKind::Trivial => Ok(Candidate {
                 dq: DVector::zeros(self.qp.num_dofs()),
-                lambda: DVector::zeros(self.qp.num_rows()),
+                lambda: DVector::zeros(self.qp.num_multipliers()),
                 iterations: 0,
             }),
             SolverKind::ClosedForm => solve_single_row(self.qp, self.metric),
@@ -406,7 +490,31 @@ impl Problem<'_> {
         }
     }
 
+    /// The cross-check of `candidate` from `kind`; with cones, of
+    /// clarabel and Lemke on the pyramid (module docs).
     fn cross_check(&self, kind: SolverKind, candidate: &Candidate) -> CrossCheck {
+        let Some(pyramid) = self.pyramid else {
+            return self.compare(kind, candidate);
+        };
+        let first = if self.on_pyramid(kind) {
+            kind
+        } else {
+            SolverKind::Clarabel
+        };
+        let mut check = match pyramid.run_checked(first) {
+            Ok((candidate, _)) => pyramid.compare(first, &candidate),
+            Err(reason) => CrossCheck {
+                reference: first,
+                outcome: CrossCheckOutcome::ReferenceFailed(reason),
+                on_pyramid: true,
+            },
+        };
+        check.on_pyramid = true;
+        check
+    }
+
+    /// Solves again with Lemke (clarabel when `kind` is Lemke) and compares.
+    fn compare(&self, kind: SolverKind, candidate: &Candidate) -> CrossCheck {
         let reference = if kind == SolverKind::Lemke {
             SolverKind::Clarabel
         } else {
@@ -419,7 +527,11 @@ impl Problem<'_> {
             },
             Err(reason) => CrossCheckOutcome::ReferenceFailed(reason),
         };
-        CrossCheck { reference, outcome }
+        CrossCheck {
+            reference,
+            outcome,
+            on_pyramid: false,
+        }
     }
 }
 

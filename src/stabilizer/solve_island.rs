@@ -310,7 +310,7 @@ fn pushed_by(
     pushed_bodies(
         region,
         contacts.pairs(),
-        &step.qp.rows,
+        &step.qp.multiplier_rows(),
         &qp_row_pairs,
         step.solution.lambda.as_slice(),
         mass,

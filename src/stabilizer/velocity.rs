@@ -48,8 +48,10 @@
 //!
 //!   (`J_t` the Jacobian of the relative tangential velocity along the two
 //!   tangents, `phi / h` as above, 0 without a time step). It is linearized
-//!   as the same friction pyramid as the position projection, `K`
-//!   directions `d_k` ([`crate::Settings::friction_directions`]):
+//!   as a friction pyramid of `K` directions `d_k`
+//!   ([`crate::Settings::friction_directions`]), whatever
+//!   [`crate::Settings::friction_model`] the position projection uses (the
+//!   cone on the velocity is not implemented):
 //!
 //!   ```text
 //!   (J_n - mu d_k J_t) v' >= -phi / h,      k = 0..K-1               (2)
@@ -100,7 +102,7 @@ use crate::Error;
 use crate::broad_phase::BodyPair;
 use crate::contact::{BodyGeometry, ContactFriction, Detection, contact_rows};
 use crate::island::islands;
-use crate::projector::friction::pyramid_rows;
+use crate::projector::friction::{FrictionModel, pyramid_rows};
 use crate::projector::{ConstraintRow, projection_qp};
 use crate::scene::Scene;
 use crate::solver::solve_projection;
@@ -281,6 +283,8 @@ impl Stabilizer {
             &rows,
             0.0,
             settings.friction_directions,
+            // The velocity projection keeps the pyramid (module docs).
+            FrictionModel::Pyramid,
         );
         match solve_projection(&qp, &settings.solver) {
             Ok(solution) => {

@@ -168,5 +168,6 @@ pub fn random_stacks(spec: &StackSpec) -> ProjectionQp {
         phi: order.iter().map(|&i| qp.phi[i]).collect(),
         target: order.iter().map(|&i| qp.target[i]).collect(),
         bodies: qp.bodies,
+        ..Default::default()
     }
 }

@@ -3,15 +3,18 @@
 //!
 //! clarabel solves `min 1/2 x^T P x + c^T x  s.t.  A x + s = b, s in K` and
 //! returns the primal `x`, the slack `s` and the dual `z in K*`. Both forms
-//! here use the nonnegative cone `K = R^m_+`:
+//! here use the nonnegative cone `K = R^m_+`, the primal form with
+//! three-dimensional second-order cones after it for friction cones:
 //! - [`primal`]: `x` is the (rescaled) correction `dq`, one cone row per
-//!   constraint; `lambda` is read from the dual `z`.
+//!   constraint and three per friction cone ([`cone`]); `lambda` is read
+//!   from the dual `z`.
 //! - [`dual`]: `x` is `lambda` of the LCP, `P = A = J M^-1 J^T` dense.
 //!
 //! Every status is mapped: `Solved` and `AlmostSolved` hand their point to
 //! our own residual check (the caller's); every other status is a
 //! [`ClarabelFailure`].
 
+pub mod cone;
 pub mod dual;
 pub mod polish;
 pub mod primal;
@@ -146,7 +149,27 @@ pub(crate) fn run(
     b: &[f64],
     settings: &ClarabelSettings,
 ) -> Result<ClarabelPoint, ClarabelFailure> {
-    let cones = [SupportedConeT::NonnegativeConeT(b.len())];
+    run_with_cones(p, c, a, b, b.len(), 0, settings)
+}
+
+/// One clarabel solve of `min 1/2 x^T P x + c^T x, A x + s = b`, where the
+/// first `nonnegative` entries of `s` are `>= 0` and the next
+/// `3 * second_order` form three-dimensional second-order cones
+/// `s_0 >= |(s_1, s_2)|`.
+pub(crate) fn run_with_cones(
+    p: &CscMatrix<f64>,
+    c: &[f64],
+    a: &CscMatrix<f64>,
+    b: &[f64],
+    nonnegative: usize,
+    second_order: usize,
+    settings: &ClarabelSettings,
+) -> Result<ClarabelPoint, ClarabelFailure> {
+    let mut cones = Vec::with_capacity(1 + second_order);
+    if nonnegative > 0 || second_order == 0 {
+        cones.push(SupportedConeT::NonnegativeConeT(nonnegative));
+    }
+    cones.extend((0..second_order).map(|_| SupportedConeT::SecondOrderConeT(3)));
     let mut solver = DefaultSolver::new(p, c, a, b, &cones, settings.to_clarabel())
         .map_err(|e| ClarabelFailure::Setup(e.to_string()))?;
     solver.solve();

@@ -35,19 +35,27 @@
 //! the two points, by [`ProjectionResiduals::acceptance`] (the measures the
 //! caller accepts on), is returned: a polish that makes the answer worse is
 //! never kept.
+//!
+//! Friction cones ([`super::cone`]) follow the rows, three entries of
+//! `sigma` each in a `SecondOrderConeT(3)`, whitened and scaled the same
+//! way with one common factor per cone. A problem with cones is not
+//! polished (the polish solves for active half-spaces); clarabel's point is
+//! returned, and the caller's residual check judges it in the cone's sense.
 
 use clarabel::algebra::CscMatrix;
 use nalgebra::{DVector, Vector6};
 
+use super::cone::{WhiteCone, blocks_norm, scaled_entries, whiten_cone, whitened_blocks};
 use super::polish::{WhitenedQp, polish};
-use super::{ClarabelSettings, csc_from_triplets, run};
+use super::{ClarabelSettings, csc_from_triplets, run_with_cones};
+use crate::solver::friction_cone::CONE_DIM;
 use crate::solver::metric::BlockMetric;
 use crate::solver::outcome::{Candidate, FailureReason};
 use crate::solver::projection::ProjectionQp;
 use crate::solver::residuals::{ProjectionResiduals, projection_residuals};
 
 /// The whitened, normalized problem: rows `G^_i` over the variables, the
-/// right-hand sides, and the maps back.
+/// right-hand sides, the friction cones ([`super::cone`]) and the maps back.
 struct Whitened {
     /// Indices of the rows kept (`g_i > 0`).
     active: Vec<usize>,
@@ -57,6 +65,8 @@ struct Whitened {
     rows: Vec<Vec<(usize, f64)>>,
     /// `b_i / (g_i s)` of the kept rows.
     rhs: Vec<f64>,
+    /// The cones kept (some row moved by a body).
+    cones: Vec<WhiteCone>,
     /// Variable scale `s`.
     s: f64,
 }
@@ -68,32 +78,26 @@ fn whiten(qp: &ProjectionQp, metric: &[BlockMetric]) -> Whitened {
         norms: Vec::new(),
         rows: Vec::new(),
         rhs: Vec::new(),
+        cones: Vec::new(),
         s: 0.0,
     };
     let mut any_scale: f64 = 0.0;
     for (i, row) in qp.rows.iter().enumerate() {
-        let blocks: Vec<(usize, Vector6<f64>)> = row
-            .blocks
-            .iter()
-            .map(|(k, g)| (*k, metric[*k].solve_l(g)))
-            .collect();
-        let g = blocks
-            .iter()
-            .map(|(_, v)| v.norm_squared())
-            .sum::<f64>()
-            .sqrt();
+        let blocks = whitened_blocks(row, metric);
+        let g = blocks_norm(&blocks);
         if g > 0.0 && g.is_finite() {
             w.active.push(i);
             w.norms.push(g);
-            w.rows.push(
-                blocks
-                    .iter()
-                    .flat_map(|(k, v)| v.iter().enumerate().map(move |(e, x)| (6 * k + e, x / g)))
-                    .filter(|(_, x)| *x != 0.0)
-                    .collect(),
-            );
+            w.rows.push(scaled_entries(&blocks, g));
             w.s = w.s.max(-b[i] / g);
             any_scale = any_scale.max(b[i].abs() / g);
+        }
+    }
+    for (c, cone) in qp.cones.iter().enumerate() {
+        if let Some(white) = whiten_cone(c, cone, metric) {
+            w.s = w.s.max(-white.b / white.norm);
+            any_scale = any_scale.max(white.b.abs() / white.norm);
+            w.cones.push(white);
         }
     }
     if w.s <= 0.0 {
@@ -110,6 +114,25 @@ fn whiten(qp: &ProjectionQp, metric: &[BlockMetric]) -> Whitened {
     w
 }
 
+impl Whitened {
+    /// `A` and `b` of clarabel's form: the rows, then three per cone.
+    fn constraints(&self, n: usize) -> (CscMatrix<f64>, Vec<f64>) {
+        let cone_rows = self.cones.iter().flat_map(|cone| cone.rows.iter());
+        let triplets = self
+            .rows
+            .iter()
+            .chain(cone_rows)
+            .enumerate()
+            .flat_map(|(r, row)| row.iter().map(move |&(j, v)| (r, j, -v)))
+            .collect();
+        let mut rhs = self.rhs.clone();
+        for cone in &self.cones {
+            rhs.extend([cone.b / (cone.norm * self.s), 0.0, 0.0]);
+        }
+        (csc_from_triplets(rhs.len(), n, triplets), rhs)
+    }
+}
+
 /// Solves the projection QP with clarabel (primal form).
 pub fn solve(
     qp: &ProjectionQp,
@@ -122,21 +145,28 @@ pub fn solve(
         // b = 0 on every movable row: dq = 0 and lambda = 0 solve it exactly.
         return Ok(Candidate {
             dq: DVector::zeros(n),
-            lambda: DVector::zeros(qp.num_rows()),
+            lambda: DVector::zeros(qp.num_multipliers()),
             iterations: 0,
         });
     }
-    let triplets = white
-        .rows
-        .iter()
-        .enumerate()
-        .flat_map(|(r, row)| row.iter().map(move |&(j, v)| (r, j, -v)))
-        .collect();
-    let a = csc_from_triplets(white.rows.len(), n, triplets);
+    let (a, rhs) = white.constraints(n);
     let p = CscMatrix::identity(n);
-    let point =
-        run(&p, &vec![0.0; n], &a, &white.rhs, settings).map_err(FailureReason::Clarabel)?;
+    let point = run_with_cones(
+        &p,
+        &vec![0.0; n],
+        &a,
+        &rhs,
+        white.rows.len(),
+        white.cones.len(),
+        settings,
+    )
+    .map_err(FailureReason::Clarabel)?;
     let raw = unscale(qp, metric, &white, &point.x, &point.z, point.iterations);
+    if !white.cones.is_empty() {
+        // The active-set polish knows half-spaces only; the interior
+        // point's answer is checked against the cones as it is.
+        return Ok(raw);
+    }
     let whitened = WhitenedQp {
         n,
         rows: &white.rows,
@@ -174,10 +204,18 @@ fn unscale(
         dq.fixed_rows_mut::<6>(6 * k)
             .copy_from(&(body.solve_lt(&y_k) * white.s));
     }
-    let mut lambda = DVector::zeros(qp.num_rows());
+    let mut lambda = DVector::zeros(qp.num_multipliers());
     for (r, &i) in white.active.iter().enumerate() {
         lambda[i] = white.s * z[r] / white.norms[r];
     }
+    let (rows, cone_z) = z.split_at(white.rows.len());
+    for (cone, z) in white.cones.iter().zip(cone_z.chunks_exact(CONE_DIM)) {
+        let start = qp.num_rows() + CONE_DIM * cone.index;
+        for (j, z_j) in z.iter().enumerate() {
+            lambda[start + j] = white.s * z_j / cone.norm;
+        }
+    }
+    debug_assert_eq!(rows.len(), white.active.len());
     Candidate {
         dq,
         lambda,
