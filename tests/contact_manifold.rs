@@ -271,3 +271,85 @@ fn engine_states_report_the_brute_force_deepest_penetration() {
         );
     }
 }
+
+/// Contact points of a two-body scene's separated pair within `margin`.
+fn near_points(scene: &Scene, near_faces: bool) -> Vec<contact::ContactPoint> {
+    let query = pair_query(scene);
+    assert!(query.penetration.is_none(), "separated");
+    let options = contact::ManifoldOptions {
+        all_points: true,
+        near_faces,
+    };
+    contact::contact_points(
+        &query,
+        &geometry(scene, 0),
+        &geometry(scene, 1),
+        MARGIN,
+        options,
+    )
+    .points
+}
+
+/// Two boxes of the stack of 50 of `benchmarks/error_vs_time.rs` after
+/// two passes (`box6` under `box7`, poses as the call left them): level to
+/// 2e-4 rad, turned 0.1 rad from each other about the vertical, 4.2e-5
+/// apart. Their widest separating axis is an edge–edge axis a hair wider
+/// than the face axis. With `near_pair_faces` the manifold is the face's
+/// (the corners of the overlap and the edge–edge point), as a penetrating
+/// pair's; the seed's contacts give the edge–edge point alone, which let
+/// the next step tilt one box into the other (two passes of line-search
+/// steps of 1/64 and 1/128 on that stack).
+#[test]
+fn a_box_a_hair_above_another_gets_the_face_manifold() {
+    let scene = scene_of(&[
+        cuboid(
+            "box6",
+            [0.4241779919611613, 0.2332695185360129, 0.5442968815166537],
+            [
+                -0.0033035566267841246,
+                3.418324923970846,
+                0.06227694177564058,
+            ],
+            [
+                1.4061078718472346e-05,
+                0.062079651771097866,
+                -0.00010198560388875673,
+                0.998071192970322,
+            ],
+            MassSpec::Mass(1.0),
+        ),
+        cuboid(
+            "box7",
+            [0.5340611132828141, 0.23033685109329177, 0.5175161212287119],
+            [
+                0.0002534118882179652,
+                3.8819747871638266,
+                0.0059221865144996185,
+            ],
+            [
+                1.915274165010199e-05,
+                0.1144905637865539,
+                -0.00010033345815414063,
+                0.993424330470221,
+            ],
+            MassSpec::Mass(1.0),
+        ),
+    ]);
+    let seed = near_points(&scene, false);
+    assert_eq!(seed.len(), 1, "{seed:?}");
+    let faces = near_points(&scene, true);
+    assert!(faces.len() >= 4, "{faces:?}");
+    let gap = seed[0].separation;
+    for point in &faces {
+        // From B (the upper box) towards A.
+        assert!(
+            (point.normal_world + Vector3::y()).norm() < 1e-3,
+            "{point:?}"
+        );
+        assert!(
+            point.separation >= gap - POINT_AGREEMENT,
+            "{point:?} below the gap {gap}"
+        );
+        assert!(point.separation < 10.0 * gap, "{point:?}");
+    }
+}

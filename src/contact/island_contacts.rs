@@ -21,6 +21,7 @@ use nalgebra::Isometry3;
 use super::memo::PosedQuery;
 use super::{BodyGeometry, ContactFriction, PairQuery, WarmStartCache, contact_rows, query};
 use crate::broad_phase::BodyPair;
+use crate::contact::ManifoldOptions;
 use crate::geometry::ConvexPolyhedron;
 use crate::projector::{BodyState, ConstraintProvider, ConstraintRow, Measurement};
 use crate::vclip::{FeaturePair, VClip};
@@ -45,8 +46,8 @@ pub struct ContactOptions {
     pub vclip: VClip,
     /// Separated pairs closer than this give rows.
     pub margin: f64,
-    /// Up to four rows per face contact (else the deepest point only).
-    pub manifold: bool,
+    /// How the pairs' contact points are built.
+    pub manifold: ManifoldOptions,
 }
 
 /// Contacts of one island.
@@ -221,6 +222,14 @@ impl ConstraintProvider for IslandContacts<'_> {
                     pair_rows.len(),
                     reference.features.kind(),
                     reference.depth,
+                );
+            } else {
+                log::trace!(
+                    "  pair ({}, {}): separated by {:.3e}; {} rows",
+                    pair.body_a,
+                    pair.body_b,
+                    result.signed_value(),
+                    pair_rows.len(),
                 );
             }
             self.row_pairs

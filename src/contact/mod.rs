@@ -195,7 +195,7 @@ pub fn contact_rows(
     a: &BodyGeometry,
     b: &BodyGeometry,
     margin: f64,
-    manifold: bool,
+    manifold: ManifoldOptions,
     friction: ContactFriction,
 ) -> Vec<ConstraintRow> {
     contact_points(query, a, b, margin, manifold)
@@ -213,6 +213,30 @@ pub fn contact_rows(
         .collect()
 }
 
+/// How a pair's contact points are built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ManifoldOptions {
+    /// Up to four points per face contact (else the deepest point of a
+    /// penetration, or V-Clip's closest points of a near pair):
+    /// [`crate::Settings::contact_manifold`].
+    pub all_points: bool,
+    /// A near pair's manifold on a face axis nearly as wide as its widest
+    /// separating edge–edge axis, as a penetrating pair's
+    /// ([`penetration::FACE_PREFERENCE_RELATIVE`]):
+    /// [`crate::Settings::near_pair_faces`].
+    pub near_faces: bool,
+}
+
+impl ManifoldOptions {
+    /// The options of `settings`.
+    pub fn of(settings: &crate::Settings) -> Self {
+        ManifoldOptions {
+            all_points: settings.contact_manifold,
+            near_faces: settings.near_pair_faces,
+        }
+    }
+}
+
 /// The contact points of a pair with narrow-phase answer `query`, one per
 /// row of [`contact_rows`] and in the same order (none for a separated pair
 /// at or beyond `margin`): the manifold of a penetrating pair, or of a near
@@ -223,8 +247,9 @@ pub fn contact_points(
     a: &BodyGeometry,
     b: &BodyGeometry,
     margin: f64,
-    manifold: bool,
+    options: ManifoldOptions,
 ) -> PairContactPoints {
+    let manifold = options.all_points;
     let near = match (&query.penetration, &query.vclip.outcome) {
         (Some(penetration), _) => Some(*penetration),
         (None, Outcome::Separated { distance, .. }) if *distance < margin && manifold => {
@@ -234,6 +259,7 @@ pub fn contact_points(
                 b.shape,
                 &b.pose,
                 query.vclip.final_pair.to_array(),
+                options.near_faces,
             ))
         }
         _ => None,

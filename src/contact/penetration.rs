@@ -304,6 +304,7 @@ pub fn minimum_translation(
         pose_b,
         (face_body, seed.face),
         hints,
+        true,
     )
 }
 
@@ -318,6 +319,7 @@ pub fn widest_separation(
     poly_b: &ConvexPolyhedron,
     pose_b: &Isometry3<f64>,
     features: [Feature; 2],
+    near_faces: bool,
 ) -> Penetration {
     let polys = [poly_a, poly_b];
     let (face_body, face) = match features {
@@ -339,7 +341,43 @@ pub fn widest_separation(
         pose_b,
         (face_body, face),
         [hint(0), hint(1)],
+        near_faces,
     )
+}
+
+/// Whether the best face axis (`face_depth`) is close enough to the exact
+/// edge–edge axis (`exact_depth`) to carry the manifold, and whether it is
+/// bounded for an aligned face (see [`FACE_PREFERENCE_RELATIVE`] and
+/// [`FACE_ALIGNED_MAX_RATIO`]). The face is always the shallower axis
+/// (`face_depth >= exact_depth`). For a penetrating pair the tests are
+/// ratios of depths; for a separated one (negative depths: the gaps along
+/// the axes, the exact axis the widest) the same ratios of gaps: the face
+/// may keep a gap `FACE_PREFERENCE_RELATIVE` narrower than the widest, or
+/// a quarter of it when aligned. Written with the depths' signs, the
+/// penetrating tests read wrongly for gaps: the face of two level boxes a
+/// hair apart was never preferred, and their single edge–edge row let a
+/// step tilt one into the other (a stack of 50 boxes: two passes of
+/// line-search steps of 1/64 and 1/128, measured). `gap_ratios = false`
+/// keeps the penetrating tests for gaps too (the seed's contacts,
+/// [`crate::Settings::near_pair_faces`]).
+fn face_preference(
+    face_depth: f64,
+    exact_depth: f64,
+    scale: f64,
+    gap_ratios: bool,
+) -> (bool, bool) {
+    let absolute = FACE_PREFERENCE_ABSOLUTE_RELATIVE * scale;
+    if exact_depth >= 0.0 || !gap_ratios {
+        (
+            face_depth <= exact_depth * (1.0 + FACE_PREFERENCE_RELATIVE) + absolute,
+            face_depth <= exact_depth * FACE_ALIGNED_MAX_RATIO + absolute,
+        )
+    } else {
+        (
+            face_depth <= exact_depth * (1.0 - FACE_PREFERENCE_RELATIVE) + absolute,
+            face_depth <= exact_depth / FACE_ALIGNED_MAX_RATIO + absolute,
+        )
+    }
 }
 
 /// The search of the module docs from the face axis `seed` (body, face),
@@ -351,6 +389,7 @@ fn search_from(
     pose_b: &Isometry3<f64>,
     seed: (usize, usize),
     hints: [usize; 2],
+    gap_ratios: bool,
 ) -> Penetration {
     let b_in_a = pose_a.inv_mul(pose_b);
     let views = [
@@ -392,13 +431,10 @@ fn search_from(
     search.walk_cap(face_body, seed_face);
     let scale = poly_a.scale().min(poly_b.scale());
     let exact = search.best;
-    let face_close = search.best_face.depth
-        <= exact.depth * (1.0 + FACE_PREFERENCE_RELATIVE)
-            + FACE_PREFERENCE_ABSOLUTE_RELATIVE * scale;
     let face_aligned = search.best_face.normal.dot(&exact.normal) >= FACE_ALIGNMENT_COS;
     let is_edge = matches!(exact.features, PenetrationFeatures::EdgeEdge { .. });
-    let face_bounded = search.best_face.depth
-        <= exact.depth * FACE_ALIGNED_MAX_RATIO + FACE_PREFERENCE_ABSOLUTE_RELATIVE * scale;
+    let (face_close, face_bounded) =
+        face_preference(search.best_face.depth, exact.depth, scale, gap_ratios);
     let reference = if is_edge && (face_close || (face_aligned && face_bounded)) {
         search.best_face
     } else {

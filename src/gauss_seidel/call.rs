@@ -26,6 +26,7 @@ use super::contacts::{SweepContacts, sweep_points};
 use super::sweep::{InverseMass, PushParameters, SweepBodies, SweepSummary};
 use crate::Error;
 use crate::broad_phase::IncrementalBroadPhase;
+use crate::contact::ManifoldOptions;
 use crate::contact::{
     Detection, DetectionLengths, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect,
 };
@@ -133,7 +134,7 @@ pub fn run(
                 &fixed,
                 &detection,
                 &lengths,
-                settings.contact_manifold,
+                ManifoldOptions::of(settings),
             )?),
         };
         keep_if_best(&mut best, &report, &bodies.poses, detection);

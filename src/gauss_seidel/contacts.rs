@@ -14,6 +14,7 @@ use nalgebra::Isometry3;
 
 use super::point::StoredPoint;
 use crate::Error;
+use crate::contact::ManifoldOptions;
 use crate::contact::{BodyGeometry, Detection, SceneGeometry, contact_points};
 use crate::island::islands;
 use crate::stabilizer::ResolvedLengths;
@@ -35,7 +36,7 @@ pub fn sweep_points(
     fixed: &[bool],
     detection: &Detection,
     lengths: &ResolvedLengths,
-    manifold: bool,
+    manifold: ManifoldOptions,
 ) -> Result<SweepContacts, Error> {
     let all_islands = islands(fixed, &detection.active_pairs)?;
     let island_count = all_islands.len();

@@ -12,6 +12,7 @@
 
 use crate::Error;
 use crate::broad_phase::BodyPair;
+use crate::contact::ManifoldOptions;
 use crate::contact::{
     ContactOptions, IslandContacts, PairQuery, PosedQuery, SceneGeometry, WarmStartCache,
 };
@@ -167,7 +168,7 @@ fn plan_region<'a>(
     let options = ContactOptions {
         vclip: VClip::new(input.settings.vclip),
         margin: input.lengths.contact_margin,
-        manifold: input.settings.contact_manifold,
+        manifold: ManifoldOptions::of(input.settings),
     };
     let mut contacts = IslandContacts::new(
         input.geometry,

@@ -100,6 +100,7 @@ use nalgebra::{DVector, Vector3, Vector6};
 use super::Stabilizer;
 use crate::Error;
 use crate::broad_phase::BodyPair;
+use crate::contact::ManifoldOptions;
 use crate::contact::{BodyGeometry, ContactFriction, Detection, contact_rows};
 use crate::island::islands;
 use crate::projector::friction::{FrictionModel, pyramid_rows};
@@ -342,7 +343,8 @@ impl Stabilizer {
             };
             let query = &contacts.detection.active_queries[k];
             let gap = contacts.contact_gap;
-            let pair_rows = contact_rows(query, &a, &b, gap, settings.contact_manifold, friction);
+            let pair_rows =
+                contact_rows(query, &a, &b, gap, ManifoldOptions::of(settings), friction);
             for row in pair_rows.into_iter().filter(|row| row.phi <= gap) {
                 gaps.push(row.phi.max(0.0) * contacts.gap_rate);
                 rows.push(row);
