@@ -23,6 +23,7 @@ use nalgebra::Isometry3;
 use thiserror::Error;
 
 use crate::body::{Body, BodyDesc, BodyError};
+use crate::projector::friction::FrictionModel;
 use crate::stabilizer::{Method, Settings, Stabilizer};
 
 pub use crate::solver::SolverChoice;
@@ -45,6 +46,8 @@ pub struct SceneSettings {
     /// The correction method (`projection` or `gauss_seidel`, with the
     /// Gauss–Seidel defaults).
     pub method: Option<Method>,
+    /// How rows with friction bound their sliding (`pyramid` or `cone`).
+    pub friction_model: Option<FrictionModel>,
 }
 
 /// Why a [`SceneSettings`] value is invalid.

@@ -123,3 +123,24 @@ fn file_method_must_be_known() {
     let message = error.to_string();
     assert!(message.contains("method"), "{message}");
 }
+
+#[test]
+fn file_friction_model_chooses_the_cone_and_round_trips() {
+    use constraint_stabilization::FrictionModel;
+    use constraint_stabilization::io::scene_file::scene_to_string;
+    let scene = box_on_ground(r#"{"friction_model": "cone"}"#);
+    let resolved = scene.stabilizer_settings(Settings::default());
+    assert_eq!(resolved.friction_model, FrictionModel::Cone);
+    assert_eq!(
+        Settings::default().friction_model,
+        FrictionModel::Pyramid,
+        "the file changed the model, not the default"
+    );
+    let text = scene_to_string(&scene, None);
+    assert!(text.contains(r#""friction_model": "cone""#), "{text}");
+    let again = parse_scene(&text).expect("reads back");
+    assert_eq!(again.settings(), scene.settings());
+    let bad = r#"{"bodies": [], "settings": {"friction_model": "ellipse"}}"#;
+    let message = parse_scene(bad).expect_err("unknown model").to_string();
+    assert!(message.contains("friction_model"), "{message}");
+}

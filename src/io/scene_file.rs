@@ -19,7 +19,9 @@
 //!   `contact_margin`, `target_margin`, `max_passes`, `solver`
 //!   (`auto|clarabel|lemke|pgs`), `cross_check`, `method`
 //!   (`projection|gauss_seidel`: the projection, the default, or the
-//!   game-engine baseline of [`crate::gauss_seidel`] with its defaults).
+//!   game-engine baseline of [`crate::gauss_seidel`] with its defaults),
+//!   `friction_model` (`pyramid|cone`, [`crate::FrictionModel`];
+//!   friction itself is per body).
 //! - Limits: a file of at most [`MAX_SCENE_FILE_BYTES`], at most
 //!   [`MAX_BODIES`] bodies, at most [`MAX_HULL_POINTS`] points per hull;
 //!   beyond them, an error before anything is built.
@@ -48,6 +50,7 @@ use serde_json::{Map, Value};
 use thiserror::Error;
 
 use crate::body::{Body, BodyDesc, BodyError, MassSpec, Shape};
+use crate::projector::friction::FrictionModel;
 use crate::scene::{Scene, SceneSettings, SettingsError, SolverChoice};
 use crate::stabilizer::Method;
 
@@ -62,7 +65,7 @@ const BODY_FIELDS: [&str; 8] = [
     "friction",
 ];
 const TOP_FIELDS: [&str; 3] = ["bodies", "settings", "report"];
-const SETTINGS_FIELDS: [&str; 7] = [
+const SETTINGS_FIELDS: [&str; 8] = [
     "tolerance",
     "contact_margin",
     "target_margin",
@@ -70,6 +73,7 @@ const SETTINGS_FIELDS: [&str; 7] = [
     "solver",
     "cross_check",
     "method",
+    "friction_model",
 ];
 
 /// What is wrong with one field.
@@ -551,6 +555,19 @@ fn parse_settings(value: &Value) -> Result<SceneSettings, SceneFileError> {
             })
         })
         .transpose()?;
+    let friction_model = object
+        .get("friction_model")
+        .map(|v| {
+            v.as_str()
+                .and_then(FrictionModel::from_name)
+                .ok_or_else(|| {
+                    settings_error(
+                        "friction_model",
+                        FieldProblem::WrongType("one of \"pyramid\", \"cone\""),
+                    )
+                })
+        })
+        .transpose()?;
     Ok(SceneSettings {
         tolerance: number("tolerance")?,
         contact_margin: number("contact_margin")?,
@@ -559,6 +576,7 @@ fn parse_settings(value: &Value) -> Result<SceneSettings, SceneFileError> {
         solver,
         cross_check,
         method,
+        friction_model,
     })
 }
 
@@ -643,6 +661,8 @@ struct SettingsOut {
     cross_check: Option<bool>,
     #[serde(skip_serializing_if = "Option::is_none")]
     method: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    friction_model: Option<&'static str>,
 }
 
 impl SettingsOut {
@@ -655,6 +675,7 @@ impl SettingsOut {
             solver: settings.solver.map(SolverChoice::name),
             cross_check: settings.cross_check,
             method: settings.method.map(Method::name),
+            friction_model: settings.friction_model.map(FrictionModel::name),
         }
     }
 }

@@ -340,6 +340,9 @@ impl Settings {
         if let Some(method) = scene.method {
             self.method = method;
         }
+        if let Some(model) = scene.friction_model {
+            self.friction_model = model;
+        }
         self
     }
 

@@ -34,11 +34,6 @@ use super::scaling::LcpScaling;
 use path::{PathEnd, PathOptions, z_from_basis, z_from_tableau};
 use ratio::RatioTolerances;
 
-/// An inaccurate run whose residual is within this factor of the
-/// tolerance ended on the right basis, spoiled by rounding; beyond it, on a
-/// wrong one (see [`LemkeSettings::regularize_inaccurate`]).
-pub const ROUNDING_LIMITED_FACTOR: f64 = 1e3;
-
 /// Settings of Lemke's method. All tolerances apply to the Jacobi-scaled
 /// problem (unit diagonal where `M_ii > 0`, `||q~||_inf = 1`), so they are
 /// relative to the caller's `M` and `q`.
@@ -61,20 +56,6 @@ pub struct LemkeSettings {
     /// The regularizations `eps` tried, in order, after the plain run fails
     /// (relative to the unit diagonal of the scaled problem).
     pub regularization_ladder: Vec<f64>,
-    /// Climb the ladder also after a plain run that ended on a
-    /// complementary basis whose `z` misses the residual tolerance by less
-    /// than [`ROUNDING_LIMITED_FACTOR`] ([`LemkeStatus::Inaccurate`]): a
-    /// basis that is right but whose solve rounding spoils. Default true.
-    /// A regularized run perturbs the problem by `eps` and ends on the
-    /// same, no better conditioned basis: on a pyramid under a cube 1e5 to
-    /// 1e6 times heavier than its cubes (plain residuals 1.2e-9 to 2.1e-9
-    /// against 1e-9), no regularized run of 10 inaccurate islands was
-    /// accurate, and the four extra runs cost more than the clarabel that
-    /// followed. A plain run far off (a wrong basis left by degenerate
-    /// ties: residual 2.7 on an island of the demo pile of 2,000) still
-    /// climbs, and there `eps = 1e-12` finds the solution. `Auto` turns it
-    /// off when another solver follows ([`crate::solver::SolverSettings`]).
-    pub regularize_inaccurate: bool,
     /// Refactorize the tableau from the data every this many pivots
     /// (0 = never; the final basis is always re-solved once).
     pub refactor_every: usize,
@@ -97,7 +78,6 @@ impl Default for LemkeSettings {
             pivot_limit_per_row: 50,
             pivot_limit_min: 1000,
             regularization_ladder: vec![1e-12, 1e-10, 1e-8, 1e-6],
-            regularize_inaccurate: true,
             refactor_every: 0,
             tol_residual_unscaled: 1e-6,
         }
@@ -186,17 +166,9 @@ pub fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution, Lemke
     let ladder = std::iter::once(0.0).chain(settings.regularization_ladder.iter().copied());
     for eps in ladder {
         let (attempt, z_scaled) = attempt(&scaled, eps, settings);
-        let rounding_limited = matches!(
-            attempt.failure,
-            Some(LemkeStatus::Inaccurate { residual })
-                if residual <= ROUNDING_LIMITED_FACTOR * settings.tol_residual
-        );
         attempts.push(attempt);
         if let Some(z_scaled) = z_scaled {
             return Ok(finish(lcp, &scaled, z_scaled, attempts));
-        }
-        if rounding_limited && !settings.regularize_inaccurate {
-            break;
         }
     }
     let pivots = attempts.iter().map(|a| a.pivots).sum();
@@ -313,69 +285,5 @@ fn finish(
         attempts,
         residual_scaled,
         residual,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use nalgebra::{DMatrix, DVector};
-
-    /// A 3x3 LCP with an interior solution (every `z_i > 0`), whose
-    /// rounding leaves a small nonzero residual.
-    fn lcp() -> Lcp {
-        let m = DMatrix::from_row_slice(3, 3, &[4.0, 1.0, 0.3, 1.0, 3.0, 0.7, 0.3, 0.7, 5.0]);
-        let q = DVector::from_vec(vec![-1.0 / 3.0, -2.0 / 7.0, -0.1]);
-        // Square, finite data: `Lcp::new` cannot fail.
-        Lcp::new(m, q).expect("valid LCP")
-    }
-
-    /// Settings whose residual tolerances are `tol`.
-    fn with_tolerance(tol: f64, regularize_inaccurate: bool) -> LemkeSettings {
-        LemkeSettings {
-            tol_residual: tol,
-            tol_residual_unscaled: tol,
-            regularize_inaccurate,
-            ..LemkeSettings::default()
-        }
-    }
-
-    /// The plain run's residual on `lcp()`, found by asking for less.
-    fn plain_residual() -> f64 {
-        let failure =
-            solve(&lcp(), &with_tolerance(1e-300, true)).expect_err("1e-300 is unreachable");
-        match failure.status {
-            LemkeStatus::Inaccurate { residual } => residual,
-            other => panic!("plain run ended {other:?}"),
-        }
-    }
-
-    /// A run that misses the tolerance by a factor of 10 (rounding-limited)
-    /// stops at once when `regularize_inaccurate` is off, and climbs the
-    /// ladder when it is on.
-    #[test]
-    fn a_rounding_limited_run_skips_the_ladder_when_asked() {
-        let residual = plain_residual();
-        assert!(residual > 0.0 && residual < 1e-12, "residual {residual}");
-        let failure =
-            solve(&lcp(), &with_tolerance(residual / 10.0, false)).expect_err("missed by 10x");
-        assert_eq!(failure.attempts.len(), 1);
-        let climbed = match solve(&lcp(), &with_tolerance(residual / 10.0, true)) {
-            Ok(solution) => solution.attempts.len(),
-            Err(failure) => failure.attempts.len(),
-        };
-        assert!(climbed > 1, "{climbed} runs");
-    }
-
-    /// A run far off the tolerance (more than `ROUNDING_LIMITED_FACTOR`)
-    /// climbs the ladder whatever `regularize_inaccurate` says.
-    #[test]
-    fn a_run_far_off_climbs_the_ladder_anyway() {
-        let ladder = LemkeSettings::default().regularization_ladder.len();
-        for regularize in [true, false] {
-            let failure =
-                solve(&lcp(), &with_tolerance(1e-300, regularize)).expect_err("unreachable");
-            assert_eq!(failure.attempts.len(), 1 + ladder);
-        }
     }
 }
