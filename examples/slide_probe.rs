@@ -11,7 +11,7 @@
 //!
 //! `--solver-iterations N` sets Rapier's `num_solver_iterations` (default
 //! 4): the drift does not fall with 16 or 64 (1:100 stack: net drift of
-//! the boxes 1 to 26 mm and 20 to 28 mm against 6 to 28 mm).
+//! the boxes 1 to 26 mm and 20 to 28 mm against 4 to 34 mm).
 //!
 //! `--velocity-friction` sets the friction of the velocity projection
 //! (`BridgeSettings::velocity_friction`; the bridge's default otherwise).
