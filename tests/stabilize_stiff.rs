@@ -159,8 +159,8 @@ fn rod_of_one_to_a_thousand_across_another_and_into_the_ground() {
 /// A pyramid of 1 kg cubes under a cube of 1e6 kg (`tests/data/stiff/`):
 /// Lemke's complementary bases there miss its own standalone tolerance
 /// (1e-9 on the scaled LCP) by about twice, from rounding at that
-/// conditioning; inside the projection Lemke's test is loosened to a tenth
-/// of the acceptance tolerance, so `auto` keeps Lemke's answer on every
+/// conditioning; inside the projection Lemke's test is loosened to the
+/// acceptance tolerance, so `auto` keeps Lemke's answer on every
 /// island (none falls back to clarabel), and the answer is the minimal
 /// correction: clarabel's to 1e-6 of the displacement, the exact depth
 /// after within the tolerance.
