@@ -23,6 +23,7 @@ fn settings(target_margin: f64) -> ProjectionSettings {
         max_steps: 20,
         friction_directions: 4,
         friction_model: FrictionModel::Pyramid,
+        hold_open_gaps: true,
     }
 }
 

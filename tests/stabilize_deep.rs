@@ -109,19 +109,33 @@ fn box_in_an_exactly_fitting_slot_rises_with_no_target_margin() {
     assert_translated(&run, 3, Vector3::y() * OVERLAP);
 }
 
-/// Known failure (README, "Reliability"): every row, including a separated
-/// pair's within the contact margin, asks for the target margin
-/// (`projector::step`), so walls touching both sides ask the box to move
-/// away from both: the linearized problem is infeasible (Lemke: ray,
-/// clarabel: primal infeasible) and the call ends `unsolved` with the
-/// poses as they came. Any slot with less than the target margin of
-/// clearance on each side fails so. The fix (a separated row asks for
-/// `min(phi, target)`) belongs to the stabilizer loop.
+/// Formerly a known failure: every row, including a separated pair's
+/// within the contact margin, asked for the target margin, so walls
+/// touching both sides asked the box to move away from both: the
+/// linearized problem was infeasible (Lemke: ray, clarabel: primal
+/// infeasible) and the call ended `unsolved` with the poses as they came.
+/// Rows within the tolerance of contact now hold their gap
+/// (`Settings::hold_open_gaps`, `projector::step::held_rows`): the walls
+/// ask only not to close, and the box rises straight out of the floor by
+/// its overlap and the target margin, as with clearance.
 #[test]
-#[ignore = "known failure: target margin on both walls of an exact slot is infeasible"]
 fn box_in_an_exactly_fitting_slot_rises_with_the_default_settings() {
     let run = run("exact slot", &box_in_slot(0.0), Settings::default());
     assert_converged("exact slot", &run, RESTING_PASSES);
+    assert_translated(&run, 3, Vector3::y() * (OVERLAP + target_margin(&run)));
+}
+
+/// With the seed's rows (`hold_open_gaps = false`) the exact slot is still
+/// infeasible and the call returns the input: the flag is what fixes it.
+#[test]
+fn box_in_an_exactly_fitting_slot_is_infeasible_with_the_seeds_rows() {
+    let settings = Settings {
+        hold_open_gaps: false,
+        ..Settings::default()
+    };
+    let run = run("exact slot, seed's rows", &box_in_slot(0.0), settings);
+    assert!(!run.report.status.is_resolved(), "{:?}", run.report.status);
+    assert_eq!(run.report.bodies_moved, 0);
 }
 
 #[test]

@@ -23,6 +23,7 @@ fn frictionless_default_reproduces_the_seed_bit_for_bit() {
     let mut scene = demo_scene(300, 2026);
     let settings = Settings {
         near_pair_faces: false,
+        hold_open_gaps: false,
         ..Settings::default()
     };
     let mut stabilizer = Stabilizer::new(settings).expect("valid settings");

@@ -49,6 +49,10 @@ pub struct ProjectionSettings {
     pub friction_directions: usize,
     /// The pyramid or the exact cone ([`FrictionModel`]).
     pub friction_model: FrictionModel,
+    /// A row within the tolerance of its contact but short of the target
+    /// margin (touching, or open by less) holds its current value instead
+    /// of asking for the target margin ([`held_rows`]).
+    pub hold_open_gaps: bool,
 }
 
 /// What a step did.
@@ -168,10 +172,14 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
         rows.iter().filter(|row| row.friction.is_some()).count(),
         depth_before
     );
+    let held = settings
+        .hold_open_gaps
+        .then(|| held_rows(&rows, settings.tolerance, settings.target_margin))
+        .flatten();
     let (qp, qp_parents) = projection_qp(
         configuration,
         inertias,
-        &rows,
+        held.as_deref().unwrap_or(&rows),
         settings.target_margin,
         settings.friction_directions,
         settings.friction_model,
@@ -320,6 +328,36 @@ pub fn project<P: ConstraintProvider + ?Sized>(
     Ok(ProjectionSummary {
         status: ProjectionStatus::StepLimit,
         steps,
+    })
+}
+
+/// The rows with a value `phi` within the tolerance of contact but short of
+/// the target margin (`-tolerance <= phi < target`) made to hold it: their
+/// `phi` raised to the target, so that the linearized row reads
+/// `J dq >= 0` (the contact may open, not close), and their friction apex
+/// where they are (`r = 0`: no sliding without opening). `None` when no row
+/// is such. Asking every row for the target margin made a box pressed
+/// between two walls that touch it (an exactly fitting slot) infeasible:
+/// both walls asked the box to move away from them (Lemke's ray,
+/// clarabel's infeasibility certificate), and the call ended with the box
+/// sunk in the floor. Rows deeper than the tolerance still aim at the
+/// target margin, which covers the linearization's second-order error.
+pub fn held_rows(
+    rows: &[ConstraintRow],
+    tolerance: f64,
+    target: f64,
+) -> Option<Vec<ConstraintRow>> {
+    let holds = |row: &ConstraintRow| row.phi >= -tolerance && row.phi < target;
+    rows.iter().any(holds).then(|| {
+        rows.iter()
+            .map(|row| {
+                let mut row = row.clone();
+                if holds(&row) {
+                    row.phi = target;
+                }
+                row
+            })
+            .collect()
     })
 }
 

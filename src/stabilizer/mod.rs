@@ -263,6 +263,7 @@ impl Stabilizer {
             solver: self.settings.solver.clone(),
             max_steps: 1,
             friction_directions: self.settings.friction_directions,
+            hold_open_gaps: self.settings.hold_open_gaps,
             friction_model: self.settings.friction_model,
         };
         let shapes: Vec<_> = scene

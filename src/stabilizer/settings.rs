@@ -124,6 +124,13 @@ pub struct Settings {
     /// 1/64 and 1/128). `false` gives the seed's contacts
     /// (`tests/stabilize_seed.rs`).
     pub near_pair_faces: bool,
+    /// A contact row within the tolerance but short of the target margin
+    /// (touching, or open by less) holds its value rather than asking for
+    /// the target margin ([`crate::projector::step::held_rows`]). Default
+    /// true: a box between two walls that touch it (an exactly fitting
+    /// slot) was infeasible, both walls asking it to move away. `false`
+    /// gives the seed's rows (`tests/stabilize_seed.rs`).
+    pub hold_open_gaps: bool,
     /// Coulomb friction coefficient of a body that has none of its own
     /// ([`crate::body::Body::set_friction`]); a pair's coefficient is the
     /// mean of its two bodies'. Every contact row (penetrating, resting,
@@ -196,6 +203,7 @@ impl Default for Settings {
             max_passes: 100,
             contact_manifold: true,
             near_pair_faces: true,
+            hold_open_gaps: true,
             friction: 0.0,
             friction_directions: crate::projector::friction::DEFAULT_FRICTION_DIRECTIONS,
             friction_model: FrictionModel::default(),
