@@ -4,9 +4,10 @@
 //! (`Settings::friction = 0`, the default) and positions only, the demo
 //! scene ends at exactly the poses it ended at before friction existed
 //! (pose hash recorded on commit 89ab21c, the last commit without it),
-//! given the seed's contacts for near pairs (`near_pair_faces = false`;
-//! the default builds a near pair's manifold on a face, which moves the
-//! demo's answer within the tolerance).
+//! given the seed's contact rows: `near_pair_faces = false` (the default
+//! builds a near pair's manifold on a face) and `hold_open_gaps = false`
+//! (the default lets a row within the tolerance of contact hold its gap);
+//! each default moves the demo's answer within the tolerance.
 
 mod stabilize_support;
 
