@@ -110,19 +110,21 @@ fn box_in_an_exactly_fitting_slot_rises_with_no_target_margin() {
 }
 
 /// Formerly a known failure: every row, including a separated pair's
-/// within the contact margin, asked for the target margin, so walls
-/// touching both sides asked the box to move away from both: the
-/// linearized problem was infeasible (Lemke: ray, clarabel: primal
-/// infeasible) and the call ended `unsolved` with the poses as they came.
-/// Rows within the tolerance of contact now hold their gap
-/// (`Settings::hold_open_gaps`, `projector::step::held_rows`): the walls
-/// ask only not to close, and the box rises straight out of the floor by
-/// its overlap and the target margin, as with clearance.
+/// within the contact margin, asks for the target margin, so walls
+/// touching both sides ask the box to move away from both: the linearized
+/// problem is infeasible (Lemke: ray, clarabel: primal infeasible) and the
+/// call ended `unsolved` with the poses as they came. Such an island is
+/// now solved again with the rows within the tolerance of contact holding
+/// their gap (`Settings::hold_open_gaps`, `projector::step::held_rows`):
+/// the walls ask only not to close, and the box rises straight out of the
+/// floor by its overlap and the target margin, as with clearance.
 #[test]
 fn box_in_an_exactly_fitting_slot_rises_with_the_default_settings() {
     let run = run("exact slot", &box_in_slot(0.0), Settings::default());
     assert_converged("exact slot", &run, RESTING_PASSES);
     assert_translated(&run, 3, Vector3::y() * (OVERLAP + target_margin(&run)));
+    let first = &run.report.pass_reports[0].solved[0];
+    assert!(first.rows_held, "{first:#?}");
 }
 
 /// With the seed's rows (`hold_open_gaps = false`) the exact slot is still

@@ -4,10 +4,9 @@
 //! (`Settings::friction = 0`, the default) and positions only, the demo
 //! scene ends at exactly the poses it ended at before friction existed
 //! (pose hash recorded on commit 89ab21c, the last commit without it),
-//! given the seed's contact rows: `near_pair_faces = false` (the default
-//! builds a near pair's manifold on a face) and `hold_open_gaps = false`
-//! (the default lets a row within the tolerance of contact hold its gap);
-//! each default moves the demo's answer within the tolerance.
+//! given the seed's contacts for near pairs (`near_pair_faces = false`;
+//! the default builds a near pair's manifold on a face, which moves the
+//! demo's answer within the tolerance).
 
 mod stabilize_support;
 
@@ -24,7 +23,6 @@ fn frictionless_default_reproduces_the_seed_bit_for_bit() {
     let mut scene = demo_scene(300, 2026);
     let settings = Settings {
         near_pair_faces: false,
-        hold_open_gaps: false,
         ..Settings::default()
     };
     let mut stabilizer = Stabilizer::new(settings).expect("valid settings");

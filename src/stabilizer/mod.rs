@@ -263,7 +263,9 @@ impl Stabilizer {
             solver: self.settings.solver.clone(),
             max_steps: 1,
             friction_directions: self.settings.friction_directions,
-            hold_open_gaps: self.settings.hold_open_gaps,
+            // Held rows are the retry of an island that cannot be solved
+            // without them (`solve_island`).
+            hold_open_gaps: false,
             friction_model: self.settings.friction_model,
         };
         let shapes: Vec<_> = scene

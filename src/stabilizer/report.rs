@@ -149,6 +149,12 @@ pub struct IslandReport {
     /// The problem with friction could not be solved (its friction pyramid
     /// left wedged bodies no way out) and the island was solved without.
     pub friction_dropped: bool,
+    /// The problem with every row at the target margin could not be solved
+    /// (walls touching a body on opposite sides ask it to move away from
+    /// both) and the island was solved again with the rows within the
+    /// tolerance of contact holding their gap
+    /// ([`crate::projector::step::held_rows`], [`crate::Settings::hold_open_gaps`]).
+    pub rows_held: bool,
     /// Linearized constraint rows.
     pub constraints: usize,
     /// The solver that produced the correction (`None` if nothing solved).

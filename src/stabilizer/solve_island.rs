@@ -111,6 +111,7 @@ impl IslandSolution {
                 region_bodies: 0,
                 region_rounds: 0,
                 friction_dropped: false,
+                rows_held: false,
                 constraints: 0,
                 solver: None,
                 fallbacks: Vec::new(),
@@ -328,7 +329,29 @@ fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolut
         island.bodies.len(),
         island.pairs.len()
     );
-    match solve_island_once(input, island) {
+    let retry_held = input.settings.hold_open_gaps && !input.projection.hold_open_gaps;
+    let mut held_settings = None;
+    let mut last = input;
+    let mut result = solve_island_once(input, island);
+    if let (Err(error), true) = (&result, retry_held) {
+        log::debug!(
+            "island {}: not solved with every row at the target margin ({error}); solved again with the rows in contact held",
+            island_label(input.scene, &island.bodies)
+        );
+        let held = held_settings.insert(ProjectionSettings {
+            hold_open_gaps: true,
+            ..input.projection.clone()
+        });
+        last = PassInput {
+            projection: held,
+            ..input
+        };
+        result = solve_island_once(last, island).map(|mut solution| {
+            solution.report.rows_held = true;
+            solution
+        });
+    }
+    match result {
         Err(error) if input.frictional => {
             log::debug!(
                 "island {}: not solved with friction ({error}); solved again without",
@@ -336,10 +359,11 @@ fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolut
             );
             let frictionless = PassInput {
                 frictional: false,
-                ..input
+                ..last
             };
             let mut solution = solve_island_once(frictionless, island)?;
             solution.report.friction_dropped = true;
+            solution.report.rows_held = last.projection.hold_open_gaps;
             Ok(solution)
         }
         result => result,
@@ -411,6 +435,7 @@ fn finish(
             region_bodies: bodies.len(),
             region_rounds: rounds,
             friction_dropped: false,
+            rows_held: false,
             constraints: step.constraints,
             solver: solution.map(|s| s.solver),
             fallbacks: solution.map(|s| s.fallbacks.clone()).unwrap_or_default(),
