@@ -5,7 +5,8 @@
 //! [`methods`] (the library's solvers over pass limits and tolerances,
 //! nonlinear Gauss–Seidel position correction, settling by simulation),
 //! the run's wall time (median of the repeats, every configuration of a
-//! scene interleaved per repeat), the exact deepest remaining penetration
+//! scene interleaved per repeat, the round starting at another configuration
+//! each repeat), the exact deepest remaining penetration
 //! (brute-force separating axes, `common::sat`, not the library's own
 //! measure), the mass-weighted displacement and the largest motion of a
 //! body ([`motion`]), the passes, sweeps or steps done, and whether
@@ -191,8 +192,14 @@ fn measure(case: &Case, quick: bool) -> Measured {
             skip[c] = true;
         }
     }
+    let count = configs.len();
     for repeat in 0..repeats {
-        for (c, config) in configs.iter().enumerate() {
+        // Each repeat starts the round at another configuration, so that no
+        // configuration always runs first (or right after a given other).
+        let first = repeat * count / repeats.max(1);
+        for k in 0..count {
+            let c = (first + k) % count;
+            let config = &configs[c];
             if skip[c] {
                 continue;
             }

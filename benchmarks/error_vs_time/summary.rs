@@ -290,7 +290,8 @@ fn parameters() -> String {
          `L` is the scene scale (the circumradius of the smallest dynamic body); the \
          tolerance is the library's default, `1e-6 L`, for every method. Times are wall \
          times of the whole call (median of the repeats; every configuration of a scene \
-         interleaved per repeat; a configuration whose first run took more than {slow} s \
+         interleaved per repeat, each repeat's round starting at another configuration; \
+         a configuration whose first run took more than {slow} s \
          is not repeated). Depths are exact: brute-force separating axes over every pair \
          (`benchmarks/common/sat.rs`).\n\n\
          - **Library** (`Stabilizer::stabilize`, fresh stabilizer, default settings but \
