@@ -112,7 +112,6 @@ pub fn detect(
     } = state;
     let broad_start = Instant::now();
     let (candidates, _) = broad_phase.candidate_pairs(scene, lengths.contact_margin)?;
-    let candidates = candidates.to_vec();
     let broad_phase_seconds = broad_start.elapsed().as_secs_f64();
     let narrow_start = Instant::now();
     let poses_of = |pair: BodyPair| [&geometry.poses[pair.body_a], &geometry.poses[pair.body_b]];
@@ -153,7 +152,7 @@ pub fn detect(
         broad_phase_seconds,
         ..Detection::default()
     };
-    for (pair, answer) in candidates.into_iter().zip(answers) {
+    for (&pair, answer) in candidates.iter().zip(answers) {
         // Every pair has an answer: from the memo, or queried just above.
         if let Some(result) = answer {
             log_pair(scene, pair, &result, lengths);
