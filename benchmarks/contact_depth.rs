@@ -202,10 +202,8 @@ impl Family {
     }
 
     fn geometry(&self, case: &Case) -> (BodyGeometry<'_>, BodyGeometry<'_>) {
-        let body = |index: usize, pose: Isometry3<f64>| BodyGeometry {
-            shape: &self.shapes[index],
-            pose,
-            configuration_index: None,
+        let body = |index: usize, pose: Isometry3<f64>| {
+            BodyGeometry::convex(&self.shapes[index], pose, None)
         };
         (body(case.a, case.pose_a), body(case.b, case.pose_b))
     }
@@ -422,7 +420,7 @@ fn pile(vclip: &VClip) -> Family {
     let shapes: Vec<Arc<ConvexPolyhedron>> = scene
         .bodies()
         .iter()
-        .map(|body| body.polyhedron().clone())
+        .map(|body| body.polyhedron().expect("a convex body").clone())
         .collect();
     let mut family = Family::new("mj01 pile".into(), shapes, true);
     for pair in candidate_pairs(&scene, 0.0).expect("broad phase") {

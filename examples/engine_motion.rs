@@ -127,6 +127,7 @@ fn motions(scene: &Scene, poses_before: &[Isometry3<f64>], report: &Report) -> V
         }
         let vertex = after
             .polyhedron()
+            .expect("a convex body")
             .vertices()
             .iter()
             .map(|v_body| (after.com_pose() * v_body - before * v_body).norm())

@@ -49,12 +49,14 @@ fn contact_motion(
         let (lower, upper) = (w[0], w[1]);
         let top = scene.bodies()[lower]
             .polyhedron()
+            .expect("a convex body")
             .vertices()
             .iter()
             .map(|v| v.z)
             .fold(f64::NEG_INFINITY, f64::max);
         let mut corners: Vec<(Point3<f64>, Point3<f64>)> = scene.bodies()[upper]
             .polyhedron()
+            .expect("a convex body")
             .vertices()
             .iter()
             .map(|v| {

@@ -35,6 +35,7 @@ pub mod projector;
 pub mod rapier_bridge;
 pub mod render;
 pub mod scene;
+pub mod scene_parts;
 pub mod solver;
 pub mod stabilizer;
 pub mod vclip;

@@ -98,23 +98,24 @@ pub fn render_svg(scene: &Scene, view: View, penetrations: &[PairPenetration]) -
     let project = |p: &Point3<f64>| (p.coords.dot(&right), -p.coords.dot(&up));
     let mut faces = Vec::new();
     for (index, body) in scene.bodies().iter().enumerate() {
-        let pose = body.com_pose();
-        let shape = body.polyhedron();
-        let world: Vec<Point3<f64>> = shape.vertices().iter().map(|p| pose * p).collect();
-        for face in shape.faces() {
-            let normal = pose.rotation * face.plane.normal;
-            if normal.dot(&v) <= 0.0 {
-                continue;
+        for (part, pose) in body.parts().iter().zip(body.part_poses()) {
+            let shape = part.polyhedron();
+            let world: Vec<Point3<f64>> = shape.vertices().iter().map(|p| pose * p).collect();
+            for face in shape.faces() {
+                let normal = pose.rotation * face.plane.normal;
+                if normal.dot(&v) <= 0.0 {
+                    continue;
+                }
+                let corners: Vec<&Point3<f64>> = face.vertices.iter().map(|&i| &world[i]).collect();
+                let centroid =
+                    corners.iter().map(|p| p.coords).sum::<Vector3<f64>>() / corners.len() as f64;
+                faces.push(DrawnFace {
+                    body: index,
+                    depth: centroid.dot(&v),
+                    points: corners.iter().map(|p| project(p)).collect(),
+                    shade: AMBIENT + (1.0 - AMBIENT) * normal.dot(&light).max(0.0),
+                });
             }
-            let corners: Vec<&Point3<f64>> = face.vertices.iter().map(|&i| &world[i]).collect();
-            let centroid =
-                corners.iter().map(|p| p.coords).sum::<Vector3<f64>>() / corners.len() as f64;
-            faces.push(DrawnFace {
-                body: index,
-                depth: centroid.dot(&v),
-                points: corners.iter().map(|p| project(p)).collect(),
-                shade: AMBIENT + (1.0 - AMBIENT) * normal.dot(&light).max(0.0),
-            });
         }
     }
     faces.sort_by(|a, b| a.depth.total_cmp(&b.depth));

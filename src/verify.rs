@@ -7,6 +7,7 @@ use crate::Error;
 use crate::broad_phase::candidate_pairs;
 use crate::geometry::isometry_to_parry;
 use crate::scene::Scene;
+use crate::scene_parts::SceneParts;
 
 /// Penetration statistics of a scene by parry.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -17,20 +18,20 @@ pub struct ParryPenetration {
     pub deepest: f64,
 }
 
-/// Penetrations deeper than `threshold`, over the broad-phase pairs.
+/// Penetrations deeper than `threshold`, over the part pairs of the
+/// broad-phase pairs (each pair of two compounds' parts counts apart).
 pub fn parry_penetration(scene: &Scene, threshold: f64) -> Result<ParryPenetration, Error> {
-    let shapes = scene
-        .bodies()
+    let parts = SceneParts::of(scene);
+    let shapes = parts
+        .shapes()
         .iter()
-        .map(|b| b.polyhedron().to_parry())
+        .map(|shape| shape.to_parry())
         .collect::<Result<Vec<_>, _>>()?;
-    let poses: Vec<_> = scene
-        .bodies()
-        .iter()
-        .map(|b| isometry_to_parry(b.com_pose()))
-        .collect();
+    let body_poses: Vec<_> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
+    let part_poses = parts.poses(&body_poses);
+    let poses: Vec<_> = part_poses.iter().map(isometry_to_parry).collect();
     let mut result = ParryPenetration::default();
-    for pair in candidate_pairs(scene, 0.0)? {
+    for pair in parts.part_pairs(&candidate_pairs(scene, 0.0)?, &part_poses, 0.0) {
         let (a, b) = (pair.body_a, pair.body_b);
         let contact =
             parry3d_f64::query::contact(&poses[a], &shapes[a], &poses[b], &shapes[b], 0.0);

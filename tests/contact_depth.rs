@@ -42,11 +42,7 @@ const EPA_AGREEMENT_RELATIVE: f64 = 1e-6;
 const PAIRS_PER_FAMILY: usize = 2_500;
 
 fn geometry(shape: &ConvexPolyhedron, pose: Isometry3<f64>) -> BodyGeometry<'_> {
-    BodyGeometry {
-        shape,
-        pose,
-        configuration_index: None,
-    }
+    BodyGeometry::convex(shape, pose, None)
 }
 
 fn query(

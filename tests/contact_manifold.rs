@@ -28,11 +28,11 @@ const ENGINE_DEPTH_AGREEMENT_RELATIVE: f64 = 1e-9;
 const MARGIN: f64 = 1e-3;
 
 fn geometry(scene: &Scene, i: usize) -> BodyGeometry<'_> {
-    BodyGeometry {
-        shape: scene.bodies()[i].polyhedron(),
-        pose: *scene.bodies()[i].com_pose(),
-        configuration_index: None,
-    }
+    BodyGeometry::convex(
+        scene.bodies()[i].polyhedron().expect("a convex body"),
+        *scene.bodies()[i].com_pose(),
+        None,
+    )
 }
 
 fn pair_query(scene: &Scene) -> PairQuery {

@@ -50,6 +50,7 @@ fn the_picture_parses_has_one_polygon_per_visible_face_and_marks_penetrations() 
             .map(|b| {
                 let rotation = b.com_pose().rotation;
                 b.polyhedron()
+                    .expect("a convex body")
                     .faces()
                     .iter()
                     .filter(|f| (rotation * f.plane.normal).dot(&v) > 0.0)

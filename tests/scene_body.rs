@@ -122,7 +122,7 @@ proptest! {
         };
         let user = body.user_pose();
         let com_oracle_world = user * Point3::new(oracle.local_com.x, oracle.local_com.y, oracle.local_com.z);
-        let scale = body.polyhedron().scale();
+        let scale = body.polyhedron().expect("a convex body").scale();
         prop_assert!((body.com_world() - com_oracle_world).norm() <= 1e-9 * scale.max(1.0));
         let mass = body.mass().unwrap();
         prop_assert!((mass.mass - oracle.mass()).abs() <= 1e-9 * oracle.mass());
@@ -133,8 +133,8 @@ proptest! {
         let product = body.inverse_inertia_world().unwrap() * inertia;
         prop_assert!((product - Matrix3::identity()).norm() <= 1e-8);
         // Every body-frame vertex maps to the same world point by both poses.
-        let offset = body.polyhedron().shape_origin_offset();
-        for v_body in body.polyhedron().vertices() {
+        let offset = body.polyhedron().expect("a convex body").shape_origin_offset();
+        for v_body in body.polyhedron().expect("a convex body").vertices() {
             let by_com = body.com_pose() * v_body;
             let by_user = user * (v_body + offset);
             prop_assert!((by_com - by_user).norm() <= 1e-12 * (scale + translation.0.abs() + 10.0));
@@ -152,7 +152,7 @@ proptest! {
         let q = UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(w, x, y, z));
         let t_com = body.com_pose().translation.vector + Vector3::new(dx.0, dx.1, dx.2);
         body.set_com_pose(Isometry3::from_parts(Translation3::from(t_com), q)).unwrap();
-        let offset = body.polyhedron().shape_origin_offset();
+        let offset = body.polyhedron().expect("a convex body").shape_origin_offset();
         let com_from_user = body.user_pose() * Point3::from(offset);
         prop_assert!((com_from_user.coords - t_com).norm() <= 1e-12 * 10.0);
         prop_assert_eq!(body.com_pose().translation.vector, t_com);

@@ -23,6 +23,7 @@ fn parry_shape_and_pose(scene: &Scene, i: usize) -> (ConvexPolyhedron, Pose) {
     let body = &scene.bodies()[i];
     let points: Vec<Vector> = body
         .polyhedron()
+        .expect("a convex body")
         .vertices()
         .iter()
         .map(|v| Vector::new(v.x, v.y, v.z))

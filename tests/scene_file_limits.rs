@@ -107,6 +107,10 @@ fn a_million_hull_points_are_refused_before_the_hull_is_built() {
 #[test]
 fn the_largest_hull_accepted_builds_with_every_point_a_vertex() {
     let scene = parse_scene(&hull_scene(&sphere_points(MAX_HULL_POINTS))).expect("accepted");
-    let vertices = scene.bodies()[0].polyhedron().vertices().len();
+    let vertices = scene.bodies()[0]
+        .polyhedron()
+        .expect("a convex body")
+        .vertices()
+        .len();
     assert_eq!(vertices, MAX_HULL_POINTS);
 }

@@ -244,12 +244,14 @@ fn vertices_inside(scene: &Scene, a: usize, b: usize) -> usize {
     let to_b = body_b.com_pose().inverse() * body_a.com_pose();
     body_a
         .polyhedron()
+        .expect("a convex body")
         .vertices()
         .iter()
         .filter(|v| {
             let p = to_b * **v;
             body_b
                 .polyhedron()
+                .expect("a convex body")
                 .faces()
                 .iter()
                 .all(|f| f.plane.signed_distance(&p) < 0.0)

@@ -147,6 +147,7 @@ fn an_open_contact_slides_at_most_the_gap_it_keeps() {
     let (ratio, tilt, depth, mu) = (1000.0, 2e-2, 2e-3, 0.5);
     let scale = heavy_on_light(ratio, tilt, depth).bodies()[1]
         .polyhedron()
+        .expect("a convex body")
         .scale();
     let mut input = heavy_on_floating_light(ratio, tilt, depth, OPEN_GAP_RELATIVE * scale);
     for (body, own) in [(0, 2.0 * mu), (1, 0.0), (2, 0.0)] {

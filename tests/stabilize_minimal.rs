@@ -96,7 +96,10 @@ fn box_sunk_into_fixed_ground_is_lifted_by_the_depth() {
             "{choice:?}: moved {moved:?}, expected {expected:?}"
         );
         let turned = body.user_pose().rotation.angle();
-        let allowed = rotation_allowance(expected.norm(), body.polyhedron().scale());
+        let allowed = rotation_allowance(
+            expected.norm(),
+            body.polyhedron().expect("a convex body").scale(),
+        );
         assert!(turned <= allowed, "{choice:?}: turned by {turned:e} rad");
     }
 }
@@ -163,7 +166,10 @@ fn two_free_boxes(m1: f64, m2: f64) {
                     "{label}: body {index} moved {moved:?}, expected {expected:?}"
                 );
                 let turned = body.user_pose().rotation.angle_to(&frame);
-                let allowed = rotation_allowance(expected.norm(), body.polyhedron().scale());
+                let allowed = rotation_allowance(
+                    expected.norm(),
+                    body.polyhedron().expect("a convex body").scale(),
+                );
                 assert!(
                     turned <= allowed,
                     "{label}: body {index} turned by {turned:e} rad (allowed {allowed:e})"
@@ -214,7 +220,11 @@ fn box_sunk_on_one_vertex(
     ]);
     let before = *scene.bodies()[1].com_pose();
     let settings = tight(SolverChoice::Auto);
-    let margin = settings.contact_margin_relative * scene.bodies()[1].polyhedron().scale();
+    let margin = settings.contact_margin_relative
+        * scene.bodies()[1]
+            .polyhedron()
+            .expect("a convex body")
+            .scale();
     let heights = vertices_by_height(&scene, 1, &up);
     let point = heights[0];
     assert!(

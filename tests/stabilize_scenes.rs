@@ -137,7 +137,7 @@ fn check_scene_at_all_scales(spec: &TestScene, unique: bool) {
 
 fn assert_poses_scale(name: &str, reference: &Scene, scaled_scene: &Scene, s: f64) {
     for (a, b) in reference.bodies().iter().zip(scaled_scene.bodies()) {
-        let size = a.polyhedron().scale();
+        let size = a.polyhedron().expect("a convex body").scale();
         let dt = (b.translation_user() / s - a.translation_user()).norm();
         let angle = a.user_pose().rotation.angle_to(&b.user_pose().rotation);
         assert!(
@@ -275,11 +275,12 @@ impl PlacedHull {
         PlacedHull {
             shape: body
                 .polyhedron()
+                .expect("a convex body")
                 .to_parry()
                 .expect("parry accepts our hulls"),
             pose: isometry_to_parry(body.com_pose()),
             aabb: body.world_aabb(),
-            scale: body.polyhedron().scale(),
+            scale: body.polyhedron().expect("a convex body").scale(),
         }
     }
 
@@ -344,7 +345,7 @@ fn assert_stack_lifts_are_minimal(masses: &[f64]) {
         );
         let turned = body.user_pose().rotation.angle();
         assert!(
-            turned <= RELATIVE_MOTION * lift / body.polyhedron().scale(),
+            turned <= RELATIVE_MOTION * lift / body.polyhedron().expect("a convex body").scale(),
             "box {k}: turned by {turned:e} rad"
         );
     }
@@ -422,7 +423,8 @@ fn assert_separated_along_axis(
         );
         let turned = body.user_pose().rotation.angle_to(rotation);
         assert!(
-            turned <= RELATIVE_MOTION * distance / body.polyhedron().scale(),
+            turned
+                <= RELATIVE_MOTION * distance / body.polyhedron().expect("a convex body").scale(),
             "{}: turned by {turned:e} rad",
             body.name()
         );
@@ -517,7 +519,9 @@ fn assert_small_cube_escapes_through_plus_x(big_mass: MassSpec, small_at: [f64; 
         );
         let turned = body.user_pose().rotation.angle();
         assert!(
-            turned <= RELATIVE_MOTION * along_x.abs() / body.polyhedron().scale(),
+            turned
+                <= RELATIVE_MOTION * along_x.abs()
+                    / body.polyhedron().expect("a convex body").scale(),
             "{}: turned by {turned:e} rad",
             body.name()
         );
@@ -623,8 +627,11 @@ fn free_rod_and_cube_split_by_mass_and_inertia() {
         ),
     ]);
     let before: Vec<_> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
-    let margin =
-        Settings::default().contact_margin_relative * scene.bodies()[1].polyhedron().scale();
+    let margin = Settings::default().contact_margin_relative
+        * scene.bodies()[1]
+            .polyhedron()
+            .expect("a convex body")
+            .scale();
     let heights = vertices_by_height(&scene, 1, &up);
     assert!(
         (heights[0] - corner_world).norm() <= PLACEMENT_ROUNDING

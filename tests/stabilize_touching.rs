@@ -28,10 +28,12 @@ fn ours_and_oracles(
     descs: &[constraint_stabilization::body::BodyDesc; 2],
 ) -> (PairQuery, f64, f64) {
     let scene = scene_of(descs);
-    let geometry = |i: usize| BodyGeometry {
-        shape: scene.bodies()[i].polyhedron(),
-        pose: *scene.bodies()[i].com_pose(),
-        configuration_index: None,
+    let geometry = |i: usize| {
+        BodyGeometry::convex(
+            scene.bodies()[i].polyhedron().expect("a convex body"),
+            *scene.bodies()[i].com_pose(),
+            None,
+        )
     };
     let vclip = VClip::new(VClipSettings::default());
     let result = contact::query(&vclip, &geometry(0), &geometry(1), None).expect("valid query");

@@ -45,7 +45,7 @@ impl WorldHull {
     /// The body's polyhedron at its current pose.
     pub fn of(body: &Body) -> Self {
         let pose = body.com_pose();
-        let poly = body.polyhedron();
+        let poly = body.polyhedron().expect("a convex body");
         let vertices: Vec<Vector3<f64>> =
             poly.vertices().iter().map(|p| (pose * p).coords).collect();
         let mut normals = Vec::new();

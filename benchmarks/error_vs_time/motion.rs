@@ -29,7 +29,7 @@ pub fn motion(before: &Scene, after: &Scene) -> Motion {
     for (b0, b1) in before.bodies().iter().zip(after.bodies()) {
         let (p0, p1) = (b0.com_pose(), b1.com_pose());
         if p0 != p1 {
-            for v in b0.polyhedron().vertices() {
+            for v in b0.polyhedron().expect("a convex body").vertices() {
                 largest = largest.max(((p1 * v) - (p0 * v)).norm());
             }
         }

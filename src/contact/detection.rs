@@ -8,11 +8,9 @@
 
 use std::time::Instant;
 
-use nalgebra::Isometry3;
-
 use super::island_contacts::{SceneGeometry, shape_pair};
 use super::memo::{PosedQuery, QueryMemo};
-use super::{BodyGeometry, PairQuery, PenetrationFeatures, WarmStartCache, query};
+use super::{PairQuery, PenetrationFeatures, WarmStartCache, query};
 use crate::Error;
 use crate::broad_phase::{BodyPair, IncrementalBroadPhase};
 use crate::island::Island;
@@ -21,13 +19,17 @@ use crate::scene::Scene;
 use crate::vclip::{FeaturePair, VClip};
 
 /// One penetrating pair as a detection found it: the feature pair of its
-/// minimum translation and its exact depth.
+/// minimum translation and its exact depth. Two compound bodies may have
+/// several (one per pair of penetrating parts).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PairPenetration {
     /// First body (scene index, the smaller).
     pub body_a: usize,
     /// Second body (scene index).
     pub body_b: usize,
+    /// The penetrating parts, as indices into each body's
+    /// [`crate::body::Body::parts`] (0 for a convex body).
+    pub parts: [usize; 2],
     /// Vertex–face (either body's face) or edge–edge.
     pub features: PenetrationFeatures,
     /// Exact penetration depth (separating axes).
@@ -41,8 +43,12 @@ pub struct Detection {
     pub candidates: usize,
     /// Candidate pairs queried (the others were answered by the memo).
     pub queried: usize,
-    /// Pairs penetrating or within the contact margin, ascending.
+    /// Part pairs ([`crate::scene_parts::SceneParts`]) penetrating or
+    /// within the contact margin, ascending (body pairs in a scene of
+    /// convex bodies).
     pub active_pairs: Vec<BodyPair>,
+    /// The body pair of each active pair (islands are formed over them).
+    pub active_bodies: Vec<BodyPair>,
     /// Signed value (distance, or minus depth) of each active pair.
     pub active_values: Vec<f64>,
     /// Narrow-phase answer of each active pair, at the detection's poses.
@@ -111,7 +117,18 @@ pub fn detect(
         memo,
     } = state;
     let broad_start = Instant::now();
-    let (candidates, _) = broad_phase.candidate_pairs(scene, lengths.contact_margin)?;
+    let (body_pairs, _) = broad_phase.candidate_pairs(scene, lengths.contact_margin)?;
+    let expanded;
+    let candidates = match geometry.parts.all_convex() {
+        true => body_pairs,
+        false => {
+            expanded =
+                geometry
+                    .parts
+                    .part_pairs(body_pairs, geometry.poses, lengths.contact_margin);
+            &expanded
+        }
+    };
     let broad_phase_seconds = broad_start.elapsed().as_secs_f64();
     let narrow_start = Instant::now();
     let poses_of = |pair: BodyPair| [&geometry.poses[pair.body_a], &geometry.poses[pair.body_b]];
@@ -124,7 +141,7 @@ pub fn detect(
         .collect();
     let queried = parallel::map(&to_query, |&i| {
         let pair = candidates[i];
-        let start = cache.get(pair, shape_pair(geometry.shapes, pair));
+        let start = cache.get(pair, shape_pair(geometry.shapes(), pair));
         query_pair(geometry, pair, vclip, start)
     });
     for (&i, result) in to_query.iter().zip(queried) {
@@ -132,7 +149,7 @@ pub fn detect(
         let pair = candidates[i];
         cache.insert(
             pair,
-            shape_pair(geometry.shapes, pair),
+            shape_pair(geometry.shapes(), pair),
             result.vclip.final_pair,
         );
         let [pose_a, pose_b] = poses_of(pair);
@@ -155,8 +172,9 @@ pub fn detect(
     for (&pair, answer) in candidates.iter().zip(answers) {
         // Every pair has an answer: from the memo, or queried just above.
         if let Some(result) = answer {
-            log_pair(scene, pair, &result, lengths);
-            detection.record(pair, result, lengths);
+            let bodies = geometry.parts.owner_pair(pair);
+            log_pair(scene, bodies, &result, lengths);
+            detection.record(geometry, pair, result, lengths);
         }
     }
     detection.narrow_phase_seconds = narrow_start.elapsed().as_secs_f64();
@@ -164,27 +182,41 @@ pub fn detect(
 }
 
 impl Detection {
-    /// Classifies one pair's answer.
-    fn record(&mut self, pair: BodyPair, result: PairQuery, lengths: DetectionLengths) {
+    /// Classifies one part pair's answer.
+    fn record(
+        &mut self,
+        geometry: SceneGeometry,
+        pair: BodyPair,
+        result: PairQuery,
+        lengths: DetectionLengths,
+    ) {
         let value = result.signed_value();
         self.deepest = self.deepest.max(-value);
+        let parts = geometry.parts;
+        let bodies = parts.owner_pair(pair);
         if let Some(penetration) = result.penetration.filter(|p| p.depth() > lengths.tolerance) {
+            let first = |body: usize| parts.parts_of(body).start;
             self.penetrations.push(PairPenetration {
-                body_a: pair.body_a,
-                body_b: pair.body_b,
+                body_a: bodies.body_a,
+                body_b: bodies.body_b,
+                parts: [
+                    pair.body_a - first(bodies.body_a),
+                    pair.body_b - first(bodies.body_b),
+                ],
                 features: penetration.features(),
                 depth: penetration.depth(),
             });
         }
         if value < lengths.contact_margin {
             self.active_pairs.push(pair);
+            self.active_bodies.push(bodies);
             self.active_values.push(value);
             self.active_queries.push(result);
         }
     }
 }
 
-/// The debug line of a penetrating pair (trace for a near one).
+/// The debug line of a penetrating pair (trace for a near one), by body.
 fn log_pair(scene: &Scene, pair: BodyPair, result: &PairQuery, lengths: DetectionLengths) {
     let name = |i: usize| scene.bodies().get(i).map_or("?", |b| b.name());
     let (a, b) = (pair.body_a, pair.body_b);
@@ -211,12 +243,6 @@ fn query_pair(
     vclip: &VClip,
     start: Option<FeaturePair>,
 ) -> Result<PairQuery, Error> {
-    let body = |index: usize, pose: &Isometry3<f64>| BodyGeometry {
-        shape: &geometry.shapes[index],
-        pose: *pose,
-        configuration_index: None,
-    };
-    let a = body(pair.body_a, &geometry.poses[pair.body_a]);
-    let b = body(pair.body_b, &geometry.poses[pair.body_b]);
+    let (a, b) = (geometry.held(pair.body_a), geometry.held(pair.body_b));
     Ok(query(vclip, &a, &b, start)?)
 }

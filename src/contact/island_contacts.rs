@@ -24,19 +24,33 @@ use crate::broad_phase::BodyPair;
 use crate::contact::ManifoldOptions;
 use crate::geometry::ConvexPolyhedron;
 use crate::projector::{BodyState, ConstraintProvider, ConstraintRow, Measurement};
+use crate::scene_parts::SceneParts;
 use crate::vclip::{FeaturePair, VClip};
 
 /// Signed value reported for a pair whose query failed (a non-finite trial
 /// pose): it makes the merit infinite, so the line search rejects the trial.
 const FAILED_QUERY_VALUE: f64 = f64::NEG_INFINITY;
 
-/// Shapes and poses of every body of the scene, shared read-only by islands.
+/// Shapes and poses of every convex part of the scene (its bodies' parts,
+/// [`SceneParts`]), shared read-only by islands.
 #[derive(Debug, Clone, Copy)]
 pub struct SceneGeometry<'a> {
-    /// Polyhedron of each body.
-    pub shapes: &'a [Arc<ConvexPolyhedron>],
-    /// Centre-of-mass pose of each body when the island was formed.
+    /// The parts: polyhedra and owners.
+    pub parts: &'a SceneParts,
+    /// World pose of each part when the island was formed.
     pub poses: &'a [Isometry3<f64>],
+}
+
+impl<'a> SceneGeometry<'a> {
+    /// Polyhedron of each part.
+    pub fn shapes(&self) -> &'a [Arc<ConvexPolyhedron>] {
+        self.parts.shapes()
+    }
+
+    /// Part `part` at its pose in the scene, as a body that does not move.
+    pub fn held(&self, part: usize) -> BodyGeometry<'a> {
+        BodyGeometry::convex(&self.parts.shapes()[part], self.poses[part], None)
+    }
 }
 
 /// Options of the contacts of an island.
@@ -55,6 +69,7 @@ pub struct IslandContacts<'a> {
     scene: SceneGeometry<'a>,
     /// Moving bodies, ascending scene indices (configuration order).
     bodies: Vec<usize>,
+    /// Part pairs ([`SceneParts`]).
     pairs: Vec<BodyPair>,
     /// Friction coefficient of each pair.
     friction: Vec<f64>,
@@ -70,7 +85,8 @@ pub struct IslandContacts<'a> {
 }
 
 impl<'a> IslandContacts<'a> {
-    /// The contacts of `pairs` (each with at least one body in `bodies`),
+    /// The contacts of the part pairs `pairs` (each with at least one part
+    /// of a body in `bodies`),
     /// with friction coefficients `friction`, whose answers at
     /// `configuration` (the bodies' poses in `scene`) are `answers`.
     #[allow(clippy::too_many_arguments)]
@@ -104,9 +120,18 @@ impl<'a> IslandContacts<'a> {
         &self.bodies
     }
 
-    /// The pairs, in provider order.
+    /// The part pairs, in provider order.
     pub fn pairs(&self) -> &[BodyPair] {
         &self.pairs
+    }
+
+    /// The body pair of each part pair, in provider order.
+    pub fn body_pairs(&self) -> Vec<BodyPair> {
+        let parts = self.scene.parts;
+        self.pairs
+            .iter()
+            .map(|&pair| parts.owner_pair(pair))
+            .collect()
     }
 
     /// Pair index (into [`IslandContacts::pairs`]) of each row of the last
@@ -129,7 +154,7 @@ impl<'a> IslandContacts<'a> {
     pub fn record_warm_starts(&self, cache: &mut WarmStartCache) {
         for (&pair, start) in self.pairs.iter().zip(&self.warm_starts) {
             if let Some(features) = start {
-                cache.insert(pair, shape_pair(self.scene.shapes, pair), *features);
+                cache.insert(pair, shape_pair(self.scene.shapes(), pair), *features);
             }
         }
     }
@@ -152,16 +177,21 @@ impl<'a> IslandContacts<'a> {
             .collect()
     }
 
-    fn geometry(&self, body: usize, configuration: &[BodyState]) -> BodyGeometry<'a> {
-        let configuration_index = self.bodies.binary_search(&body).ok();
-        let pose = match configuration_index {
-            Some(index) => configuration[index].isometry(),
-            None => self.scene.poses[body],
-        };
-        BodyGeometry {
-            shape: &self.scene.shapes[body],
-            pose,
-            configuration_index,
+    /// Part `part` at `configuration` (its body's state there if the body
+    /// moves, else its pose in the scene).
+    fn geometry(&self, part: usize, configuration: &[BodyState]) -> BodyGeometry<'a> {
+        let parts = self.scene.parts;
+        match self.bodies.binary_search(&parts.owner(part)) {
+            Ok(index) => {
+                let state = &configuration[index];
+                BodyGeometry {
+                    shape: &parts.shapes()[part],
+                    pose: parts.pose(part, &state.isometry()),
+                    configuration_index: Some(index),
+                    com_world: state.position,
+                }
+            }
+            Err(_) => self.scene.held(part),
         }
     }
 

@@ -74,12 +74,30 @@ pub struct BodyGeometry<'a> {
     /// Index in the configuration being corrected, `None` if the body does
     /// not move (fixed).
     pub configuration_index: Option<usize>,
+    /// World centre of mass of the body the polyhedron belongs to (the
+    /// origin of `pose` for a convex body; a compound's part is offset from
+    /// it), the point about which the body turns.
+    pub com_world: Point3<f64>,
 }
 
-impl BodyGeometry<'_> {
+impl<'a> BodyGeometry<'a> {
+    /// A convex body: its polyhedron at its centre-of-mass pose.
+    pub fn convex(
+        shape: &'a ConvexPolyhedron,
+        pose: Isometry3<f64>,
+        configuration_index: Option<usize>,
+    ) -> Self {
+        BodyGeometry {
+            shape,
+            pose,
+            configuration_index,
+            com_world: Point3::from(pose.translation.vector),
+        }
+    }
+
     fn side(&self) -> ContactSide {
         self.configuration_index
-            .map(|index| (index, Point3::from(self.pose.translation.vector)))
+            .map(|index| (index, self.com_world))
     }
 }
 

@@ -31,6 +31,7 @@ use crate::contact::{
     Detection, DetectionLengths, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect,
 };
 use crate::scene::Scene;
+use crate::scene_parts::SceneParts;
 use crate::stabilizer::{PassReport, Report, Settings, Status, pass_report, scene_scale};
 use crate::vclip::VClip;
 
@@ -76,11 +77,7 @@ pub fn run(
         tolerance: lengths.tolerance,
         contact_margin: lengths.contact_margin,
     };
-    let shapes: Vec<_> = scene
-        .bodies()
-        .iter()
-        .map(|b| b.polyhedron().clone())
-        .collect();
+    let parts = SceneParts::of(scene);
     let fixed = scene.fixed_flags();
     let mut bodies = sweep_bodies(scene);
     let input = InputPoses::of(scene);
@@ -114,9 +111,10 @@ pub fn run(
         // The scene follows the sweeps before each detection (its broad
         // phase reads the bodies' poses), not after every stored sweep.
         write_poses(scene, &bodies.poses)?;
+        let part_poses = parts.poses(&bodies.poses);
         let geometry = SceneGeometry {
-            shapes: &shapes,
-            poses: &bodies.poses,
+            parts: &parts,
+            poses: &part_poses,
         };
         let state = DetectionState {
             broad_phase: &mut broad_phase,
@@ -131,6 +129,7 @@ pub fn run(
             Some(status) => Next::Stop(status),
             None => Next::Sweep(sweep_points(
                 geometry,
+                &bodies.poses,
                 &fixed,
                 &detection,
                 &lengths,

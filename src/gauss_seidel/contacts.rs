@@ -15,7 +15,7 @@ use nalgebra::Isometry3;
 use super::point::StoredPoint;
 use crate::Error;
 use crate::contact::ManifoldOptions;
-use crate::contact::{BodyGeometry, Detection, SceneGeometry, contact_points};
+use crate::contact::{Detection, SceneGeometry, contact_points};
 use crate::island::islands;
 use crate::stabilizer::ResolvedLengths;
 
@@ -29,16 +29,18 @@ pub struct SweepContacts {
     pub islands: usize,
 }
 
-/// The stored contact points of `detection` (made at `geometry`), for the
-/// bodies flagged in `fixed`.
+/// The stored contact points of `detection` (made at `geometry`, the
+/// bodies at `body_poses`), for the bodies flagged in `fixed`. A point of
+/// two compound bodies' parts is stored in the bodies' frames.
 pub fn sweep_points(
     geometry: SceneGeometry,
+    body_poses: &[Isometry3<f64>],
     fixed: &[bool],
     detection: &Detection,
     lengths: &ResolvedLengths,
     manifold: ManifoldOptions,
 ) -> Result<SweepContacts, Error> {
-    let all_islands = islands(fixed, &detection.active_pairs)?;
+    let all_islands = islands(fixed, &detection.active_bodies)?;
     let island_count = all_islands.len();
     let mut pairs: Vec<usize> = all_islands
         .into_iter()
@@ -46,16 +48,11 @@ pub fn sweep_points(
         .flat_map(|island| island.pairs)
         .collect();
     pairs.sort_unstable();
-    let body = |index: usize, pose: &Isometry3<f64>| BodyGeometry {
-        shape: &geometry.shapes[index],
-        pose: *pose,
-        configuration_index: None,
-    };
     let mut points = Vec::new();
     for k in pairs {
         let pair = detection.active_pairs[k];
-        let (pose_a, pose_b) = (&geometry.poses[pair.body_a], &geometry.poses[pair.body_b]);
-        let (a, b) = (body(pair.body_a, pose_a), body(pair.body_b, pose_b));
+        let bodies = detection.active_bodies[k];
+        let (a, b) = (geometry.held(pair.body_a), geometry.held(pair.body_b));
         let contact = contact_points(
             &detection.active_queries[k],
             &a,
@@ -63,9 +60,10 @@ pub fn sweep_points(
             lengths.contact_margin,
             manifold,
         );
+        let (pose_a, pose_b) = (&body_poses[bodies.body_a], &body_poses[bodies.body_b]);
         points.extend(contact.points.iter().map(|point| {
             StoredPoint::new(
-                (pair.body_a, pair.body_b),
+                (bodies.body_a, bodies.body_b),
                 point,
                 contact.normal_body,
                 pose_a,

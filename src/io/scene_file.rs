@@ -14,7 +14,11 @@
 //!   `[x, y, z, w]`), and either `"fixed": true` or exactly one of `mass` and
 //!   `density` (`"fixed": false` may be given with them; it is not written
 //!   back); optionally its own Coulomb `friction` coefficient (finite,
-//!   nonnegative; see [`crate::body::Body::set_friction`]). `shape` is `{"cuboid": half_extents}` or `{"convex_hull": points}`.
+//!   nonnegative; see [`crate::body::Body::set_friction`]). `shape` is `{"cuboid": half_extents}`, `{"convex_hull": points}` or
+//!   `{"compound": [{"shape": ..., "translation": [x, y, z], "rotation": [x, y, z, w]}, ...]}`:
+//!   one rigid body of several convex parts, each placed in the body's
+//!   shape frame (a part's shape is a cuboid or a hull; at most
+//!   [`MAX_COMPOUND_PARTS`] parts).
 //! - `settings` is optional, and so is each of its fields: `tolerance`,
 //!   `contact_margin`, `target_margin`, `max_passes`, `solver`
 //!   (`auto|clarabel|lemke|pgs`), `cross_check`, `method`
@@ -49,7 +53,7 @@ use serde::Serialize;
 use serde_json::{Map, Value};
 use thiserror::Error;
 
-use crate::body::{Body, BodyDesc, BodyError, MassSpec, Shape};
+use crate::body::{Body, BodyDesc, BodyError, MAX_COMPOUND_PARTS, MassSpec, Shape, ShapePart};
 use crate::projector::friction::FrictionModel;
 use crate::scene::{Scene, SceneSettings, SettingsError, SolverChoice};
 use crate::stabilizer::Method;
@@ -423,48 +427,122 @@ fn parse_body(index: usize, value: &Value) -> Result<(BodyDesc, Option<f64>), Sc
 }
 
 fn parse_shape(reader: &BodyReader<'_>) -> Result<Shape, SceneFileError> {
-    let Some(object) = reader.required("shape")?.as_object() else {
+    parse_shape_at(reader, "shape", reader.required("shape")?, true)
+}
+
+/// The shape in `value`, at `field` (for errors); a compound's parts may
+/// not be compounds (`compound_allowed` false).
+fn parse_shape_at(
+    reader: &BodyReader<'_>,
+    field: &str,
+    value: &Value,
+    compound_allowed: bool,
+) -> Result<Shape, SceneFileError> {
+    let kinds: &[&str] = match compound_allowed {
+        true => &["cuboid", "convex_hull", "compound"],
+        false => &["cuboid", "convex_hull"],
+    };
+    let Some(object) = value.as_object() else {
         return Err(reader.error(
-            "shape",
-            FieldProblem::WrongType("an object {\"cuboid\": ...} or {\"convex_hull\": ...}"),
+            field,
+            FieldProblem::WrongType(
+                "an object {\"cuboid\": ...}, {\"convex_hull\": ...} or {\"compound\": ...}",
+            ),
         ));
     };
-    if let Some(key) = unknown_field(object, &["cuboid", "convex_hull"]) {
-        return Err(reader.error(&format!("shape.{key}"), FieldProblem::Unknown));
+    if let Some(key) = unknown_field(object, kinds) {
+        return Err(reader.error(&format!("{field}.{key}"), FieldProblem::Unknown));
     }
-    match (object.get("cuboid"), object.get("convex_hull")) {
-        (Some(half_extents), None) => {
-            let h =
-                reader.numbers::<3>("shape.cuboid", half_extents, "an array of 3 half extents")?;
-            Ok(Shape::Cuboid {
-                half_extents: Vector3::from(h),
-            })
-        }
-        (None, Some(points)) => {
-            let count = points.as_array().map_or(0, Vec::len);
-            if count > MAX_HULL_POINTS {
-                let problem = FieldProblem::TooMany {
-                    count,
-                    limit: MAX_HULL_POINTS,
-                };
-                return Err(reader.error("shape.convex_hull", problem));
-            }
-            let expected = "an array of points [x, y, z]";
-            let points = points
-                .as_array()
-                .and_then(|a| a.iter().map(numbers_of::<3>).collect::<Option<Vec<_>>>())
-                .ok_or_else(|| {
-                    reader.error("shape.convex_hull", FieldProblem::WrongType(expected))
-                })?;
-            Ok(Shape::ConvexHull {
-                points: points.into_iter().map(Point3::from).collect(),
-            })
-        }
-        _ => Err(reader.error(
-            "shape",
-            FieldProblem::Conflict("give exactly one of `cuboid` and `convex_hull`"),
-        )),
+    if object.len() != 1 {
+        return Err(reader.error(
+            field,
+            FieldProblem::Conflict("give exactly one of `cuboid`, `convex_hull` and `compound`"),
+        ));
     }
+    let field_of = |key: &str| format!("{field}.{key}");
+    if let Some(half_extents) = object.get("cuboid") {
+        let h = reader.numbers::<3>(
+            &field_of("cuboid"),
+            half_extents,
+            "an array of 3 half extents",
+        )?;
+        return Ok(Shape::Cuboid {
+            half_extents: Vector3::from(h),
+        });
+    }
+    if let Some(parts) = object.get("compound") {
+        return parse_compound(reader, &field_of("compound"), parts);
+    }
+    // The one key is known and neither of the above: a hull.
+    let points = &object["convex_hull"];
+    let field = field_of("convex_hull");
+    let count = points.as_array().map_or(0, Vec::len);
+    if count > MAX_HULL_POINTS {
+        let problem = FieldProblem::TooMany {
+            count,
+            limit: MAX_HULL_POINTS,
+        };
+        return Err(reader.error(&field, problem));
+    }
+    let expected = "an array of points [x, y, z]";
+    let points = points
+        .as_array()
+        .and_then(|a| a.iter().map(numbers_of::<3>).collect::<Option<Vec<_>>>())
+        .ok_or_else(|| reader.error(&field, FieldProblem::WrongType(expected)))?;
+    Ok(Shape::ConvexHull {
+        points: points.into_iter().map(Point3::from).collect(),
+    })
+}
+
+/// A compound's parts: an array of `{"shape", "translation", "rotation"}`.
+fn parse_compound(
+    reader: &BodyReader<'_>,
+    field: &str,
+    value: &Value,
+) -> Result<Shape, SceneFileError> {
+    let expected = "an array of parts {\"shape\", \"translation\", \"rotation\"}";
+    let Some(items) = value.as_array() else {
+        return Err(reader.error(field, FieldProblem::WrongType(expected)));
+    };
+    if items.len() > MAX_COMPOUND_PARTS {
+        let problem = FieldProblem::TooMany {
+            count: items.len(),
+            limit: MAX_COMPOUND_PARTS,
+        };
+        return Err(reader.error(field, problem));
+    }
+    let mut parts = Vec::with_capacity(items.len());
+    for (index, item) in items.iter().enumerate() {
+        let at = format!("{field}[{index}]");
+        let Some(object) = item.as_object() else {
+            return Err(reader.error(&at, FieldProblem::WrongType(expected)));
+        };
+        if let Some(key) = unknown_field(object, &["shape", "translation", "rotation"]) {
+            return Err(reader.error(&format!("{at}.{key}"), FieldProblem::Unknown));
+        }
+        let get = |key: &str| {
+            object
+                .get(key)
+                .ok_or_else(|| reader.error(&format!("{at}.{key}"), FieldProblem::Missing))
+        };
+        let shape = parse_shape_at(reader, &format!("{at}.shape"), get("shape")?, false)?;
+        let translation = reader.numbers::<3>(
+            &format!("{at}.translation"),
+            get("translation")?,
+            "an array of 3 numbers",
+        )?;
+        let rotation_xyzw = reader.numbers::<4>(
+            &format!("{at}.rotation"),
+            get("rotation")?,
+            "an array of 4 numbers [x, y, z, w]",
+        )?;
+        parts.push(ShapePart {
+            shape,
+            translation: Vector3::from(translation),
+            rotation_xyzw,
+        });
+    }
+    Ok(Shape::Compound { parts })
 }
 
 fn parse_mass_spec(reader: &BodyReader<'_>) -> Result<MassSpec, SceneFileError> {
@@ -601,6 +679,35 @@ struct SceneOut<'a> {
 enum ShapeOut {
     Cuboid([f64; 3]),
     ConvexHull(Vec<[f64; 3]>),
+    Compound(Vec<PartOut>),
+}
+
+#[derive(Serialize)]
+struct PartOut {
+    shape: ShapeOut,
+    translation: [f64; 3],
+    rotation: [f64; 4],
+}
+
+impl ShapeOut {
+    fn of(shape: &Shape) -> Self {
+        match shape {
+            Shape::Cuboid { half_extents } => ShapeOut::Cuboid((*half_extents).into()),
+            Shape::ConvexHull { points } => {
+                ShapeOut::ConvexHull(points.iter().map(|p| p.coords.into()).collect())
+            }
+            Shape::Compound { parts } => ShapeOut::Compound(
+                parts
+                    .iter()
+                    .map(|part| PartOut {
+                        shape: ShapeOut::of(&part.shape),
+                        translation: part.translation.into(),
+                        rotation: part.rotation_xyzw,
+                    })
+                    .collect(),
+            ),
+        }
+    }
 }
 
 #[derive(Serialize)]
@@ -621,12 +728,7 @@ struct BodyOut<'a> {
 
 impl<'a> BodyOut<'a> {
     fn of(body: &'a Body) -> Self {
-        let shape = match body.shape() {
-            Shape::Cuboid { half_extents } => ShapeOut::Cuboid((*half_extents).into()),
-            Shape::ConvexHull { points } => {
-                ShapeOut::ConvexHull(points.iter().map(|p| p.coords.into()).collect())
-            }
-        };
+        let shape = ShapeOut::of(body.shape());
         let (fixed, mass, density) = match body.mass_spec() {
             MassSpec::Fixed => (Some(true), None, None),
             MassSpec::Mass(m) => (None, Some(m), None),

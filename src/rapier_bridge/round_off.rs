@@ -81,7 +81,7 @@ pub(crate) fn write_back_round_off_bound(scene: &Scene, map: &BodyMap) -> f64 {
         .map(|(entry, body)| {
             let body_pose = body.user_pose() * entry.collider_in_body.inverse();
             let origin = body_pose.translation.vector;
-            let lever = body.polyhedron().scale() + (body.com_world().coords - origin).norm();
+            let lever = body.reach() + (body.com_world().coords - origin).norm();
             F32_UNIT_ROUND_OFF * origin.norm() + ROTATION_ROUND_OFF * lever
         })
         .fold(0.0, f64::max)

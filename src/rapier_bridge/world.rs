@@ -11,6 +11,7 @@
 //! | dynamic, mass `m` | `RigidBodyBuilder::dynamic()`, collider with `mass(m)` (uniform density over the shape, so the same inertia) |
 //! | `Shape::Cuboid` | `ColliderBuilder::cuboid` with the half extents |
 //! | `Shape::ConvexHull` | `ColliderBuilder::convex_hull` of the points |
+//! | `Shape::Compound` | one collider per part, at the part's pose in the body frame, each with the part's share of the mass (its share of the volume) |
 //!
 //! Every number is rounded to f32 (Rapier's default build); poses as in
 //! [`super::pose_from_f64`]. The world has Rapier's default integration
@@ -18,10 +19,10 @@
 //! awake. A scene read back through the bridge equals the scene but for
 //! that rounding (and a hull's interior points, which Rapier drops).
 
-use nalgebra::Vector3;
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rapier3d::dynamics::{RigidBodyBuilder, RigidBodyHandle};
 use rapier3d::geometry::{ColliderBuilder, ColliderHandle};
-use rapier3d::math::Vector;
+use rapier3d::math::{Pose, Vector};
 use rapier3d::pipeline::PhysicsWorld;
 
 use super::convert::pose_from_f64;
@@ -41,8 +42,12 @@ pub struct SceneWorld {
     pub world: PhysicsWorld,
     /// `bodies[i]`: the rigid body of scene body `i`.
     pub bodies: Vec<RigidBodyHandle>,
-    /// `colliders[i]`: the collider of scene body `i`.
+    /// `colliders[i]`: the collider of scene body `i` (a compound's first
+    /// part's).
     pub colliders: Vec<ColliderHandle>,
+    /// `part_colliders[i]`: the colliders of scene body `i`'s parts, in
+    /// order (one for a convex body).
+    pub part_colliders: Vec<Vec<ColliderHandle>>,
 }
 
 /// The Rapier world of `scene` (see the module doc); an error names a body
@@ -66,26 +71,63 @@ pub fn world_from_scene(scene: &Scene, gravity: Vector3<f64>) -> Result<SceneWor
         if !(pose.translation.is_finite() && pose.rotation.is_finite()) {
             return Err(invalid("pose not finite in f32"));
         }
-        let collider = match body.shape() {
-            Shape::Cuboid { half_extents } => {
-                let h = f32_vector(half_extents);
-                ColliderBuilder::cuboid(h.x, h.y, h.z)
-            }
-            Shape::ConvexHull { points } => {
-                let points: Vec<Vector> = points.iter().map(|p| f32_vector(&p.coords)).collect();
-                ColliderBuilder::convex_hull(&points)
-                    .ok_or_else(|| invalid("Rapier cannot build the hull of its points"))?
-            }
+        let rigid_body = match body.is_fixed() {
+            true => RigidBodyBuilder::fixed(),
+            false => RigidBodyBuilder::dynamic(),
         };
-        let (rigid_body, collider) = match body.mass() {
-            None => (RigidBodyBuilder::fixed(), collider),
-            Some(mass) => (RigidBodyBuilder::dynamic(), collider.mass(mass.mass as f32)),
+        let body_handle = out.world.insert_body(rigid_body.pose(pose));
+        let pieces: Vec<(&Shape, Pose)> = match body.shape() {
+            Shape::Compound { parts } => parts
+                .iter()
+                .map(|part| {
+                    let q = part.rotation_xyzw;
+                    let rotation =
+                        UnitQuaternion::from_quaternion(Quaternion::new(q[3], q[0], q[1], q[2]));
+                    let offset =
+                        Isometry3::from_parts(Translation3::from(part.translation), rotation);
+                    (&part.shape, pose_from_f64(&offset))
+                })
+                .collect(),
+            convex => vec![(convex, Pose::IDENTITY)],
         };
-        let (body_handle, collider_handle) = out.world.insert(rigid_body.pose(pose), collider);
+        let volume_of = |shape: &Shape| shape.build().map(|p| p.volume()).unwrap_or(0.0);
+        let total_volume: f64 = pieces.iter().map(|(shape, _)| volume_of(shape)).sum();
+        let mut handles = Vec::with_capacity(pieces.len());
+        for (shape, offset) in pieces {
+            let collider = collider_of(shape)
+                .ok_or_else(|| invalid("Rapier cannot build the hull of its points"))?;
+            let collider = match body.mass() {
+                // Uniform density: each part's share of the mass is its
+                // share of the volume.
+                Some(mass) => collider.mass((mass.mass * volume_of(shape) / total_volume) as f32),
+                None => collider,
+            };
+            handles.push(
+                out.world
+                    .insert_collider(collider.position(offset), Some(body_handle)),
+            );
+        }
         out.bodies.push(body_handle);
-        out.colliders.push(collider_handle);
+        out.colliders.push(handles[0]);
+        out.part_colliders.push(handles);
     }
     Ok(out)
+}
+
+/// The collider of a convex shape (`None` for a hull Rapier cannot build,
+/// or a compound).
+fn collider_of(shape: &Shape) -> Option<ColliderBuilder> {
+    match shape {
+        Shape::Cuboid { half_extents } => {
+            let h = f32_vector(half_extents);
+            Some(ColliderBuilder::cuboid(h.x, h.y, h.z))
+        }
+        Shape::ConvexHull { points } => {
+            let points: Vec<Vector> = points.iter().map(|p| f32_vector(&p.coords)).collect();
+            ColliderBuilder::convex_hull(&points)
+        }
+        Shape::Compound { .. } => None,
+    }
 }
 
 /// Components rounded to f32.

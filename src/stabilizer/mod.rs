@@ -70,6 +70,7 @@ use crate::island::islands;
 use crate::parallel;
 use crate::projector::ProjectionSettings;
 use crate::scene::Scene;
+use crate::scene_parts::SceneParts;
 use crate::vclip::VClip;
 use solve_island::{IslandSolution, PassInput, solve_island};
 
@@ -201,14 +202,11 @@ impl Stabilizer {
         {
             return Ok(lengths);
         }
-        let shapes: Vec<_> = scene
-            .bodies()
-            .iter()
-            .map(|b| b.polyhedron().clone())
-            .collect();
+        let parts = SceneParts::of(scene);
+        let part_poses = parts.poses(&poses);
         let geometry = SceneGeometry {
-            shapes: &shapes,
-            poses: &poses,
+            parts: &parts,
+            poses: &part_poses,
         };
         let state = DetectionState {
             broad_phase: &mut IncrementalBroadPhase::new(),
@@ -268,11 +266,7 @@ impl Stabilizer {
             hold_open_gaps: false,
             friction_model: self.settings.friction_model,
         };
-        let shapes: Vec<_> = scene
-            .bodies()
-            .iter()
-            .map(|b| b.polyhedron().clone())
-            .collect();
+        let parts = SceneParts::of(scene);
         let mut report = Report::new(&lengths);
         self.cache.forget_dropped_shapes();
         let mut memo = QueryMemo::default();
@@ -283,9 +277,10 @@ impl Stabilizer {
         };
         loop {
             let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
+            let part_poses = parts.poses(&poses);
             let geometry = SceneGeometry {
-                shapes: &shapes,
-                poses: &poses,
+                parts: &parts,
+                poses: &part_poses,
             };
             log::debug!("pass {}: detection", report.passes + 1);
             let state = DetectionState {
@@ -402,7 +397,7 @@ impl Stabilizer {
         projection: &ProjectionSettings,
         pass: &mut PassReport,
     ) -> Result<Vec<IslandSolution>, Error> {
-        let all_islands = islands(&scene.fixed_flags(), &detection.active_pairs)?;
+        let all_islands = islands(&scene.fixed_flags(), &detection.active_bodies)?;
         pass.islands = all_islands.len();
         let penetrating: Vec<_> = all_islands
             .into_iter()
@@ -412,6 +407,7 @@ impl Stabilizer {
             scene,
             geometry,
             active_pairs: &detection.active_pairs,
+            active_bodies: &detection.active_bodies,
             active_values: &detection.active_values,
             active_queries: &detection.active_queries,
             frictional: true,
@@ -464,14 +460,15 @@ pub(crate) fn pass_report(detection: &Detection, tolerance: f64) -> PassReport {
 }
 
 /// The scene's length scale: the circumradius of its smallest dynamic body
-/// (of its smallest body if all are fixed; 1 for an empty scene).
+/// (of its smallest body if all are fixed; 1 for an empty scene), a
+/// compound's being its smallest part's ([`crate::body::Body::scale`]).
 pub fn scene_scale(scene: &Scene) -> f64 {
     let smallest = |dynamic_only: bool| {
         scene
             .bodies()
             .iter()
             .filter(|b| !dynamic_only || !b.is_fixed())
-            .map(|b| b.polyhedron().scale())
+            .map(|b| b.scale())
             .reduce(f64::min)
     };
     smallest(true).or_else(|| smallest(false)).unwrap_or(1.0)

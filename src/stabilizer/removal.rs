@@ -25,6 +25,7 @@ use crate::Error;
 use crate::broad_phase::{BodyPair, candidate_pairs};
 use crate::contact::WarmStartCache;
 use crate::scene::{IndexMap, Scene};
+use crate::scene_parts::SceneParts;
 
 impl Stabilizer {
     /// Removes the bodies at `indices` from `scene` ([`Scene::remove_bodies`]:
@@ -40,17 +41,21 @@ impl Stabilizer {
         // A broad phase that fails (it cannot for valid bodies) only costs
         // the warm starts: they are dropped rather than the call failed.
         let pairs = candidate_pairs(scene, margin).unwrap_or_default();
+        let old_parts = SceneParts::of(scene);
         let map = scene.remove_bodies(indices)?;
-        self.cache = remapped(&self.cache, scene, &pairs, &map);
+        let new_parts = SceneParts::of(scene);
+        self.cache = remapped(&self.cache, [&old_parts, &new_parts], &pairs, &map);
         Ok(map)
     }
 }
 
-/// The entries of `old` for `pairs` (old indices) whose bodies are both in
-/// `scene` (new indices, after the removal), under their new pairs.
+/// The entries of `old` for the part pairs of the body pairs `pairs` (old
+/// indices) whose bodies are both left (new indices, after the removal),
+/// under their new part pairs. `parts` are the scene's parts before and
+/// after; a body's parts keep their order.
 fn remapped(
     old: &WarmStartCache,
-    scene: &Scene,
+    [old_parts, new_parts]: [&SceneParts; 2],
     pairs: &[BodyPair],
     map: &IndexMap,
 ) -> WarmStartCache {
@@ -59,14 +64,24 @@ fn remapped(
         let (Some(a), Some(b)) = (map.new_index(pair.body_a), map.new_index(pair.body_b)) else {
             continue;
         };
-        let (Ok(body_a), Ok(body_b)) = (scene.body(a), scene.body(b)) else {
-            continue;
-        };
-        let shapes = [body_a.polyhedron(), body_b.polyhedron()];
-        let (Some(features), Some(new_pair)) = (old.get(pair, shapes), BodyPair::new(a, b)) else {
-            continue;
-        };
-        cache.insert(new_pair, shapes, features);
+        let old_ranges = (
+            old_parts.parts_of(pair.body_a),
+            old_parts.parts_of(pair.body_b),
+        );
+        let new_ranges = (new_parts.parts_of(a), new_parts.parts_of(b));
+        for (p_old, p_new) in old_ranges.0.zip(new_ranges.0) {
+            for (q_old, q_new) in old_ranges.1.clone().zip(new_ranges.1.clone()) {
+                let (Some(old_pair), Some(new_pair)) =
+                    (BodyPair::new(p_old, q_old), BodyPair::new(p_new, q_new))
+                else {
+                    continue;
+                };
+                let shapes = [&new_parts.shapes()[p_new], &new_parts.shapes()[q_new]];
+                if let Some(features) = old.get(old_pair, shapes) {
+                    cache.insert(new_pair, shapes, features);
+                }
+            }
+        }
     }
     cache
 }
@@ -132,10 +147,8 @@ mod tests {
         assert_eq!(stabilizer.cache.len(), 3);
         for b in 1..4 {
             let pair = BodyPair::new(0, b).expect("distinct");
-            let shapes = [
-                scene.bodies()[0].polyhedron(),
-                scene.bodies()[b].polyhedron(),
-            ];
+            let shape = |body: usize| scene.bodies()[body].parts()[0].polyhedron();
+            let shapes = [shape(0), shape(b)];
             assert!(
                 stabilizer.cache.get(pair, shapes).is_some(),
                 "pair (0, {b})"

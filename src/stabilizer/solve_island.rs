@@ -67,8 +67,10 @@ pub struct PassInput<'a> {
     pub scene: &'a Scene,
     /// Shapes and poses of every body.
     pub geometry: SceneGeometry<'a>,
-    /// The pass's active pairs (islands index them).
+    /// The pass's active part pairs (islands index them).
     pub active_pairs: &'a [BodyPair],
+    /// The body pair of each active pair.
+    pub active_bodies: &'a [BodyPair],
     /// Signed value (distance, or minus the exact depth) of each active pair.
     pub active_values: &'a [f64],
     /// Narrow-phase answer of each active pair at the pass's poses.
@@ -151,16 +153,27 @@ fn plan_region<'a>(
     bodies: Vec<usize>,
 ) -> Result<Round<'a>, Error> {
     let moving = |body: usize| bodies.binary_search(&body).is_ok();
-    let (pairs, answers): (Vec<BodyPair>, Vec<PairQuery>) = island
+    let region_pairs: Vec<usize> = island
         .pairs
         .iter()
-        .map(|&k| (input.active_pairs[k], input.active_queries[k]))
-        .filter(|(pair, _)| moving(pair.body_a) || moving(pair.body_b))
-        .unzip();
-    let friction: Vec<f64> = pairs
+        .copied()
+        .filter(|&k| {
+            let bodies = input.active_bodies[k];
+            moving(bodies.body_a) || moving(bodies.body_b)
+        })
+        .collect();
+    let pairs: Vec<BodyPair> = region_pairs
         .iter()
-        .map(|pair| match input.frictional {
-            true => pair_friction(input.scene, input.settings, *pair),
+        .map(|&k| input.active_pairs[k])
+        .collect();
+    let answers: Vec<PairQuery> = region_pairs
+        .iter()
+        .map(|&k| input.active_queries[k])
+        .collect();
+    let friction: Vec<f64> = region_pairs
+        .iter()
+        .map(|&k| match input.frictional {
+            true => pair_friction(input.scene, input.settings, input.active_bodies[k]),
             false => 0.0,
         })
         .collect();
@@ -236,13 +249,13 @@ fn first_region(input: PassInput, island: &Island) -> Region {
     let island_pairs: Vec<BodyPair> = island
         .pairs
         .iter()
-        .map(|&k| input.active_pairs[k])
+        .map(|&k| input.active_bodies[k])
         .collect();
     let penetrating: Vec<BodyPair> = island
         .pairs
         .iter()
         .filter(|&&k| -input.active_values[k] > input.lengths.tolerance)
-        .map(|&k| input.active_pairs[k])
+        .map(|&k| input.active_bodies[k])
         .collect();
     Region::new(&island.bodies, &island_pairs, &penetrating)
 }
@@ -311,7 +324,7 @@ fn pushed_by(
     let qp_row_pairs: Vec<usize> = step.qp_parents.iter().map(|&row| row_pairs[row]).collect();
     pushed_bodies(
         region,
-        contacts.pairs(),
+        &contacts.body_pairs(),
         &step.qp.multiplier_rows(),
         &qp_row_pairs,
         step.solution.lambda.as_slice(),

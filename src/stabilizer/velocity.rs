@@ -101,11 +101,12 @@ use super::Stabilizer;
 use crate::Error;
 use crate::broad_phase::BodyPair;
 use crate::contact::ManifoldOptions;
-use crate::contact::{BodyGeometry, ContactFriction, Detection, contact_rows};
+use crate::contact::{BodyGeometry, ContactFriction, Detection, SceneGeometry, contact_rows};
 use crate::island::islands;
 use crate::projector::friction::{FrictionModel, pyramid_rows};
 use crate::projector::{ConstraintRow, projection_qp};
 use crate::scene::Scene;
+use crate::scene_parts::SceneParts;
 use crate::solver::solve_projection;
 
 /// A body's velocity: of its centre of mass, and its angular velocity,
@@ -220,14 +221,22 @@ impl Stabilizer {
             .collect();
         let pairs: Vec<BodyPair> = touching
             .iter()
-            .map(|&k| detection.active_pairs[k])
+            .map(|&k| detection.active_bodies[k])
             .collect();
+        let parts = SceneParts::of(scene);
+        let body_poses: Vec<_> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
+        let part_poses = parts.poses(&body_poses);
+        let geometry = SceneGeometry {
+            parts: &parts,
+            poses: &part_poses,
+        };
         for island in islands(&fixed, &pairs)? {
             if !island.bodies.iter().any(|b| bodies.contains(b)) {
                 continue;
             }
             let island_pairs: Vec<usize> = island.pairs.iter().map(|&i| touching[i]).collect();
             let contacts = IslandContacts {
+                geometry,
                 bodies: &island.bodies,
                 pairs: &island_pairs,
                 detection,
@@ -322,12 +331,13 @@ impl Stabilizer {
         contacts: &IslandContacts,
     ) -> (Vec<ConstraintRow>, Vec<f64>, usize) {
         let settings = &self.settings;
-        let geometry = |body: usize| {
-            let b = &scene.bodies()[body];
+        let parts = contacts.geometry.parts;
+        let geometry = |part: usize| {
+            let owner = parts.owner(part);
             BodyGeometry {
-                shape: b.polyhedron(),
-                pose: *b.com_pose(),
-                configuration_index: contacts.bodies.binary_search(&body).ok(),
+                configuration_index: contacts.bodies.binary_search(&owner).ok(),
+                com_world: scene.bodies()[owner].com_world(),
+                ..contacts.geometry.held(part)
             }
         };
         let mut rows: Vec<ConstraintRow> = Vec::new();
@@ -338,7 +348,7 @@ impl Stabilizer {
             let friction = match contacts.friction {
                 VelocityFriction::None => ContactFriction::NONE,
                 VelocityFriction::OnChange | VelocityFriction::OnVelocity => ContactFriction {
-                    mu: super::solve_island::pair_friction(scene, settings, pair),
+                    mu: super::solve_island::pair_friction(scene, settings, parts.owner_pair(pair)),
                 },
             };
             let query = &contacts.detection.active_queries[k];
@@ -413,9 +423,12 @@ fn append_velocity_cones(rows: &mut Vec<ConstraintRow>, gaps: &mut Vec<f64>, dir
 
 /// The contacts of one island's velocity projection.
 struct IslandContacts<'a> {
+    /// The scene's parts at the detection's poses.
+    geometry: SceneGeometry<'a>,
     /// Dynamic bodies, ascending.
     bodies: &'a [usize],
-    /// Indices of the island's pairs into the detection's active pairs.
+    /// Indices of the island's pairs into the detection's active (part)
+    /// pairs.
     pairs: &'a [usize],
     detection: &'a Detection,
     /// Rows of points further apart than this are left out.

@@ -135,7 +135,7 @@ pub fn assert_translated(run: &Run, index: usize, expected: Vector3<f64>) {
         .rotation
         .angle_to(&before.user_pose().rotation);
     assert!(
-        turned <= allowed / body.polyhedron().scale(),
+        turned <= allowed / body.polyhedron().expect("a convex body").scale(),
         "{}: turned by {turned:e} rad",
         body.name()
     );

@@ -17,12 +17,21 @@ const MAX_HULL_POINTS: usize = 64;
 /// The pass limit is lowered to this (a file may ask for any).
 const MAX_PASSES: usize = 20;
 
+/// Compounds with more parts are skipped.
+const MAX_PARTS: usize = 8;
+
+fn small_shape(shape: &Shape) -> bool {
+    match shape {
+        Shape::ConvexHull { points } => points.len() <= MAX_HULL_POINTS,
+        Shape::Cuboid { .. } => true,
+        Shape::Compound { parts } => {
+            parts.len() <= MAX_PARTS && parts.iter().all(|part| small_shape(&part.shape))
+        }
+    }
+}
+
 fn small(scene: &Scene) -> bool {
-    scene.len() <= MAX_BODIES
-        && scene.bodies().iter().all(|b| match b.shape() {
-            Shape::ConvexHull { points } => points.len() <= MAX_HULL_POINTS,
-            Shape::Cuboid { .. } => true,
-        })
+    scene.len() <= MAX_BODIES && scene.bodies().iter().all(|b| small_shape(b.shape()))
 }
 
 /// The check (module docs).

@@ -62,11 +62,7 @@ pub fn check(data: &[u8]) {
         return;
     };
     let (pose_a, pose_b) = (bytes.pose(size), bytes.pose(size));
-    let geometry = |shape, pose| BodyGeometry {
-        shape,
-        pose,
-        configuration_index: None,
-    };
+    let geometry = |shape, pose| BodyGeometry::convex(shape, pose, None);
     let vclip = VClip::new(VClipSettings::default());
     let answer = query(&vclip, &geometry(&a, pose_a), &geometry(&b, pose_b), None)
         .expect("valid hulls and unit rotations are valid input");

@@ -30,13 +30,21 @@ fn scene_is_kept_across_calls_appended_to_and_removed_from() {
     let mut bridge = bridge();
     let report = run(&mut bridge, &mut world);
     assert_eq!((report.sync.appended, report.sync.removed), (2, 0));
-    let shape_before = bridge.scene().bodies()[1].polyhedron().clone();
+    let shape_before = bridge.scene().bodies()[1]
+        .polyhedron()
+        .expect("a convex body")
+        .clone();
 
     world.step();
     let report = run(&mut bridge, &mut world);
     assert_eq!((report.sync.appended, report.sync.removed), (0, 0));
     assert!(
-        Arc::ptr_eq(&shape_before, bridge.scene().bodies()[1].polyhedron()),
+        Arc::ptr_eq(
+            &shape_before,
+            bridge.scene().bodies()[1]
+                .polyhedron()
+                .expect("a convex body")
+        ),
         "the shape is kept, not rebuilt"
     );
 
@@ -45,7 +53,10 @@ fn scene_is_kept_across_calls_appended_to_and_removed_from() {
     let report = run(&mut bridge, &mut world);
     assert_eq!((report.sync.appended, report.sync.removed), (1, 0));
     assert_eq!(bridge.body_map().scene_index_of_body(added), Some(2));
-    let added_shape = bridge.scene().bodies()[2].polyhedron().clone();
+    let added_shape = bridge.scene().bodies()[2]
+        .polyhedron()
+        .expect("a convex body")
+        .clone();
 
     world.remove_body(first);
     // The warm start of (ground, added) follows the added box to index 1;
@@ -63,7 +74,12 @@ fn scene_is_kept_across_calls_appended_to_and_removed_from() {
     assert_eq!(bridge.body_map().scene_index_of_body(added), Some(1));
     assert_eq!(bridge.body_map().body_of(1), Some(added));
     assert!(
-        Arc::ptr_eq(&added_shape, bridge.scene().bodies()[1].polyhedron()),
+        Arc::ptr_eq(
+            &added_shape,
+            bridge.scene().bodies()[1]
+                .polyhedron()
+                .expect("a convex body")
+        ),
         "the body left is moved down, not rebuilt"
     );
     assert!(f32_world_depth(&world) <= tolerance);
@@ -78,7 +94,10 @@ fn changed_collider_is_replaced_the_others_kept() {
     let (_, changed) = dynamic_box_at(&mut world, 0.5 - SINK_DEPTH);
     let mut bridge = bridge();
     run(&mut bridge, &mut world);
-    let ground_shape = bridge.scene().bodies()[0].polyhedron().clone();
+    let ground_shape = bridge.scene().bodies()[0]
+        .polyhedron()
+        .expect("a convex body")
+        .clone();
 
     world.colliders[changed].set_shape(SharedShape::cuboid(0.5, 0.6, 0.5));
     let report = run(&mut bridge, &mut world);
@@ -87,7 +106,9 @@ fn changed_collider_is_replaced_the_others_kept() {
     assert_eq!(bridge.body_map().scene_index(changed), Some(1));
     assert!(Arc::ptr_eq(
         &ground_shape,
-        bridge.scene().bodies()[0].polyhedron()
+        bridge.scene().bodies()[0]
+            .polyhedron()
+            .expect("a convex body")
     ));
     assert!(f32_world_depth(&world) <= stated_tolerance(&report));
 }

@@ -118,6 +118,7 @@ pub fn scaled(desc: &BodyDesc, s: f64) -> BodyDesc {
         Shape::ConvexHull { points } => Shape::ConvexHull {
             points: points.iter().map(|p| p * s).collect(),
         },
+        Shape::Compound { .. } => panic!("scaled: convex shapes only"),
     };
     let mass = match desc.mass {
         MassSpec::Mass(m) => MassSpec::Mass(m * s * s * s),
@@ -198,21 +199,44 @@ pub fn assert_finite(scene: &Scene) {
     }
 }
 
-/// Penetration of one pair by parry (`-dist`, 0 when separated).
-pub fn parry_pair_depth(scene: &Scene, shapes: &[ParryPolyhedron], a: usize, b: usize) -> f64 {
-    let pose_a = isometry_to_parry(scene.bodies()[a].com_pose());
-    let pose_b = isometry_to_parry(scene.bodies()[b].com_pose());
-    query::contact(&pose_a, &shapes[a], &pose_b, &shapes[b], 0.0)
-        .expect("parry supports convex polyhedra")
-        .map_or(0.0, |c| (-c.dist).max(0.0))
+/// Penetration of one pair by parry (`-dist`, 0 when separated; the
+/// deepest over the part pairs of compound bodies).
+pub fn parry_pair_depth(scene: &Scene, shapes: &[Vec<ParryPolyhedron>], a: usize, b: usize) -> f64 {
+    let poses = |body: usize| -> Vec<_> {
+        scene.bodies()[body]
+            .part_poses()
+            .map(|p| isometry_to_parry(&p))
+            .collect()
+    };
+    let (poses_a, poses_b) = (poses(a), poses(b));
+    let mut deepest: f64 = 0.0;
+    for (shape_a, pose_a) in shapes[a].iter().zip(&poses_a) {
+        for (shape_b, pose_b) in shapes[b].iter().zip(&poses_b) {
+            let depth = query::contact(pose_a, shape_a, pose_b, shape_b, 0.0)
+                .expect("parry supports convex polyhedra")
+                .map_or(0.0, |c| (-c.dist).max(0.0));
+            deepest = deepest.max(depth);
+        }
+    }
+    deepest
 }
 
-/// The parry shapes of all bodies (body frame, origin at the COM).
-pub fn parry_shapes(scene: &Scene) -> Vec<ParryPolyhedron> {
+/// The parry shapes of every part of every body (part frame, origin at
+/// the part's COM).
+pub fn parry_shapes(scene: &Scene) -> Vec<Vec<ParryPolyhedron>> {
     scene
         .bodies()
         .iter()
-        .map(|b| b.polyhedron().to_parry().expect("parry accepts our hulls"))
+        .map(|b| {
+            b.parts()
+                .iter()
+                .map(|part| {
+                    part.polyhedron()
+                        .to_parry()
+                        .expect("parry accepts our hulls")
+                })
+                .collect()
+        })
         .collect()
 }
 
@@ -266,15 +290,17 @@ fn deepest_over_pairs(
 /// vertices over every face normal of both bodies and every cross product
 /// of an edge of `a` with an edge of `b` (0 when some axis separates). For
 /// convex polyhedra this minimum is the exact penetration depth.
+/// Over the part pairs of compound bodies, the deepest.
 pub fn sat_depth(scene: &Scene, a: usize, b: usize) -> f64 {
     let (body_a, body_b) = (&scene.bodies()[a], &scene.bodies()[b]);
-    sat_overlap(
-        body_a.polyhedron(),
-        body_a.com_pose(),
-        body_b.polyhedron(),
-        body_b.com_pose(),
-    )
-    .max(0.0)
+    let mut deepest: f64 = 0.0;
+    for (part_a, pose_a) in body_a.parts().iter().zip(body_a.part_poses()) {
+        for (part_b, pose_b) in body_b.parts().iter().zip(body_b.part_poses()) {
+            let overlap = sat_overlap(part_a.polyhedron(), &pose_a, part_b.polyhedron(), &pose_b);
+            deepest = deepest.max(overlap);
+        }
+    }
+    deepest
 }
 
 /// The smallest overlap of the projections of two posed polyhedra over
@@ -496,11 +522,16 @@ pub fn motion(before: &Isometry3<f64>, after: &Isometry3<f64>) -> Correction {
 /// World positions of a body's vertices.
 pub fn world_vertices(scene: &Scene, index: usize) -> Vec<Vector3<f64>> {
     let body = &scene.bodies()[index];
-    let pose = body.com_pose();
-    body.polyhedron()
-        .vertices()
+    body.parts()
         .iter()
-        .map(|v| (pose * v).coords)
+        .zip(body.part_poses())
+        .flat_map(|(part, pose)| {
+            part.polyhedron()
+                .vertices()
+                .iter()
+                .map(move |v| (pose * v).coords)
+                .collect::<Vec<_>>()
+        })
         .collect()
 }
 

@@ -44,6 +44,11 @@ use thiserror::Error;
 use crate::geometry::{ConvexPolyhedron, GeometryError};
 use crate::projector::BodyState;
 
+mod parts;
+
+use parts::Solid;
+pub use parts::{BodyPart, MAX_COMPOUND_PARTS, ShapePart};
+
 /// Largest accepted deviation `| |q| - 1 |` of a given rotation quaternion
 /// from unit norm. Quaternions written with four significant digits (for
 /// example `[0, 0, 0.7071, 0.7071]`, norm 0.99999) pass; the accepted
@@ -71,14 +76,25 @@ pub enum Shape {
         /// The points (shape frame); points inside the hull are allowed.
         points: Vec<Point3<f64>>,
     },
+    /// Several convex pieces moving as one rigid body (module [`parts`]).
+    Compound {
+        /// The pieces, each placed in the compound's shape frame (at least
+        /// one, at most [`MAX_COMPOUND_PARTS`]; none a compound).
+        parts: Vec<ShapePart>,
+    },
 }
 
 impl Shape {
-    /// Builds the polyhedron (body frame: origin at the centre of mass).
+    /// Builds the polyhedron of a convex shape (body frame: origin at the
+    /// centre of mass); a compound has several
+    /// ([`GeometryError::NotConvex`], see [`Body::parts`]).
     pub fn build(&self) -> Result<ConvexPolyhedron, GeometryError> {
         match self {
             Shape::Cuboid { half_extents } => ConvexPolyhedron::cuboid(*half_extents),
             Shape::ConvexHull { points } => ConvexPolyhedron::from_points(points),
+            Shape::Compound { .. } => Err(GeometryError::NotConvex(
+                "a compound has one polyhedron per part".into(),
+            )),
         }
     }
 }
@@ -165,6 +181,24 @@ pub enum BodyError {
     /// The friction coefficient is negative or not finite.
     #[error("friction is {0}: it must be finite and nonnegative")]
     InvalidFriction(f64),
+    /// A compound has no parts or more than [`MAX_COMPOUND_PARTS`].
+    #[error("a compound has {0} parts: it must have 1 to {MAX_COMPOUND_PARTS}")]
+    CompoundPartCount(usize),
+    /// A part of a compound is itself a compound.
+    #[error("a compound's part cannot be a compound")]
+    NestedCompound,
+    /// A part of a compound is invalid.
+    #[error("part {index}: {error}")]
+    CompoundPart {
+        /// Index of the part.
+        index: usize,
+        /// What is wrong with it (its shape, translation or rotation).
+        error: Box<BodyError>,
+    },
+    /// A compound's summed volume or centre of mass is not finite (parts
+    /// far out of range).
+    #[error("the compound's parts give no finite volume and centre of mass")]
+    DegenerateCompound,
     /// The mass, density or inertia derived from the given one and the
     /// volume is zero or not finite (an extreme value or a tiny shape).
     #[error("{given:?} with volume {volume} gives no usable mass properties")]
@@ -181,7 +215,11 @@ impl BodyError {
     /// `rotation`, `mass`, `density`).
     pub fn field(&self) -> &'static str {
         match self {
-            BodyError::Shape(_) => "shape",
+            BodyError::Shape(_)
+            | BodyError::CompoundPartCount(_)
+            | BodyError::NestedCompound
+            | BodyError::CompoundPart { .. }
+            | BodyError::DegenerateCompound => "shape",
             BodyError::NonFiniteTranslation { .. } => "translation",
             BodyError::NonFiniteRotation { .. } | BodyError::RotationNotUnit { .. } => "rotation",
             BodyError::InvalidMass(_)
@@ -201,7 +239,9 @@ impl BodyError {
 pub struct Body {
     name: String,
     shape: Shape,
-    polyhedron: Arc<ConvexPolyhedron>,
+    parts: Vec<BodyPart>,
+    /// The centre of mass in the shape frame.
+    origin_offset: Vector3<f64>,
     mass_spec: MassSpec,
     mass: Option<BodyMass>,
     translation_user: Vector3<f64>,
@@ -211,26 +251,39 @@ pub struct Body {
 }
 
 impl Body {
-    /// Validates a description and builds the body's polyhedron.
+    /// Validates a description and builds the body's polyhedron (or a
+    /// compound's polyhedra).
     pub fn new(desc: BodyDesc) -> Result<Self, BodyError> {
-        let polyhedron = desc.shape.build().map_err(BodyError::Shape)?;
-        Self::with_polyhedron(desc, Arc::new(polyhedron))
+        let solid = Solid::build(&desc.shape)?;
+        Self::with_solid(desc, solid)
     }
 
-    /// Like [`Body::new`] with an already built polyhedron, which the caller
-    /// guarantees is `desc.shape.build()` (lets bodies share one shape).
+    /// Like [`Body::new`] for a convex shape with an already built
+    /// polyhedron, which the caller guarantees is `desc.shape.build()`
+    /// (lets bodies share one shape).
     pub fn with_polyhedron(
         desc: BodyDesc,
         polyhedron: Arc<ConvexPolyhedron>,
     ) -> Result<Self, BodyError> {
+        Self::with_solid(desc, Solid::convex(polyhedron))
+    }
+
+    fn with_solid(desc: BodyDesc, solid: Solid) -> Result<Self, BodyError> {
         check_translation(&desc.translation)?;
         let rotation = unit_rotation(desc.rotation_xyzw)?;
-        let mass = body_mass(desc.mass, &polyhedron)?;
-        let com_pose = com_pose_of(&desc.translation, rotation, &polyhedron);
+        let finite = solid.volume.is_finite()
+            && solid.origin_offset.iter().all(|c| c.is_finite())
+            && solid.inertia_unit_density.iter().all(|c| c.is_finite());
+        if !finite {
+            return Err(BodyError::DegenerateCompound);
+        }
+        let mass = body_mass(desc.mass, &solid)?;
+        let com_pose = com_pose_of(&desc.translation, rotation, &solid.origin_offset);
         Ok(Body {
             name: desc.name,
             shape: desc.shape,
-            polyhedron,
+            parts: solid.parts,
+            origin_offset: solid.origin_offset,
             mass_spec: desc.mass,
             mass,
             translation_user: desc.translation,
@@ -267,9 +320,45 @@ impl Body {
         &self.shape
     }
 
-    /// The polyhedron in the body frame (origin at the COM).
-    pub fn polyhedron(&self) -> &Arc<ConvexPolyhedron> {
-        &self.polyhedron
+    /// The polyhedron of a convex body, in the body frame (origin at the
+    /// COM); `None` for a compound, whose polyhedra are its
+    /// [`Body::parts`].
+    pub fn polyhedron(&self) -> Option<&Arc<ConvexPolyhedron>> {
+        match self.parts.as_slice() {
+            [only] if only.offset().is_none() => Some(only.polyhedron()),
+            _ => None,
+        }
+    }
+
+    /// The convex parts: one (without offset) for a convex body.
+    pub fn parts(&self) -> &[BodyPart] {
+        &self.parts
+    }
+
+    /// Whether the body has several convex parts (or one with an offset).
+    pub fn is_compound(&self) -> bool {
+        self.polyhedron().is_none()
+    }
+
+    /// The body's length scale, to which geometric tolerances are relative:
+    /// its polyhedron's (largest distance of a vertex from the COM), for a
+    /// compound its smallest part's.
+    pub fn scale(&self) -> f64 {
+        self.parts
+            .iter()
+            .map(|p| p.polyhedron().scale())
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Largest distance of a vertex from the centre of mass (a bound for a
+    /// compound: each part's offset plus its scale).
+    pub fn reach(&self) -> f64 {
+        self.parts.iter().map(BodyPart::reach).fold(0.0, f64::max)
+    }
+
+    /// World poses of the parts at the body's current pose.
+    pub fn part_poses(&self) -> impl Iterator<Item = Isometry3<f64>> + '_ {
+        self.parts.iter().map(|p| p.pose(&self.com_pose))
     }
 
     /// Fixed, mass or density, as given.
@@ -348,7 +437,7 @@ impl Body {
         } else {
             rotation
         };
-        let offset_world = rotation * self.polyhedron.shape_origin_offset();
+        let offset_world = rotation * self.origin_offset;
         self.translation_user = com_pose.translation.vector - offset_world;
         self.rotation_user_xyzw = xyzw_of(&rotation);
         self.com_pose = Isometry3::from_parts(com_pose.translation, rotation);
@@ -363,7 +452,7 @@ impl Body {
     ) -> Result<(), BodyError> {
         check_translation(&translation)?;
         let rotation = unit_rotation(rotation_xyzw)?;
-        self.com_pose = com_pose_of(&translation, rotation, &self.polyhedron);
+        self.com_pose = com_pose_of(&translation, rotation, &self.origin_offset);
         self.translation_user = translation;
         self.rotation_user_xyzw = rotation_xyzw;
         Ok(())
@@ -380,20 +469,35 @@ impl Body {
     }
 
     /// The world-frame axis-aligned bounding box `(min, max)` of the body,
-    /// from its vertices.
+    /// from its vertices (of every part).
     pub fn world_aabb(&self) -> (Point3<f64>, Point3<f64>) {
         let mut min = Point3::from(Vector3::repeat(f64::INFINITY));
         let mut max = Point3::from(Vector3::repeat(f64::NEG_INFINITY));
-        for v_body in self.polyhedron.vertices() {
-            let v_world = self.com_pose * v_body;
-            min = min.inf(&v_world);
-            max = max.sup(&v_world);
+        for part in &self.parts {
+            let (part_min, part_max) = part_aabb(part.polyhedron(), &part.pose(&self.com_pose));
+            min = min.inf(&part_min);
+            max = max.sup(&part_max);
         }
         (min, max)
     }
 }
 
-fn check_translation(translation: &Vector3<f64>) -> Result<(), BodyError> {
+/// The world AABB `(min, max)` of a polyhedron at `pose`, from its vertices.
+pub fn part_aabb(
+    polyhedron: &ConvexPolyhedron,
+    pose: &Isometry3<f64>,
+) -> (Point3<f64>, Point3<f64>) {
+    let mut min = Point3::from(Vector3::repeat(f64::INFINITY));
+    let mut max = Point3::from(Vector3::repeat(f64::NEG_INFINITY));
+    for v_body in polyhedron.vertices() {
+        let v_world = pose * v_body;
+        min = min.inf(&v_world);
+        max = max.sup(&v_world);
+    }
+    (min, max)
+}
+
+pub(crate) fn check_translation(translation: &Vector3<f64>) -> Result<(), BodyError> {
     match translation.iter().position(|c| !c.is_finite()) {
         Some(component) => Err(BodyError::NonFiniteTranslation {
             component,
@@ -404,7 +508,7 @@ fn check_translation(translation: &Vector3<f64>) -> Result<(), BodyError> {
 }
 
 /// Validates a quaternion `[x, y, z, w]` and normalizes it.
-fn unit_rotation(xyzw: [f64; 4]) -> Result<UnitQuaternion<f64>, BodyError> {
+pub(crate) fn unit_rotation(xyzw: [f64; 4]) -> Result<UnitQuaternion<f64>, BodyError> {
     if let Some(component) = xyzw.iter().position(|c| !c.is_finite()) {
         return Err(BodyError::NonFiniteRotation {
             component,
@@ -428,14 +532,14 @@ fn xyzw_of(rotation: &UnitQuaternion<f64>) -> [f64; 4] {
 fn com_pose_of(
     translation_user: &Vector3<f64>,
     rotation: UnitQuaternion<f64>,
-    polyhedron: &ConvexPolyhedron,
+    origin_offset: &Vector3<f64>,
 ) -> Isometry3<f64> {
-    let t_com = translation_user + rotation * polyhedron.shape_origin_offset();
+    let t_com = translation_user + rotation * origin_offset;
     Isometry3::from_parts(Translation3::from(t_com), rotation)
 }
 
-fn body_mass(spec: MassSpec, polyhedron: &ConvexPolyhedron) -> Result<Option<BodyMass>, BodyError> {
-    let volume = polyhedron.volume();
+fn body_mass(spec: MassSpec, solid: &Solid) -> Result<Option<BodyMass>, BodyError> {
+    let volume = solid.volume;
     let (mass, density) = match spec {
         MassSpec::Fixed => return Ok(None),
         MassSpec::Mass(m) if m.is_finite() && m > 0.0 => (m, m / volume),
@@ -443,7 +547,7 @@ fn body_mass(spec: MassSpec, polyhedron: &ConvexPolyhedron) -> Result<Option<Bod
         MassSpec::Density(rho) if rho.is_finite() && rho > 0.0 => (rho * volume, rho),
         MassSpec::Density(rho) => return Err(BodyError::InvalidDensity(rho)),
     };
-    let inertia_body = polyhedron.mass_properties().inertia_unit_density * density;
+    let inertia_body = solid.inertia_unit_density * density;
     let inverse_inertia_body = inertia_body
         .try_inverse()
         .unwrap_or(Matrix3::from_element(f64::NAN));

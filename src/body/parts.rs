@@ -1,0 +1,192 @@
+//! A body's convex parts: one for a convex shape, several for a compound
+//! (one rigid body made of several convex pieces, as a Rapier rigid body
+//! with several colliders).
+//!
+//! # Frames
+//!
+//! Part `i` of a compound is given by its convex shape and its pose
+//! `(t_i, R_i)` in the compound's shape frame. Its polyhedron has its own
+//! body frame (origin at the part's centre of mass, axes of the part's
+//! shape frame, [`ConvexPolyhedron`]), so the part's centre of mass in the
+//! compound's shape frame is `c_i = t_i + R_i o_i` (`o_i` the part's
+//! `shape_origin_offset`). The body frame of the whole body has its origin
+//! at the compound's centre of mass `c` and the axes of its shape frame, so
+//! the part's *offset* (part frame to body frame) is the rotation `R_i` and
+//! the translation `c_i - c`, and the part's world pose is
+//! `pose_body * offset_i`. A convex body has one part with no offset (the
+//! identity, stored as `None` so that its world pose is the body's pose bit
+//! for bit).
+//!
+//! # Mass properties (unit density)
+//!
+//! Parts add: `V = sum V_i`, `c = sum V_i c_i / V`, and about `c`, in the
+//! body frame,
+//!
+//! ```text
+//! I = sum_i ( R_i I_i R_i^T + V_i (|d_i|^2 E - d_i d_i^T) ),   d_i = c_i - c
+//! ```
+//!
+//! (parallel axes). Overlapping parts count twice, as in Rapier, whose rigid
+//! body's mass is the sum of its colliders'.
+
+use std::sync::Arc;
+
+use nalgebra::{Isometry3, Matrix3, Translation3, Vector3};
+
+use super::{BodyError, Shape, check_translation, unit_rotation};
+use crate::geometry::ConvexPolyhedron;
+
+/// Most parts a compound may have: the narrow phase of two compounds
+/// compares every pair of their parts whose boxes overlap.
+pub const MAX_COMPOUND_PARTS: usize = 1024;
+
+/// One convex piece of a compound shape, placed in the compound's shape
+/// frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapePart {
+    /// The piece's convex shape (a cuboid or a hull, not a compound), in
+    /// its own shape frame.
+    pub shape: Shape,
+    /// Position of the piece's shape-frame origin in the compound's shape
+    /// frame.
+    pub translation: Vector3<f64>,
+    /// Rotation of the piece's shape frame in the compound's, quaternion
+    /// `[x, y, z, w]` (unit within
+    /// [`super::UNIT_QUATERNION_TOLERANCE`]).
+    pub rotation_xyzw: [f64; 4],
+}
+
+/// One convex part of a body, in the body frame.
+#[derive(Debug, Clone)]
+pub struct BodyPart {
+    polyhedron: Arc<ConvexPolyhedron>,
+    offset: Option<Isometry3<f64>>,
+}
+
+impl BodyPart {
+    /// The part's polyhedron, in its own frame (origin at its centre of
+    /// mass).
+    pub fn polyhedron(&self) -> &Arc<ConvexPolyhedron> {
+        &self.polyhedron
+    }
+
+    /// The part's frame in the body frame; `None` for the only part of a
+    /// convex body (the identity).
+    pub fn offset(&self) -> Option<&Isometry3<f64>> {
+        self.offset.as_ref()
+    }
+
+    /// The part's world pose when the body's centre-of-mass pose is
+    /// `body_pose` (the body's pose itself, bit for bit, without offset).
+    pub fn pose(&self, body_pose: &Isometry3<f64>) -> Isometry3<f64> {
+        match &self.offset {
+            None => *body_pose,
+            Some(offset) => body_pose * offset,
+        }
+    }
+
+    /// Largest distance of a vertex of the part from the body's centre of
+    /// mass.
+    pub fn reach(&self) -> f64 {
+        let shift = self.offset.map_or(0.0, |o| o.translation.vector.norm());
+        shift + self.polyhedron.scale()
+    }
+}
+
+/// A body's solid: its parts and their summed unit-density mass
+/// properties.
+#[derive(Debug, Clone)]
+pub(crate) struct Solid {
+    /// The parts, in the order given.
+    pub parts: Vec<BodyPart>,
+    /// Summed volume.
+    pub volume: f64,
+    /// Centre of mass in the shape frame (`p_shape = p_body + origin_offset`).
+    pub origin_offset: Vector3<f64>,
+    /// Inertia about the centre of mass at unit density, body frame.
+    pub inertia_unit_density: Matrix3<f64>,
+}
+
+impl Solid {
+    /// The solid of one convex polyhedron.
+    pub fn convex(polyhedron: Arc<ConvexPolyhedron>) -> Self {
+        let mass = polyhedron.mass_properties();
+        Solid {
+            volume: mass.volume,
+            origin_offset: polyhedron.shape_origin_offset(),
+            inertia_unit_density: mass.inertia_unit_density,
+            parts: vec![BodyPart {
+                polyhedron,
+                offset: None,
+            }],
+        }
+    }
+
+    /// Builds the solid of a shape: its polyhedron, or a compound's parts.
+    pub fn build(shape: &Shape) -> Result<Self, BodyError> {
+        match shape {
+            Shape::Compound { parts } => Self::compound(parts),
+            convex => {
+                let polyhedron = convex.build().map_err(BodyError::Shape)?;
+                Ok(Self::convex(Arc::new(polyhedron)))
+            }
+        }
+    }
+
+    fn compound(parts: &[ShapePart]) -> Result<Self, BodyError> {
+        if parts.is_empty() || parts.len() > MAX_COMPOUND_PARTS {
+            return Err(BodyError::CompoundPartCount(parts.len()));
+        }
+        let mut placed = Vec::with_capacity(parts.len());
+        for (index, part) in parts.iter().enumerate() {
+            let in_part = |error: BodyError| BodyError::CompoundPart {
+                index,
+                error: Box::new(error),
+            };
+            if let Shape::Compound { .. } = part.shape {
+                return Err(in_part(BodyError::NestedCompound));
+            }
+            check_translation(&part.translation).map_err(in_part)?;
+            let rotation = unit_rotation(part.rotation_xyzw).map_err(in_part)?;
+            let polyhedron = part
+                .shape
+                .build()
+                .map_err(|e| in_part(BodyError::Shape(e)))?;
+            let com_shape = part.translation + rotation * polyhedron.shape_origin_offset();
+            placed.push((Arc::new(polyhedron), rotation, com_shape));
+        }
+        let volume: f64 = placed.iter().map(|(p, _, _)| p.volume()).sum();
+        let com = placed
+            .iter()
+            .map(|(p, _, c)| c * p.volume())
+            .sum::<Vector3<f64>>()
+            / volume;
+        let mut inertia = Matrix3::zeros();
+        for (polyhedron, rotation, com_shape) in &placed {
+            let r = rotation.to_rotation_matrix();
+            let own = r.matrix()
+                * polyhedron.mass_properties().inertia_unit_density
+                * r.matrix().transpose();
+            let d = com_shape - com;
+            let shift =
+                (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * polyhedron.volume();
+            inertia += own + shift;
+        }
+        let parts = placed
+            .into_iter()
+            .map(|(polyhedron, rotation, com_shape)| BodyPart {
+                polyhedron,
+                offset: Some(Isometry3::from_parts(
+                    Translation3::from(com_shape - com),
+                    rotation,
+                )),
+            })
+            .collect();
+        Ok(Solid {
+            parts,
+            volume,
+            origin_offset: com,
+            inertia_unit_density: inertia,
+        })
+    }
+}

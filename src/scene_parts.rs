@@ -1,0 +1,150 @@
+//! The convex parts of a scene's bodies: the index space of the narrow
+//! phase.
+//!
+//! Contacts happen between convex parts; corrections move bodies. Part
+//! indices run over the bodies in scene order and over each body's parts
+//! in its order, so part `p` belongs to body `owner(p)` and
+//! `p < q` with different owners implies `owner(p) < owner(q)`: a part pair
+//! `(p, q)`, `p < q`, maps to the body pair `(owner(p), owner(q))` in the
+//! same roles. Two parts of one body never form a pair (they move
+//! together). In a scene of convex bodies part `p` is body `p`, its pose is
+//! the body's pose bit for bit, and the body pairs of the broad phase are
+//! the part pairs unchanged.
+
+use std::ops::Range;
+use std::sync::Arc;
+
+use nalgebra::Isometry3;
+
+use crate::body::part_aabb;
+use crate::broad_phase::BodyPair;
+use crate::geometry::ConvexPolyhedron;
+use crate::scene::Scene;
+
+/// The parts of every body of a scene, flattened.
+#[derive(Debug, Clone, Default)]
+pub struct SceneParts {
+    shapes: Vec<Arc<ConvexPolyhedron>>,
+    offsets: Vec<Option<Isometry3<f64>>>,
+    owners: Vec<usize>,
+    /// `first[b]..first[b + 1]` are body `b`'s parts.
+    first: Vec<usize>,
+    convex: bool,
+}
+
+impl SceneParts {
+    /// The parts of the bodies of `scene`.
+    pub fn of(scene: &Scene) -> Self {
+        let mut parts = SceneParts {
+            first: vec![0],
+            convex: true,
+            ..SceneParts::default()
+        };
+        for (index, body) in scene.bodies().iter().enumerate() {
+            for part in body.parts() {
+                parts.shapes.push(part.polyhedron().clone());
+                parts.offsets.push(part.offset().copied());
+                parts.owners.push(index);
+            }
+            parts.first.push(parts.shapes.len());
+            parts.convex &= !body.is_compound();
+        }
+        parts
+    }
+
+    /// Polyhedron of each part.
+    pub fn shapes(&self) -> &[Arc<ConvexPolyhedron>] {
+        &self.shapes
+    }
+
+    /// Number of parts.
+    pub fn len(&self) -> usize {
+        self.shapes.len()
+    }
+
+    /// Whether there are no parts.
+    pub fn is_empty(&self) -> bool {
+        self.shapes.is_empty()
+    }
+
+    /// Whether every body is convex (part index = body index).
+    pub fn all_convex(&self) -> bool {
+        self.convex
+    }
+
+    /// The body part `part` belongs to.
+    pub fn owner(&self, part: usize) -> usize {
+        self.owners[part]
+    }
+
+    /// The parts of body `body`.
+    pub fn parts_of(&self, body: usize) -> Range<usize> {
+        self.first[body]..self.first[body + 1]
+    }
+
+    /// The body pair of a part pair (same roles, module docs).
+    pub fn owner_pair(&self, pair: BodyPair) -> BodyPair {
+        BodyPair {
+            body_a: self.owners[pair.body_a],
+            body_b: self.owners[pair.body_b],
+        }
+    }
+
+    /// World pose of `part` when its body's centre-of-mass pose is
+    /// `body_pose` (that pose itself for a convex body).
+    pub fn pose(&self, part: usize, body_pose: &Isometry3<f64>) -> Isometry3<f64> {
+        match &self.offsets[part] {
+            None => *body_pose,
+            Some(offset) => body_pose * offset,
+        }
+    }
+
+    /// World poses of every part, given every body's pose.
+    pub fn poses(&self, body_poses: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
+        (0..self.len())
+            .map(|part| self.pose(part, &body_poses[self.owners[part]]))
+            .collect()
+    }
+
+    /// The part pairs of the body pairs `body_pairs` (ascending, distinct
+    /// bodies) whose parts' boxes, each grown by `margin / 2`, overlap, at
+    /// the part poses `poses`; ascending. The body pairs themselves in a
+    /// scene of convex bodies.
+    pub fn part_pairs(
+        &self,
+        body_pairs: &[BodyPair],
+        poses: &[Isometry3<f64>],
+        margin: f64,
+    ) -> Vec<BodyPair> {
+        if self.convex {
+            return body_pairs.to_vec();
+        }
+        let boxes: Vec<_> = self
+            .shapes
+            .iter()
+            .zip(poses)
+            .map(|(shape, pose)| part_aabb(shape, pose))
+            .collect();
+        let grow = margin / 2.0;
+        let overlap = |p: usize, q: usize| {
+            let ((min_p, max_p), (min_q, max_q)) = (&boxes[p], &boxes[q]);
+            (0..3).all(|k| min_p[k] - grow <= max_q[k] + grow && min_q[k] - grow <= max_p[k] + grow)
+        };
+        let mut pairs = Vec::new();
+        for body_pair in body_pairs {
+            for p in self.parts_of(body_pair.body_a) {
+                for q in self.parts_of(body_pair.body_b) {
+                    if overlap(p, q) {
+                        pairs.push(BodyPair {
+                            body_a: p,
+                            body_b: q,
+                        });
+                    }
+                }
+            }
+        }
+        // Pairs of one first body with several second bodies interleave.
+        pairs.sort_unstable();
+        pairs
+    }
+}
