@@ -76,7 +76,8 @@ pub enum Shape {
         /// The points (shape frame); points inside the hull are allowed.
         points: Vec<Point3<f64>>,
     },
-    /// Several convex pieces moving as one rigid body (module [`parts`]).
+    /// Several convex pieces moving as one rigid body ([`ShapePart`]; frames
+    /// and mass properties in the module docs of `body::parts`).
     Compound {
         /// The pieces, each placed in the compound's shape frame (at least
         /// one, at most [`MAX_COMPOUND_PARTS`]; none a compound).

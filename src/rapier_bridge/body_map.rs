@@ -3,7 +3,8 @@
 //! colliders to append.
 //!
 //! Scene bodies are the read colliders in the order they were first seen
-//! (the collider set's order within one call). A mapped collider keeps its
+//! (the collider set's order within one call); a dynamic body with several
+//! colliders is one scene body, a compound, keyed by its first collider. A mapped collider keeps its
 //! shape (built once) and its V-Clip warm starts as long as it is read
 //! again unchanged: same parent, same body type and mass, same offset `P`
 //! in its body, same shape signature. A collider that is no longer read
@@ -18,22 +19,26 @@ use nalgebra::Isometry3;
 use rapier3d::dynamics::RigidBodyHandle;
 use rapier3d::geometry::ColliderHandle;
 
-use super::collider_shape::{ReadCollider, ShapeSignature};
+use super::collider_shape::{ReadCollider, ReadPart, ShapeSignature};
 use crate::scene::IndexMap;
 
-/// The Rapier collider behind one scene body.
+/// The Rapier collider behind one scene body (or, for a compound, the
+/// dynamic body and its colliders).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MappedCollider {
-    /// The collider.
+    /// The collider (a compound's first, in its body's order).
     pub collider: ColliderHandle,
     /// Its parent body, if any.
     pub body: Option<RigidBodyHandle>,
     /// The mass of its dynamic parent; `None` if the scene body is fixed
     /// (fixed or kinematic parent, or no parent).
     pub dynamic_mass: Option<f64>,
-    /// `P`: the collider frame in the body frame (identity without parent).
+    /// `P`: the scene body's frame in the Rapier body frame: the
+    /// collider's (identity without parent, and for a compound, whose
+    /// frame is the Rapier body's).
     pub collider_in_body: Isometry3<f64>,
     signature: ShapeSignature,
+    parts: Vec<ReadPart>,
 }
 
 impl MappedCollider {
@@ -44,6 +49,16 @@ impl MappedCollider {
             dynamic_mass: read.dynamic_mass,
             collider_in_body: read.collider_in_body,
             signature: read.signature,
+            parts: read.parts.clone(),
+        }
+    }
+
+    /// The colliders of the scene body: one, or a compound's, in its
+    /// body's order.
+    pub fn colliders(&self) -> Vec<ColliderHandle> {
+        match self.parts.is_empty() {
+            true => vec![self.collider],
+            false => self.parts.iter().map(|part| part.collider).collect(),
         }
     }
 
@@ -57,6 +72,7 @@ impl MappedCollider {
             && self.dynamic_mass.map(f64::to_bits) == read.dynamic_mass.map(f64::to_bits)
             && self.collider_in_body == read.collider_in_body
             && self.signature == read.signature
+            && self.parts == read.parts
     }
 }
 
@@ -83,12 +99,13 @@ impl BodyMap {
         &self.entries
     }
 
-    /// The scene index of a collider.
+    /// The scene index of a collider (of any part of a compound).
     pub fn scene_index(&self, collider: ColliderHandle) -> Option<usize> {
         self.by_collider.get(&collider).copied()
     }
 
-    /// The scene index of a dynamic Rapier body (it has one collider).
+    /// The scene index of a dynamic Rapier body (one scene body, a
+    /// compound if it has several colliders).
     pub fn scene_index_of_body(&self, body: RigidBodyHandle) -> Option<usize> {
         self.by_body.get(&body).copied()
     }
@@ -163,7 +180,9 @@ impl BodyMap {
 
     fn push_entry(&mut self, entry: MappedCollider) {
         let index = self.entries.len();
-        self.by_collider.insert(entry.collider, index);
+        for collider in entry.colliders() {
+            self.by_collider.insert(collider, index);
+        }
         if let (Some(body), true) = (entry.body, entry.is_dynamic()) {
             self.by_body.insert(body, index);
         }

@@ -22,7 +22,7 @@ use rapier3d::geometry::ColliderSet;
 use rapier3d::math::Vector;
 
 use super::body_map::{BodyMap, MappedCollider};
-use super::collider_shape::{ReadCollider, read_collider, shape_of};
+use super::collider_shape::{ReadCollider, read_collider, shape_of_read};
 use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
@@ -222,12 +222,15 @@ impl RapierBridge {
         bodies: &RigidBodySet,
         colliders: &ColliderSet,
     ) -> Result<(), SkipReason> {
-        let collider = colliders.get(read.collider).ok_or(SkipReason::Disabled)?;
-        let shape = shape_of(collider).ok_or(SkipReason::Disabled)?;
+        let shape = shape_of_read(read, colliders).ok_or(SkipReason::Disabled)?;
         let entry = MappedCollider::of(read);
         let pose = collider_world_pose(&entry, bodies, colliders).ok_or(SkipReason::Disabled)?;
+        let name = match (read.parts.is_empty(), read.body) {
+            (false, Some(body)) => format!("body {}", body.into_raw_parts().0),
+            _ => format!("collider {}", read.collider.into_raw_parts().0),
+        };
         let desc = BodyDesc {
-            name: format!("collider {}", read.collider.into_raw_parts().0),
+            name,
             shape,
             translation: pose.translation.vector,
             rotation_xyzw: xyzw(&pose.rotation),
@@ -238,7 +241,15 @@ impl RapierBridge {
             .add_body(desc)
             .map_err(|e| SkipReason::Invalid(e.to_string()))?;
         if self.settings.collider_friction {
-            let friction = Some(f64::from(collider.friction()));
+            // A compound's coefficient is the mean of its colliders'.
+            let handles = entry.colliders();
+            let coefficients: Vec<f64> = handles
+                .iter()
+                .filter_map(|&h| colliders.get(h))
+                .map(|c| f64::from(c.friction()))
+                .collect();
+            let friction =
+                Some(coefficients.iter().sum::<f64>() / coefficients.len().max(1) as f64);
             let body = self
                 .scene
                 .body_mut(index)
@@ -313,15 +324,19 @@ impl RapierBridge {
     }
 }
 
-/// Every collider, read or skipped, in the collider set's order.
+/// Every collider, read or skipped, in the collider set's order (a
+/// compound at its first collider in that order).
 fn read_world(
     bodies: &RigidBodySet,
     colliders: &ColliderSet,
 ) -> (Vec<ReadCollider>, Vec<SkippedCollider>) {
     let mut read = Vec::new();
     let mut skipped = Vec::new();
+    // A compound is read at each of its colliders: kept once.
+    let mut compounds = std::collections::HashSet::new();
     for (handle, collider) in colliders.iter() {
         match read_collider(handle, collider, bodies, colliders) {
+            Ok(r) if !r.parts.is_empty() && !compounds.insert(r.collider) => {}
             Ok(r) => read.push(r),
             Err(reason) => skipped.push(SkippedCollider {
                 collider: handle,

@@ -1,19 +1,24 @@
 //! Which Rapier colliders the bridge reads, and their shapes.
 //!
 //! A collider is read when it is enabled, not a sensor, its shape is a
-//! cuboid or a convex polyhedron, and its parent (if any) is enabled; a
-//! dynamic parent must have no other enabled non-sensor collider. A
+//! cuboid or a convex polyhedron, and its parent (if any) is enabled. A
 //! Rapier cuboid is the box `[-h, h]` in the collider frame, and a convex
 //! polyhedron's points are in the collider frame: both become the
 //! library's [`Shape`] in the same frame, unchanged but for f32 -> f64.
+//!
+//! A dynamic body with several enabled non-sensor colliders is read whole,
+//! as one compound ([`Shape::Compound`]) in the rigid body's frame: each
+//! collider a part at its `P = position_wrt_parent`. Every one of its
+//! colliders must be a cuboid or a convex polyhedron; otherwise all of
+//! them are skipped with the reason of the first that is not.
 
 use nalgebra::{Isometry3, Point3};
 use rapier3d::dynamics::{RigidBodyHandle, RigidBodySet};
 use rapier3d::geometry::{Collider, ColliderHandle, ColliderSet};
 
-use super::convert::{pose_to_f64, vector_to_f64};
+use super::convert::{pose_to_f64, vector_to_f64, xyzw};
 use super::report::SkipReason;
-use crate::body::Shape;
+use crate::body::{Shape, ShapePart};
 
 /// A cheap identity of a collider's shape, compared from step to step so
 /// that shapes are built only when they change: a cuboid's half extents
@@ -27,18 +32,33 @@ pub(crate) enum ShapeSignature {
     Polyhedron { address: usize, points: usize },
 }
 
-/// A collider the bridge reads, as found in one call.
+/// One collider of a compound, as read.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ReadPart {
+    pub collider: ColliderHandle,
+    /// `P_i`: the collider frame in the body frame.
+    pub collider_in_body: Isometry3<f64>,
+    pub signature: ShapeSignature,
+}
+
+/// A collider the bridge reads, as found in one call; or, for a dynamic
+/// body with several colliders, the whole body.
 #[derive(Debug, Clone)]
 pub(crate) struct ReadCollider {
+    /// The collider (a compound's first collider, in the body's order).
     pub collider: ColliderHandle,
     /// The parent body, if any.
     pub body: Option<RigidBodyHandle>,
     /// The body's mass (f32 exactly as f64) if the parent is dynamic;
     /// `None` for a fixed, kinematic or missing parent.
     pub dynamic_mass: Option<f64>,
-    /// `P`: the collider frame in the body frame (identity without parent).
+    /// `P`: the collider frame in the body frame (identity without parent,
+    /// and for a compound, whose frame is the body's).
     pub collider_in_body: Isometry3<f64>,
     pub signature: ShapeSignature,
+    /// A compound's colliders, in the body's order (empty for one
+    /// collider).
+    pub parts: Vec<ReadPart>,
 }
 
 /// Reads a collider, or says why it is skipped.
@@ -54,14 +74,15 @@ pub(crate) fn read_collider(
     if !collider.is_enabled() {
         return Err(SkipReason::Disabled);
     }
-    let signature = signature(collider)?;
+    let own_signature = signature(collider)?;
     let Some(body_handle) = collider.parent() else {
         return Ok(ReadCollider {
             collider: handle,
             body: None,
             dynamic_mass: None,
             collider_in_body: Isometry3::identity(),
-            signature,
+            signature: own_signature,
+            parts: Vec::new(),
         });
     };
     let body = bodies.get(body_handle).ok_or(SkipReason::Disabled)?;
@@ -72,36 +93,51 @@ pub(crate) fn read_collider(
         .position_wrt_parent()
         .map(pose_to_f64)
         .unwrap_or_else(Isometry3::identity);
-    let dynamic_mass = if body.is_dynamic() {
-        if other_solid_colliders(body.colliders(), handle, colliders) > 0 {
-            return Err(SkipReason::SeveralColliders);
-        }
-        Some(f64::from(body.mass()))
-    } else {
-        None
-    };
+    let dynamic_mass = body.is_dynamic().then(|| f64::from(body.mass()));
+    let solid = solid_colliders(body.colliders(), colliders);
+    if dynamic_mass.is_some() && solid.len() > 1 {
+        let parts = solid
+            .into_iter()
+            .map(|(part, collider)| {
+                Ok(ReadPart {
+                    collider: part,
+                    collider_in_body: collider
+                        .position_wrt_parent()
+                        .map(pose_to_f64)
+                        .unwrap_or_else(Isometry3::identity),
+                    signature: signature(collider)?,
+                })
+            })
+            .collect::<Result<Vec<_>, SkipReason>>()?;
+        return Ok(ReadCollider {
+            collider: parts[0].collider,
+            body: Some(body_handle),
+            dynamic_mass,
+            collider_in_body: Isometry3::identity(),
+            signature: parts[0].signature,
+            parts,
+        });
+    }
     Ok(ReadCollider {
         collider: handle,
         body: Some(body_handle),
         dynamic_mass,
         collider_in_body,
-        signature,
+        signature: own_signature,
+        parts: Vec::new(),
     })
 }
 
-/// Number of enabled non-sensor colliders of a body other than `this`,
-/// whatever their shape (a dynamic body is read only when `this` is its
-/// single solid collider).
-fn other_solid_colliders(
+/// The enabled non-sensor colliders of a body, in its order, whatever
+/// their shape.
+fn solid_colliders<'a>(
     all: &[ColliderHandle],
-    this: ColliderHandle,
-    colliders: &ColliderSet,
-) -> usize {
+    colliders: &'a ColliderSet,
+) -> Vec<(ColliderHandle, &'a Collider)> {
     all.iter()
-        .filter(|&&other| other != this)
-        .filter_map(|&other| colliders.get(other))
-        .filter(|other| other.is_enabled() && !other.is_sensor())
-        .count()
+        .filter_map(|&handle| Some((handle, colliders.get(handle)?)))
+        .filter(|(_, collider)| collider.is_enabled() && !collider.is_sensor())
+        .collect()
 }
 
 fn signature(collider: &Collider) -> Result<ShapeSignature, SkipReason> {
@@ -123,8 +159,28 @@ fn signature(collider: &Collider) -> Result<ShapeSignature, SkipReason> {
     Err(SkipReason::Shape(format!("{:?}", shape.shape_type())))
 }
 
+/// The library shape of what [`read_collider`] accepted: the collider's
+/// shape, or the compound of a body's colliders.
+pub(crate) fn shape_of_read(read: &ReadCollider, colliders: &ColliderSet) -> Option<Shape> {
+    if read.parts.is_empty() {
+        return shape_of(colliders.get(read.collider)?);
+    }
+    let parts = read
+        .parts
+        .iter()
+        .map(|part| {
+            Some(ShapePart {
+                shape: shape_of(colliders.get(part.collider)?)?,
+                translation: part.collider_in_body.translation.vector,
+                rotation_xyzw: xyzw(&part.collider_in_body.rotation),
+            })
+        })
+        .collect::<Option<Vec<_>>>()?;
+    Some(Shape::Compound { parts })
+}
+
 /// The library shape of a collider that [`read_collider`] accepted.
-pub(crate) fn shape_of(collider: &Collider) -> Option<Shape> {
+fn shape_of(collider: &Collider) -> Option<Shape> {
     let shape = collider.shape();
     if let Some(cuboid) = shape.as_cuboid() {
         return Some(Shape::Cuboid {

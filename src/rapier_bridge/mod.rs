@@ -19,13 +19,17 @@
 //! | Rapier | scene body |
 //! |---|---|
 //! | dynamic body with exactly one enabled, non-sensor collider, a cuboid or a convex polyhedron | a body of mass `RigidBody::mass()` (uniform density over the shape) |
+//! | dynamic body with several enabled, non-sensor colliders, each a cuboid or a convex polyhedron | one compound body ([`crate::body::Shape::Compound`]) in the rigid body's frame, a part per collider at its offset `P_i`, of mass `RigidBody::mass()` (uniform density over the parts); its friction coefficient is the mean of its colliders' |
 //! | each such collider of a fixed or kinematic (position- or velocity-based) body (any number per body) | a fixed body: an obstacle, never written; its pose is read again each call |
 //! | each such collider without a parent body | a fixed body |
-//! | anything else (balls, capsules, round shapes, meshes, ..., sensors, disabled colliders or bodies, dynamic bodies with several colliders) | skipped, and counted in [`BridgeReport::skipped`] |
+//! | anything else (balls, capsules, round shapes, meshes, ..., sensors, disabled colliders or bodies) | skipped, and counted in [`BridgeReport::skipped`]; a dynamic body with one such collider among several is skipped whole |
 //!
-//! A dynamic body with several convex colliders is skipped whole: the
-//! library's bodies are one convex shape each (a compound body needs a
-//! scene API that does not exist yet).
+//! A compound moves as one body: its parts never collide with each other,
+//! its rows act on the rigid body's six degrees of freedom about the
+//! compound's centre of mass, and the rigid body's pose is written back.
+//! The centre of mass and inertia are those of a uniform density over the
+//! parts; Rapier's differ when the colliders have different densities
+//! (the velocity projection then works about a slightly different point).
 //!
 //! # Frames
 //!
@@ -54,7 +58,8 @@
 //! ([`Scene::set_user_poses`](crate::scene::Scene::set_user_poses));
 //! colliders that appear are appended (their shapes are built once); the
 //! bodies of mapped colliders that disappear or change (shape, parent, body
-//! type, mass, offset) are removed
+//! type, mass, offset; for a compound, any of its colliders, or a collider
+//! added to or removed from its body) are removed
 //! ([`Stabilizer::remove_bodies`](crate::Stabilizer::remove_bodies): the
 //! order of the others is kept, their indices shift down, and their V-Clip
 //! warm starts follow them), a changed one appended again. The scene is
@@ -62,16 +67,17 @@
 //!
 //! # Coupling
 //!
-//! [`CouplingMode::PositionsOnly`] (the default) removes every penetration
-//! beyond the tolerance. [`CouplingMode::RespectAllowedPenetration`] leaves
-//! Rapier its allowed linear error
+//! [`CouplingMode::PositionsOnly`] removes every penetration beyond the
+//! tolerance. [`CouplingMode::RespectAllowedPenetration`] leaves Rapier
+//! its allowed linear error
 //! (`IntegrationParameters::allowed_linear_error()`, read at each call): it
 //! becomes the stabilizer's
 //! [`allowed_penetration`](crate::Settings::allowed_penetration), so a
 //! contact sunk by less is not touched and a deeper one is brought back to
-//! about that depth. Both correct positions only; a velocity-level mode
-//! (removing the approach velocity of the corrected contacts) is planned as
-//! a further variant of the (non-exhaustive) enum.
+//! about that depth. Both correct positions only.
+//! [`CouplingMode::VelocityConsistency`] (the default, chosen by
+//! measurement, [`BridgeSettings`]) corrects positions and then removes the
+//! approach velocities of the corrected contacts.
 //!
 //! # Rounding
 //!

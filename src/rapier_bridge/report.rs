@@ -15,9 +15,6 @@ pub enum SkipReason {
     Sensor,
     /// The collider or its parent body is disabled (or the parent is gone).
     Disabled,
-    /// Its dynamic parent body has other enabled solid colliders: compound
-    /// bodies are not supported (every collider of that body is skipped).
-    SeveralColliders,
     /// The scene rejected it (a degenerate hull, a mass that is zero or not
     /// finite): the message says why. It is tried again next call.
     Invalid(String),
