@@ -128,6 +128,62 @@ pub fn pile_world(count: usize, bin_half_width: f32, seed: u64) -> PhysicsWorld 
     world
 }
 
+/// A rigid body of two or three box colliders: an L (a bar and a leg at
+/// one end, the leg turned about the bar's axis by up to 30 degrees) or a
+/// T (a bar and a leg at its middle, and a cross bar); arms 4-8 cm long,
+/// 1.5-2.5 cm thick.
+pub fn random_compound(rng: &mut ChaCha8Rng) -> Vec<ColliderBuilder> {
+    let mut length = || quantize(rng.random_range(0.04..0.08));
+    let (bar, leg, cross) = (length(), length(), length());
+    let mut thick = || quantize(rng.random_range(0.015..0.025));
+    let (t1, t2, t3) = (thick(), thick(), thick());
+    let turn = rng.random_range(-0.5..0.5);
+    let bar_collider = ColliderBuilder::cuboid(bar, t1, t1).density(DENSITY);
+    let leg_collider = |x: f32| {
+        ColliderBuilder::cuboid(t2, t2, leg)
+            .translation(Vector::new(x, 0.0, leg - t1))
+            .rotation(Vector::new(turn, 0.0, 0.0))
+            .density(DENSITY)
+    };
+    if rng.random_bool(0.5) {
+        return vec![bar_collider, leg_collider(bar - t2)];
+    }
+    let cross_collider = ColliderBuilder::cuboid(t3, cross, t3)
+        .translation(Vector::new(0.0, 0.0, 2.0 * leg - t1))
+        .density(DENSITY);
+    vec![bar_collider, leg_collider(0.0), cross_collider]
+}
+
+/// `count` compound bodies ([`random_compound`]) on a grid above a bin of
+/// half width `bin_half_width`, about to drop.
+pub fn compound_pile_world(count: usize, bin_half_width: f32, seed: u64) -> PhysicsWorld {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut world = world();
+    ground_and_bin(&mut world, bin_half_width);
+    let spacing = 0.3;
+    let per_row = ((2.0 * bin_half_width - 0.1) / spacing).floor() as usize;
+    for i in 0..count {
+        let (col, row, layer) = (
+            i % per_row,
+            (i / per_row) % per_row,
+            i / (per_row * per_row),
+        );
+        let translation = Vector::new(
+            -bin_half_width + 0.15 + col as f32 * spacing,
+            -bin_half_width + 0.15 + row as f32 * spacing,
+            0.2 + layer as f32 * spacing,
+        );
+        let body = world.insert_body(
+            RigidBodyBuilder::dynamic()
+                .pose(Pose::from_parts(translation, random_rotation(&mut rng))),
+        );
+        for collider in random_compound(&mut rng) {
+            world.insert_collider(collider, Some(body));
+        }
+    }
+    world
+}
+
 /// Four 1 kg boxes of 20 cm (yaws within 5 degrees) in a column, under a
 /// box `ratio` times heavier: handles of the bodies, bottom to top.
 pub fn heavy_stack_world(ratio: f32, seed: u64) -> (PhysicsWorld, Vec<RigidBodyHandle>) {
