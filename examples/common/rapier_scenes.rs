@@ -102,25 +102,31 @@ pub fn random_collider(rng: &mut ChaCha8Rng, hull: bool) -> ColliderBuilder {
     }
 }
 
+/// Where the `i`-th body of a pile is dropped from: a grid of 30 cm
+/// spacing over the bin of half width `bin_half_width`, layer over layer.
+fn drop_position(i: usize, bin_half_width: f32) -> Vector {
+    let spacing = 0.3;
+    let per_row = ((2.0 * bin_half_width - 0.1) / spacing).floor() as usize;
+    let (col, row, layer) = (
+        i % per_row,
+        (i / per_row) % per_row,
+        i / (per_row * per_row),
+    );
+    Vector::new(
+        -bin_half_width + 0.15 + col as f32 * spacing,
+        -bin_half_width + 0.15 + row as f32 * spacing,
+        0.2 + layer as f32 * spacing,
+    )
+}
+
 /// `count` bodies on a grid above a bin of half width `bin_half_width`,
 /// alternately boxes and hulls, about to drop.
 pub fn pile_world(count: usize, bin_half_width: f32, seed: u64) -> PhysicsWorld {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut world = world();
     ground_and_bin(&mut world, bin_half_width);
-    let spacing = 0.3;
-    let per_row = ((2.0 * bin_half_width - 0.1) / spacing).floor() as usize;
     for i in 0..count {
-        let (col, row, layer) = (
-            i % per_row,
-            (i / per_row) % per_row,
-            i / (per_row * per_row),
-        );
-        let translation = Vector::new(
-            -bin_half_width + 0.15 + col as f32 * spacing,
-            -bin_half_width + 0.15 + row as f32 * spacing,
-            0.2 + layer as f32 * spacing,
-        );
+        let translation = drop_position(i, bin_half_width);
         let body = RigidBodyBuilder::dynamic()
             .pose(Pose::from_parts(translation, random_rotation(&mut rng)));
         world.insert(body, random_collider(&mut rng, i % 2 == 1));
@@ -160,19 +166,8 @@ pub fn compound_pile_world(count: usize, bin_half_width: f32, seed: u64) -> Phys
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut world = world();
     ground_and_bin(&mut world, bin_half_width);
-    let spacing = 0.3;
-    let per_row = ((2.0 * bin_half_width - 0.1) / spacing).floor() as usize;
     for i in 0..count {
-        let (col, row, layer) = (
-            i % per_row,
-            (i / per_row) % per_row,
-            i / (per_row * per_row),
-        );
-        let translation = Vector::new(
-            -bin_half_width + 0.15 + col as f32 * spacing,
-            -bin_half_width + 0.15 + row as f32 * spacing,
-            0.2 + layer as f32 * spacing,
-        );
+        let translation = drop_position(i, bin_half_width);
         let body = world.insert_body(
             RigidBodyBuilder::dynamic()
                 .pose(Pose::from_parts(translation, random_rotation(&mut rng))),
