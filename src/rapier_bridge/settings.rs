@@ -42,6 +42,32 @@ pub enum CouplingMode {
     /// boxes under a box 100 and 1,000 times heavier stand for 300 steps.
     #[default]
     VelocityConsistency,
+    /// Velocity consistency with Rapier's allowed linear error respected:
+    /// positions as [`CouplingMode::RespectAllowedPenetration`] (a contact
+    /// sunk by less than the allowed error is not touched, a deeper one is
+    /// brought back to about that depth), then the approach velocities of
+    /// the islands the call moved removed as in
+    /// [`CouplingMode::VelocityConsistency`]. Contacts stay closed at
+    /// Rapier's own depth instead of being opened to a gap every step.
+    VelocityAllowedPenetration,
+}
+
+impl CouplingMode {
+    /// Whether the mode leaves Rapier its allowed linear error.
+    pub fn respects_allowed_penetration(self) -> bool {
+        matches!(
+            self,
+            CouplingMode::RespectAllowedPenetration | CouplingMode::VelocityAllowedPenetration
+        )
+    }
+
+    /// Whether the mode projects the velocities after the positions.
+    pub fn projects_velocities(self) -> bool {
+        matches!(
+            self,
+            CouplingMode::VelocityConsistency | CouplingMode::VelocityAllowedPenetration
+        )
+    }
 }
 
 /// Settings of [`super::RapierBridge`].
@@ -77,6 +103,12 @@ pub struct BridgeSettings {
     /// better; calls cost a little more. With friction on the change the
     /// 1:1000 stack falls.
     pub velocity_friction: VelocityFriction,
+    /// Experimental: velocities of moved bodies from their displacement
+    /// since the last call.
+    pub displacement_velocity: bool,
+    /// Experimental: write back the corrected centre of mass with the
+    /// engine's rotation.
+    pub keep_engine_rotation: bool,
 }
 
 impl Default for BridgeSettings {
@@ -94,6 +126,8 @@ impl BridgeSettings {
             coupling: CouplingMode::default(),
             collider_friction: true,
             velocity_friction: VelocityFriction::None,
+            displacement_velocity: false,
+            keep_engine_rotation: false,
         }
     }
 
@@ -101,9 +135,10 @@ impl BridgeSettings {
     /// linear error (world length).
     pub(crate) fn allowed_penetration(&self, engine_allowed: f64) -> f64 {
         let own = self.stabilizer.allowed_penetration;
-        match self.coupling {
-            CouplingMode::PositionsOnly | CouplingMode::VelocityConsistency => own,
-            CouplingMode::RespectAllowedPenetration => own.max(engine_allowed),
+        if self.coupling.respects_allowed_penetration() {
+            own.max(engine_allowed)
+        } else {
+            own
         }
     }
 }
