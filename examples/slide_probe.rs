@@ -132,7 +132,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         None => Some(BridgeSettings::default().coupling),
         Some("plain") => None,
         Some("velocity") => Some(CouplingMode::VelocityConsistency),
-        Some("velocity-allowed") => Some(CouplingMode::VelocityAllowedPenetration),
+        Some("closed") => Some(CouplingMode::ClosedContacts),
         Some("allowed") => Some(CouplingMode::RespectAllowedPenetration),
         Some("positions") => Some(CouplingMode::PositionsOnly),
         Some(other) => return Err(format!("unknown coupling {other}").into()),
@@ -179,8 +179,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut bridge = RapierBridge::with_settings(BridgeSettings {
         velocity_friction,
         coupling: coupling.unwrap_or_default(),
-        displacement_velocity: args.iter().any(|a| a == "--displacement-velocity"),
-        keep_engine_rotation: args.iter().any(|a| a == "--keep-rotation"),
         ..BridgeSettings::with_stabilizer(stabilizer)
     })?;
     let colliders = stack_colliders(&world, &handles);

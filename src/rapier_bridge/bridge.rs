@@ -16,8 +16,6 @@
 //! 4. write back the dynamic bodies whose pose changed, `B' = U' P^-1`,
 //!    rounded to f32, without touching velocities or waking bodies.
 
-use std::collections::HashMap;
-
 use nalgebra::{Isometry3, Vector3};
 use rapier3d::dynamics::{IntegrationParameters, RigidBody, RigidBodyHandle, RigidBodySet};
 use rapier3d::geometry::ColliderSet;
@@ -29,7 +27,7 @@ use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
 use super::round_off::{call_settings, write_back_round_off_bound};
-use super::settings::BridgeSettings;
+use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
 use crate::body::{BodyDesc, MassSpec};
 use crate::scene::{Scene, SceneError};
 use crate::stabilizer::{BodyVelocity, Settings, Stabilizer, VelocityOptions, VelocityReport};
@@ -42,8 +40,6 @@ pub struct RapierBridge {
     stabilizer: Stabilizer,
     scene: Scene,
     map: BodyMap,
-    /// Rapier body pose of each dynamic body at the end of the last call.
-    previous_poses: HashMap<RigidBodyHandle, Isometry3<f64>>,
 }
 
 /// A user pose as stored: translation and `[x, y, z, w]`, compared bit for
@@ -52,7 +48,7 @@ type UserPose = (Vector3<f64>, [f64; 4]);
 
 impl RapierBridge {
     /// A bridge with validated stabilizer settings, the default coupling
-    /// ([`super::CouplingMode::VelocityConsistency`], with the colliders'
+    /// ([`super::CouplingMode::ClosedContacts`], with the colliders'
     /// friction) and an empty scene.
     pub fn new(settings: Settings) -> Result<Self, BridgeError> {
         Self::with_settings(BridgeSettings::with_stabilizer(settings))
@@ -65,7 +61,6 @@ impl RapierBridge {
             settings,
             scene: Scene::new(),
             map: BodyMap::default(),
-            previous_poses: HashMap::new(),
         })
     }
 
@@ -150,73 +145,27 @@ impl RapierBridge {
         let allowed = self
             .settings
             .allowed_penetration(f64::from(parameters.allowed_linear_error()));
-        let settings = call_settings(
+        let mut settings = call_settings(
             &self.settings.stabilizer,
             &self.scene,
             round_off_bound,
             allowed,
         );
+        if self.settings.coupling == CouplingMode::ClosedContacts {
+            settings.allowed_penetration = allowed.max(closed_contact_allowance(&settings));
+        }
         self.stabilizer.set_settings(settings)?;
         let before: Vec<UserPose> = self.scene.bodies().iter().map(user_pose_of).collect();
         report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
         let (moved, round_off) = self.write_back(bodies, &before);
         report.bodies_written = moved.len();
         report.write_back_round_off = round_off;
-        if self.settings.displacement_velocity {
-            self.set_displacement_velocities(bodies, &moved, parameters);
-        }
         if self.settings.coupling.projects_velocities() && !moved.is_empty() {
             let (velocities, count) = self.project_velocities(bodies, &moved, parameters)?;
             report.velocities = Some(velocities);
             report.velocities_written = count;
         }
-        self.record_poses(bodies);
         Ok(report)
-    }
-
-    /// Sets the velocity of each moved body to its displacement since the
-    /// end of the last call over the step, `v = (c2 - c0) / h` (centre of
-    /// mass) and `omega = log(R2 R0^-1) / h`.
-    fn set_displacement_velocities(
-        &self,
-        bodies: &mut RigidBodySet,
-        moved: &[usize],
-        parameters: &IntegrationParameters,
-    ) {
-        let h = f64::from(parameters.dt);
-        if h <= 0.0 {
-            return;
-        }
-        for &index in moved {
-            let Some(handle) = self.map.entries()[index].body else {
-                continue;
-            };
-            let Some(previous) = self.previous_poses.get(&handle) else {
-                continue;
-            };
-            let Some(body) = bodies.get_mut(handle) else {
-                continue;
-            };
-            let c = body.local_center_of_mass();
-            let local_com = nalgebra::Point3::new(f64::from(c.x), f64::from(c.y), f64::from(c.z));
-            let now = pose_to_f64(body.position());
-            let linear = (now * local_com - previous * local_com) / h;
-            let angular = (now.rotation * previous.rotation.inverse()).scaled_axis() / h;
-            let f32_of = |v: &Vector3<f64>| Vector::new(v.x as f32, v.y as f32, v.z as f32);
-            body.set_linvel(f32_of(&linear), false);
-            body.set_angvel(f32_of(&angular), false);
-        }
-    }
-
-    /// Records the pose of every dynamic body mapped.
-    fn record_poses(&mut self, bodies: &RigidBodySet) {
-        self.previous_poses.clear();
-        for entry in self.map.entries().iter().filter(|e| e.is_dynamic()) {
-            if let Some(body) = entry.body.and_then(|h| bodies.get(h).map(|b| (h, b))) {
-                self.previous_poses
-                    .insert(body.0, pose_to_f64(body.1.position()));
-            }
-        }
     }
 
     /// Velocity consistency: reads the velocities of the dynamic bodies,
@@ -357,18 +306,7 @@ impl RapierBridge {
             let Some(rigid_body) = entry.body.and_then(|h| bodies.get_mut(h)) else {
                 continue;
             };
-            let mut body_pose = body_pose_of(entry, &body.user_pose());
-            if self.settings.keep_engine_rotation {
-                // Experiment: the corrected position of the centre of
-                // mass, the engine's rotation.
-                let c = rigid_body.local_center_of_mass();
-                let c = nalgebra::Point3::new(f64::from(c.x), f64::from(c.y), f64::from(c.z));
-                let engine = pose_to_f64(rigid_body.position());
-                let com = body_pose * c;
-                let rotation = engine.rotation;
-                let t = com.coords - rotation * c.coords;
-                body_pose = Isometry3::from_parts(t.into(), rotation);
-            }
+            let body_pose = body_pose_of(entry, &body.user_pose());
             let pose = pose_from_f64(&body_pose);
             record_round_off(&mut round_off, &body_pose, &pose_to_f64(&pose));
             rigid_body.set_position(pose, false);
