@@ -6,15 +6,33 @@
 //! apart).
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example slide_probe -- [--steps N] [--ratio R] [--velocity-friction none|change|velocity] [--verbose FROM TO] [--solver-iterations N]
+//! cargo run --release --features rapier,serde --example slide_probe -- [--steps N] [--ratio R] [--levels N] [--coupling plain|velocity|closed|allowed|positions] [--velocity-friction none|change|velocity] [--allowed A] [--tolerance T] [--target-margin M] [--verbose FROM TO] [--trace] [--solver-iterations N] [--no-recycling] [--coulomb] [--no-sleep]
 //! ```
 //!
-//! `--solver-iterations N` sets Rapier's `num_solver_iterations` (default
-//! 4): the drift does not fall with 16 or 64 (1:100 stack: net drift of
-//! the boxes 1 to 26 mm and 20 to 28 mm against 4 to 34 mm).
+//! - `--coupling`: the bridge's `CouplingMode` (its default otherwise);
+//!   `plain` is Rapier alone (the bridge only reads the world).
+//! - `--levels N`: only the top N boxes of the stack (the heavy one last),
+//!   re-stacked on the ground; `--levels 1` is one heavy box on the ground.
+//! - `--allowed`, `--tolerance`, `--target-margin`: the stabilizer's
+//!   `allowed_penetration`, `tolerance_absolute`, `target_margin_absolute`
+//!   (the bridge raises the last two to its round-off rule).
+//! - `--verbose FROM TO`: per step of the range, the stacked pairs'
+//!   corners before and after, Rapier's impulses at each pair (normal,
+//!   friction as summed over the points, which counts a manifold's shared
+//!   friction once per point), and each box's motion; `--trace`: one line
+//!   per step of the range for the bottom box instead (displacement,
+//!   velocity, tilt and angular velocity after Rapier's step and after the
+//!   call).
+//! - Diagnostics that change Rapier's parameters (which are the user's, so
+//!   never a fix): `--solver-iterations N` (`num_solver_iterations`,
+//!   default 4; the drift does not fall with 16 or 64), `--no-recycling`
+//!   (`contact_recycling` off), `--coulomb` (`FrictionModel::Coulomb`),
+//!   `--no-sleep` (the boxes never sleep).
+//! - `--velocity-friction` sets the friction of the velocity projection
+//!   (`BridgeSettings::velocity_friction`; the bridge's default otherwise).
 //!
-//! `--velocity-friction` sets the friction of the velocity projection
-//! (`BridgeSettings::velocity_friction`; the bridge's default otherwise).
+//! The summary ends with the largest horizontal drift of any box over the
+//! run (the figure of `examples/with_and_without.rs`) and the top's height.
 
 #[path = "common/rapier_scenes.rs"]
 mod scenes;

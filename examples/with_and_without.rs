@@ -13,8 +13,10 @@
 //! - `plain`: Rapier alone;
 //! - `velocity (...)`: a [`RapierBridge`] call after every step with
 //!   velocity consistency and the colliders' friction, the velocity
-//!   projection with the kinematic cone on `v'` or frictionless (the
-//!   bridge's default is marked);
+//!   projection with the kinematic cone on `v'` or frictionless;
+//! - `closed contacts`: the same (frictionless velocity projection) with
+//!   the corrected contacts left touching (`CouplingMode::ClosedContacts`);
+//!   the bridge's default is marked;
 //! - `allowed+friction`: Rapier's allowed penetration left, positions only;
 //! - `positions`: a call after every step with the library's defaults
 //!   (positions only, no friction: the seed's behaviour).
