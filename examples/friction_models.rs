@@ -24,7 +24,7 @@ mod scenes;
 use std::time::Instant;
 
 use constraint_stabilization::demo::demo_scene;
-use constraint_stabilization::rapier_bridge::{BridgeSettings, RapierBridge};
+use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::{FrictionModel, Settings, Stabilizer};
 use nalgebra::Vector3;
@@ -45,7 +45,12 @@ struct Input {
 /// The scenes the bridge's stabilizer receives on the 1:1000 stack.
 fn recorded_stack(steps: usize) -> Result<Vec<Input>, Box<dyn std::error::Error>> {
     let (mut world, _) = scenes::aligned_heavy_stack_world(1000.0);
-    let mut bridge = RapierBridge::with_settings(BridgeSettings::default())?;
+    // Velocity consistency, the coupling the README's table was measured
+    // with (the default before `ClosedContacts`).
+    let mut bridge = RapierBridge::with_settings(BridgeSettings {
+        coupling: CouplingMode::VelocityConsistency,
+        ..BridgeSettings::default()
+    })?;
     let mut inputs = Vec::new();
     for _ in 0..steps {
         world.step();

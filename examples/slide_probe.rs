@@ -6,20 +6,38 @@
 //! apart).
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example slide_probe -- [--steps N] [--ratio R] [--velocity-friction none|change|velocity] [--verbose FROM TO] [--solver-iterations N]
+//! cargo run --release --features rapier,serde --example slide_probe -- [--steps N] [--ratio R] [--levels N] [--coupling plain|velocity|closed|allowed|positions] [--velocity-friction none|change|velocity] [--allowed A] [--tolerance T] [--target-margin M] [--verbose FROM TO] [--trace] [--solver-iterations N] [--no-recycling] [--coulomb] [--no-sleep]
 //! ```
 //!
-//! `--solver-iterations N` sets Rapier's `num_solver_iterations` (default
-//! 4): the drift does not fall with 16 or 64 (1:100 stack: net drift of
-//! the boxes 1 to 26 mm and 20 to 28 mm against 4 to 34 mm).
+//! - `--coupling`: the bridge's `CouplingMode` (its default otherwise);
+//!   `plain` is Rapier alone (the bridge only reads the world).
+//! - `--levels N`: only the top N boxes of the stack (the heavy one last),
+//!   re-stacked on the ground; `--levels 1` is one heavy box on the ground.
+//! - `--allowed`, `--tolerance`, `--target-margin`: the stabilizer's
+//!   `allowed_penetration`, `tolerance_absolute`, `target_margin_absolute`
+//!   (the bridge raises the last two to its round-off rule).
+//! - `--verbose FROM TO`: per step of the range, the stacked pairs'
+//!   corners before and after, Rapier's impulses at each pair (normal,
+//!   friction as summed over the points, which counts a manifold's shared
+//!   friction once per point), and each box's motion; `--trace`: one line
+//!   per step of the range for the bottom box instead (displacement,
+//!   velocity, tilt and angular velocity after Rapier's step and after the
+//!   call).
+//! - Diagnostics that change Rapier's parameters (which are the user's, so
+//!   never a fix): `--solver-iterations N` (`num_solver_iterations`,
+//!   default 4; the drift does not fall with 16 or 64), `--no-recycling`
+//!   (`contact_recycling` off), `--coulomb` (`FrictionModel::Coulomb`),
+//!   `--no-sleep` (the boxes never sleep).
+//! - `--velocity-friction` sets the friction of the velocity projection
+//!   (`BridgeSettings::velocity_friction`; the bridge's default otherwise).
 //!
-//! `--velocity-friction` sets the friction of the velocity projection
-//! (`BridgeSettings::velocity_friction`; the bridge's default otherwise).
+//! The summary ends with the largest horizontal drift of any box over the
+//! run (the figure of `examples/with_and_without.rs`) and the top's height.
 
 #[path = "common/rapier_scenes.rs"]
 mod scenes;
 
-use constraint_stabilization::rapier_bridge::{BridgeSettings, RapierBridge};
+use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::stabilizer::VelocityFriction;
 use nalgebra::{Isometry3, Point3};
@@ -119,6 +137,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ratio: f32 = value("--ratio", 1).map_or(Ok(1000.0), |s| s.parse())?;
     let verbose_from: usize = value("--verbose", 1).map_or(Ok(usize::MAX), |s| s.parse())?;
     let verbose_to: usize = value("--verbose", 2).map_or(Ok(0), |s| s.parse())?;
+    // `--trace`: one line per step of the range for the bottom box.
+    let trace = args.iter().any(|a| a == "--trace");
     let velocity_friction = match value("--velocity-friction", 1).as_deref() {
         None => BridgeSettings::default().velocity_friction,
         Some("none") => VelocityFriction::None,
@@ -126,14 +146,63 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some("velocity") => VelocityFriction::OnVelocity,
         Some(other) => return Err(format!("unknown velocity friction {other}").into()),
     };
-    let (mut world, handles) = scenes::aligned_heavy_stack_world(ratio);
+    // None: Rapier alone (the bridge only reads the world, for the contact
+    // measurements).
+    let coupling = match value("--coupling", 1).as_deref() {
+        None => Some(BridgeSettings::default().coupling),
+        Some("plain") => None,
+        Some("velocity") => Some(CouplingMode::VelocityConsistency),
+        Some("closed") => Some(CouplingMode::ClosedContacts),
+        Some("allowed") => Some(CouplingMode::RespectAllowedPenetration),
+        Some("positions") => Some(CouplingMode::PositionsOnly),
+        Some(other) => return Err(format!("unknown coupling {other}").into()),
+    };
+    let (mut world, mut handles) = scenes::aligned_heavy_stack_world(ratio);
+    // `--levels N`: only the top N boxes (the heavy one last) stay.
+    if let Some(levels) = value("--levels", 1) {
+        let levels: usize = levels.parse()?;
+        let removed: Vec<RigidBodyHandle> = handles.drain(..handles.len() - levels).collect();
+        for h in removed {
+            world.remove_body(h);
+        }
+        for (level, &h) in handles.iter().enumerate() {
+            let z = 0.1 + level as f32 * 0.201;
+            world.bodies[h].set_translation(Vector::new(0.0, 0.0, z), false);
+        }
+    }
     if let Some(iterations) = value("--solver-iterations", 1) {
         world.integration_parameters.num_solver_iterations = iterations.parse()?;
     }
+    // Diagnostics only (Rapier's parameters are the user's): full contact
+    // updates every step, or Rapier's Coulomb friction per point.
+    if args.iter().any(|a| a == "--no-recycling") {
+        world.integration_parameters.contact_recycling = false;
+    }
+    if args.iter().any(|a| a == "--no-sleep") {
+        for &h in &handles {
+            *world.bodies[h].activation_mut() = RigidBodyActivation::cannot_sleep();
+        }
+    }
+    if args.iter().any(|a| a == "--coulomb") {
+        world.integration_parameters.friction_model = FrictionModel::Coulomb;
+    }
+    let mut stabilizer = constraint_stabilization::Settings::default();
+    if let Some(t) = value("--tolerance", 1) {
+        stabilizer.tolerance_absolute = Some(t.parse()?);
+    }
+    if let Some(a) = value("--allowed", 1) {
+        stabilizer.allowed_penetration = a.parse()?;
+    }
+    if let Some(t) = value("--target-margin", 1) {
+        stabilizer.target_margin_absolute = Some(t.parse()?);
+    }
     let mut bridge = RapierBridge::with_settings(BridgeSettings {
         velocity_friction,
-        ..BridgeSettings::default()
+        coupling: coupling.unwrap_or_default(),
+        ..BridgeSettings::with_stabilizer(stabilizer)
     })?;
+    let colliders = stack_colliders(&world, &handles);
+    let mut max_drift: f64 = 0.0;
     let dt = f64::from(world.integration_parameters.dt);
     let n = handles.len();
     let start: Vec<[f64; 2]> = handles
@@ -166,6 +235,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .iter()
             .map(|&h| horizontal(world.bodies[h].linvel()))
             .collect();
+        let tilt1: Vec<Vector> = handles
+            .iter()
+            .map(|&h| world.bodies[h].rotation().to_scaled_axis())
+            .collect();
+        let w1: Vec<Vector> = handles.iter().map(|&h| world.bodies[h].angvel()).collect();
         let z1: Vec<f64> = handles
             .iter()
             .map(|&h| f64::from(world.bodies[h].translation().z))
@@ -173,7 +247,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let corrected = poses(bridge.scene());
         bridge.sync(&world.bodies, &world.colliders)?;
         let scene_before = poses(bridge.scene());
-        let verbose = (verbose_from..=verbose_to).contains(&step);
+        let verbose = !trace && (verbose_from..=verbose_to).contains(&step);
         let stack = stack_of(&bridge, &handles);
         if verbose {
             println!("  Rapier's step, contacts:");
@@ -189,16 +263,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 add(sum, slide);
             }
         }
-        let report = bridge.stabilize(
-            &mut world.bodies,
-            &world.colliders,
-            &world.integration_parameters,
-        )?;
-        velocity_failures += report.velocities.as_ref().map_or(0, |v| v.islands_failed);
+        if verbose {
+            print_impulses(&world, &colliders);
+        }
+        let report = match coupling {
+            Some(_) => Some(bridge.stabilize(
+                &mut world.bodies,
+                &world.colliders,
+                &world.integration_parameters,
+            )?),
+            None => None,
+        };
+        velocity_failures += report
+            .as_ref()
+            .and_then(|r| r.velocities.as_ref())
+            .map_or(0, |v| v.islands_failed);
         unresolved += usize::from(
             report
-                .stabilizer
                 .as_ref()
+                .and_then(|r| r.stabilizer.as_ref())
                 .is_some_and(|r| !r.status.is_resolved()),
         );
         let p2: Vec<[f64; 2]> = handles
@@ -213,7 +296,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .iter()
             .map(|&h| f64::from(world.bodies[h].translation().z))
             .collect();
+        if trace && (verbose_from..=verbose_to).contains(&step) {
+            let i = 0;
+            let tilt2 = world.bodies[handles[i]].rotation().to_scaled_axis();
+            let w2 = world.bodies[handles[i]].angvel();
+            println!(
+                "trace {step}: step dxy {:+.2e} {:+.2e} v {:+.2e} {:+.2e} | tilt after step {:+.2e} {:+.2e} w {:+.2e} {:+.2e} | call dxy {:+.2e} {:+.2e} tilt after call {:+.2e} {:+.2e} w {:+.2e} {:+.2e}",
+                p1[i][0] - p0[i][0],
+                p1[i][1] - p0[i][1],
+                v1[i][0],
+                v1[i][1],
+                tilt1[i].x,
+                tilt1[i].y,
+                w1[i].x,
+                w1[i].y,
+                p2[i][0] - p1[i][0],
+                p2[i][1] - p1[i][1],
+                tilt2.x,
+                tilt2.y,
+                w2.x,
+                w2.y
+            );
+        }
         for i in 0..n {
+            max_drift = max_drift.max(norm(sub(p2[i], start[i])));
             let (s, c) = (sub(p1[i], p0[i]), sub(p2[i], p1[i]));
             let dv = sub(v2[i], v1[i]);
             let w = [dv[0] * dt, dv[1] * dt];
@@ -237,14 +343,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             add(sum, slide);
         }
         if verbose {
-            let stabilizer = report.stabilizer.as_ref();
+            let stabilizer = report.as_ref().and_then(|r| r.stabilizer.as_ref());
             println!(
                 "step {step}: passes {:?}, depth {:.3e} -> {:.3e}, tolerance {:.2e}, velocities written {}",
                 stabilizer.map(|r| r.passes),
                 stabilizer.map_or(0.0, |r| r.depth_before),
                 stabilizer.map_or(0.0, |r| r.depth_after),
                 stabilizer.map_or(0.0, |r| r.tolerance),
-                report.velocities_written
+                report.as_ref().map_or(0, |r| r.velocities_written)
             );
             for i in 0..n {
                 println!(
@@ -282,8 +388,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     let top = world.bodies[handles[n - 1]].translation().z;
+    let sleeping = handles
+        .iter()
+        .filter(|&&h| world.bodies[h].is_sleeping())
+        .count();
+    println!("bodies asleep at the end: {sleeping} of {n}");
     println!(
-        "top box at z {top:.4} m; calls not resolved {unresolved}, velocity islands failed {velocity_failures}"
+        "top box at z {top:.4} m; largest drift of any box over the run {:.3} mm; calls not resolved {unresolved}, velocity islands failed {velocity_failures}",
+        max_drift * 1e3
     );
     println!(
         "pair (lower-upper) | contact slide by Rapier's steps (signed sum, mm) | by the calls (mm)"
@@ -296,6 +408,55 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     Ok(())
+}
+
+/// The ground's collider and each box's, bottom to top.
+fn stack_colliders(world: &PhysicsWorld, handles: &[RigidBodyHandle]) -> Vec<ColliderHandle> {
+    let ground = world
+        .colliders
+        .iter()
+        .find(|(_, c)| c.parent().is_some_and(|p| world.bodies[p].is_fixed()))
+        .map(|(h, _)| h)
+        .expect("the scene has a ground");
+    let mut colliders = vec![ground];
+    colliders.extend(handles.iter().map(|&h| world.bodies[h].colliders()[0]));
+    colliders
+}
+
+/// Rapier's impulses of the step just taken at each stacked pair (lower,
+/// upper): the normal impulse summed over the solver's contact points, the
+/// friction impulse (the world-space warm-start vectors summed), its ratio
+/// to `mu N`, and the pair's solver contacts (count, gap range).
+fn print_impulses(world: &PhysicsWorld, colliders: &[ColliderHandle]) {
+    for (k, w) in colliders.windows(2).enumerate() {
+        let Some(pair) = world.narrow_phase.contact_pair(w[0], w[1]) else {
+            println!("    impulses pair {k}: no contact pair");
+            continue;
+        };
+        let (mut normal, mut tangent) = (0.0f32, Vector::ZERO);
+        let mut points = 0;
+        let mut friction = 0.0;
+        let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+        for m in pair.solver_manifolds() {
+            friction = m.data.friction;
+            for p in &m.points {
+                normal += p.data.impulse;
+                tangent += p.data.warmstart_tangent_world;
+                points += 1;
+            }
+            for c in &m.data.solver_contacts {
+                lo = lo.min(c.dist);
+                hi = hi.max(c.dist);
+            }
+        }
+        println!(
+            "    impulses pair {k}: N {normal:.4e}  T ({:+.3e} {:+.3e} {:+.3e}) |T|/(mu N) {:.3}  points {points} dist {lo:+.2e}..{hi:+.2e}",
+            tangent.x,
+            tangent.y,
+            tangent.z,
+            tangent.length() / (friction * normal).max(f32::MIN_POSITIVE)
+        );
+    }
 }
 
 /// Scene indices of the ground and the boxes, bottom to top.

@@ -15,8 +15,10 @@
 //! - `plain`: Rapier alone;
 //! - `velocity (...)`: a [`RapierBridge`] call after every step with
 //!   velocity consistency and the colliders' friction, the velocity
-//!   projection with the kinematic cone on `v'` or frictionless (the
-//!   bridge's default is marked);
+//!   projection with the kinematic cone on `v'` or frictionless;
+//! - `closed contacts`: the same (frictionless velocity projection) with
+//!   the corrected contacts left touching (`CouplingMode::ClosedContacts`);
+//!   the bridge's default is marked;
 //! - `allowed+friction`: Rapier's allowed penetration left, positions only;
 //! - `positions`: a call after every step with the library's defaults
 //!   (positions only, no friction: the seed's behaviour).
@@ -126,6 +128,9 @@ enum Run {
     /// Velocity consistency with the colliders' friction, the velocity
     /// projection with this friction (one of them is the bridge's default).
     Velocity(VelocityFriction),
+    /// Velocity consistency (frictionless velocity projection) with the
+    /// corrected contacts left closed (`CouplingMode::ClosedContacts`).
+    Closed,
     /// Rapier's allowed penetration respected, with the colliders'
     /// friction, positions only.
     Allowed,
@@ -134,10 +139,11 @@ enum Run {
 }
 
 impl Run {
-    const ALL: [Run; 5] = [
+    const ALL: [Run; 6] = [
         Run::Plain,
         Run::Velocity(VelocityFriction::OnVelocity),
         Run::Velocity(VelocityFriction::None),
+        Run::Closed,
         Run::Allowed,
         Run::Positions,
     ];
@@ -146,7 +152,9 @@ impl Run {
         match self {
             Run::Plain => "plain".into(),
             Run::Velocity(friction) => {
-                let default = BridgeSettings::default().velocity_friction == friction;
+                let defaults = BridgeSettings::default();
+                let default = defaults.coupling == CouplingMode::VelocityConsistency
+                    && defaults.velocity_friction == friction;
                 let projection = match friction {
                     VelocityFriction::None => "frictionless",
                     VelocityFriction::OnChange => "friction on dv",
@@ -154,6 +162,11 @@ impl Run {
                 };
                 let marker = if default { "default: " } else { "" };
                 format!("{marker}velocity ({projection})+friction")
+            }
+            Run::Closed => {
+                let default = BridgeSettings::default().coupling == CouplingMode::ClosedContacts;
+                let marker = if default { "default: " } else { "" };
+                format!("{marker}closed contacts+friction")
             }
             Run::Allowed => "allowed+friction".into(),
             Run::Positions => "positions (seed)".into(),
@@ -165,6 +178,7 @@ impl Run {
             Run::Plain => RGBColor(200, 60, 40),
             Run::Velocity(VelocityFriction::OnVelocity) => RGBColor(30, 110, 200),
             Run::Velocity(_) => RGBColor(150, 80, 190),
+            Run::Closed => RGBColor(230, 150, 20),
             Run::Allowed => RGBColor(40, 160, 60),
             Run::Positions => RGBColor(120, 120, 120),
         }
@@ -177,6 +191,12 @@ impl Run {
                 coupling: CouplingMode::VelocityConsistency,
                 collider_friction: true,
                 velocity_friction,
+                ..BridgeSettings::default()
+            },
+            Run::Closed => BridgeSettings {
+                coupling: CouplingMode::ClosedContacts,
+                collider_friction: true,
+                velocity_friction: VelocityFriction::None,
                 ..BridgeSettings::default()
             },
             Run::Allowed => BridgeSettings {

@@ -27,7 +27,7 @@ use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
 use super::round_off::{call_settings, write_back_round_off_bound};
-use super::settings::{BridgeSettings, CouplingMode};
+use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
 use crate::body::{BodyDesc, MassSpec};
 use crate::scene::{Scene, SceneError};
 use crate::stabilizer::{BodyVelocity, Settings, Stabilizer, VelocityOptions, VelocityReport};
@@ -48,7 +48,7 @@ type UserPose = (Vector3<f64>, [f64; 4]);
 
 impl RapierBridge {
     /// A bridge with validated stabilizer settings, the default coupling
-    /// ([`super::CouplingMode::VelocityConsistency`], with the colliders'
+    /// ([`super::CouplingMode::ClosedContacts`], with the colliders'
     /// friction) and an empty scene.
     pub fn new(settings: Settings) -> Result<Self, BridgeError> {
         Self::with_settings(BridgeSettings::with_stabilizer(settings))
@@ -145,19 +145,22 @@ impl RapierBridge {
         let allowed = self
             .settings
             .allowed_penetration(f64::from(parameters.allowed_linear_error()));
-        let settings = call_settings(
+        let mut settings = call_settings(
             &self.settings.stabilizer,
             &self.scene,
             round_off_bound,
             allowed,
         );
+        if self.settings.coupling == CouplingMode::ClosedContacts {
+            settings.allowed_penetration = allowed.max(closed_contact_allowance(&settings));
+        }
         self.stabilizer.set_settings(settings)?;
         let before: Vec<UserPose> = self.scene.bodies().iter().map(user_pose_of).collect();
         report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
         let (moved, round_off) = self.write_back(bodies, &before);
         report.bodies_written = moved.len();
         report.write_back_round_off = round_off;
-        if self.settings.coupling == CouplingMode::VelocityConsistency && !moved.is_empty() {
+        if self.settings.coupling.projects_velocities() && !moved.is_empty() {
             let (velocities, count) = self.project_velocities(bodies, &moved, parameters)?;
             report.velocities = Some(velocities);
             report.velocities_written = count;

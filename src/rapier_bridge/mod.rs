@@ -6,7 +6,7 @@
 //! interpenetration with a [`Stabilizer`](crate::Stabilizer) that it also
 //! keeps (so that V-Clip starts from the features of the previous step), and
 //! writes the corrected poses of the dynamic bodies back to Rapier. In the
-//! default coupling ([`CouplingMode::VelocityConsistency`]) it then removes
+//! default coupling ([`CouplingMode::ClosedContacts`]) it then removes
 //! the approach velocities of the contacts it corrected and writes those
 //! velocities back; in the position modes velocities are untouched. Sleep
 //! states and everything else in the world are never touched.
@@ -67,17 +67,25 @@
 //!
 //! # Coupling
 //!
-//! [`CouplingMode::PositionsOnly`] removes every penetration beyond the
-//! tolerance. [`CouplingMode::RespectAllowedPenetration`] leaves Rapier
-//! its allowed linear error
-//! (`IntegrationParameters::allowed_linear_error()`, read at each call): it
-//! becomes the stabilizer's
-//! [`allowed_penetration`](crate::Settings::allowed_penetration), so a
-//! contact sunk by less is not touched and a deeper one is brought back to
-//! about that depth. Both correct positions only.
-//! [`CouplingMode::VelocityConsistency`] (the default, chosen by
-//! measurement, [`BridgeSettings`]) corrects positions and then removes the
-//! approach velocities of the corrected contacts.
+//! [`CouplingMode`] (module `settings.rs` has the measurements):
+//! - [`CouplingMode::PositionsOnly`] removes every penetration beyond the
+//!   tolerance, positions only (the seed's behaviour);
+//! - [`CouplingMode::RespectAllowedPenetration`] leaves Rapier its allowed
+//!   linear error (`IntegrationParameters::allowed_linear_error()`, read at
+//!   each call): it becomes the stabilizer's
+//!   [`allowed_penetration`](crate::Settings::allowed_penetration), so a
+//!   contact sunk by less is not touched and a deeper one is brought back
+//!   to about that depth; positions only;
+//! - [`CouplingMode::VelocityConsistency`] corrects positions as the first,
+//!   then removes the approach velocities of the contacts of the islands it
+//!   moved ([`crate::Stabilizer::project_velocities`]);
+//! - [`CouplingMode::ClosedContacts`] does the same but aims the corrected
+//!   contacts at a depth of one tolerance instead of a gap of the target
+//!   margin ([`closed_contact_allowance`]), so that Rapier's next step
+//!   starts with them touching: Rapier solves separated contact points
+//!   rigidly and penetrating ones softly, and a contact opened to a tiny
+//!   gap sits on that switch (the heavy stacks' sideways drift, issue 10).
+//!   The default.
 //!
 //! # Rounding
 //!
@@ -119,5 +127,5 @@ pub use bridge::RapierBridge;
 pub use convert::{pose_from_f64, pose_to_f64};
 pub use error::BridgeError;
 pub use report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
-pub use settings::{BridgeSettings, CouplingMode};
+pub use settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
 pub use world::{GRAVITY_Z_UP, SceneWorld, world_from_scene};

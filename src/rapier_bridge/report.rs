@@ -73,6 +73,7 @@ pub struct BridgeReport {
     /// at least `8 delta`.
     pub round_off_bound: f64,
     /// The velocity projection of [`super::CouplingMode::VelocityConsistency`]
+    /// and [`super::CouplingMode::ClosedContacts`]
     /// (`None` in the other modes, or when nothing moved).
     pub velocities: Option<crate::stabilizer::VelocityReport>,
     /// Rapier bodies whose velocity was written back.
