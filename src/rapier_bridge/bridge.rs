@@ -129,7 +129,8 @@ impl RapierBridge {
         parameters: &IntegrationParameters,
     ) -> Result<BridgeReport, BridgeError> {
         let sync = self.sync(bodies, colliders)?;
-        let round_off_bound = write_back_round_off_bound(&self.scene, &self.map);
+        let round_off_bound =
+            write_back_round_off_bound(&self.scene, &self.map, &self.settings.stabilizer);
         let mut report = BridgeReport {
             sync,
             stabilizer: None,

@@ -27,10 +27,17 @@
 //! ```
 //!
 //! taken as the largest over the dynamic bodies (the only ones written;
-//! fixed and kinematic poses are read from f32 and never rounded again),
-//! with `r` bounded by the shape's circumradius about its centre of mass
-//! plus the distance from the body origin to that centre. The depth of a
-//! pair of two written bodies changes by at most `2 delta`.
+//! fixed and kinematic poses are read from f32 and never rounded again)
+//! that can touch another body: whose box, grown by the contact margin,
+//! overlaps another's at the start of the call. A body farther from every
+//! other is never moved into contact by its rounding (far smaller than
+//! the margin), so its `delta`, large far from the origin, does not
+//! change any depth (a box thrown 350 m away raised the tolerance of a
+//! stack near the origin 300 times, and its contacts were left that deep
+//! under closed contacts). `r` is bounded by the shape's reach from its
+//! centre of mass ([`crate::body::Body::reach`]) plus the distance from the
+//! body origin to that centre. The depth of a pair of two written bodies
+//! changes by at most `2 delta`.
 //!
 //! # The rule
 //!
@@ -52,6 +59,7 @@
 //! smallest body) is kept wherever it is larger.
 
 use super::body_map::BodyMap;
+use crate::broad_phase::candidate_pairs;
 use crate::scene::Scene;
 use crate::stabilizer::{Settings, scene_scale};
 
@@ -72,18 +80,54 @@ pub const TOLERANCE_PER_ROUND_OFF: f64 = 8.0;
 pub const TARGET_PER_ROUND_OFF: f64 = 4.0;
 
 /// `delta`: the most a collider point of a written body can move when its
-/// pose is rounded to f32 (0 without dynamic bodies).
-pub(crate) fn write_back_round_off_bound(scene: &Scene, map: &BodyMap) -> f64 {
-    map.entries()
+/// pose is rounded to f32, over the dynamic bodies that can touch another
+/// body (module docs: a body farther than the contact margin from every
+/// other cannot be moved into contact by a rounding); 0 without them.
+/// The restriction costs a broad phase, run only when the bound over all
+/// dynamic bodies would raise the lengths of `settings` (a body far from
+/// the origin): otherwise that bound is returned.
+pub(crate) fn write_back_round_off_bound(scene: &Scene, map: &BodyMap, settings: &Settings) -> f64 {
+    let deltas: Vec<(usize, f64)> = map
+        .entries()
         .iter()
         .zip(scene.bodies())
-        .filter(|(entry, _)| entry.is_dynamic())
-        .map(|(entry, body)| {
+        .enumerate()
+        .filter(|(_, (entry, _))| entry.is_dynamic())
+        .map(|(index, (entry, body))| {
             let body_pose = body.user_pose() * entry.collider_in_body.inverse();
             let origin = body_pose.translation.vector;
             let lever = body.reach() + (body.com_world().coords - origin).norm();
-            F32_UNIT_ROUND_OFF * origin.norm() + ROTATION_ROUND_OFF * lever
+            (
+                index,
+                F32_UNIT_ROUND_OFF * origin.norm() + ROTATION_ROUND_OFF * lever,
+            )
         })
+        .collect();
+    let largest = deltas.iter().map(|&(_, d)| d).fold(0.0, f64::max);
+    let own = Settings {
+        allowed_penetration: 0.0,
+        ..settings.clone()
+    }
+    .resolve(scene_scale(scene));
+    let raises_lengths = TOLERANCE_PER_ROUND_OFF * largest > own.tolerance
+        || TARGET_PER_ROUND_OFF * largest > own.target_margin;
+    if !raises_lengths {
+        return largest;
+    }
+    // A broad phase that fails (it cannot for valid bodies) keeps the
+    // bound over every dynamic body.
+    let Ok(pairs) = candidate_pairs(scene, own.contact_margin) else {
+        return largest;
+    };
+    let mut touching = vec![false; scene.len()];
+    for pair in pairs {
+        touching[pair.body_a] = true;
+        touching[pair.body_b] = true;
+    }
+    deltas
+        .iter()
+        .filter(|&&(index, _)| touching[index])
+        .map(|&(_, d)| d)
         .fold(0.0, f64::max)
 }
 

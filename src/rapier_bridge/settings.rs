@@ -64,15 +64,13 @@ pub enum CouplingMode {
     /// 1:100 and 1:1000 stacks is 9.6 and 7.4 mm (33.5 and 44.4 with
     /// [`CouplingMode::VelocityConsistency`]), both stacks stand (top
     /// 0.9023 -> 0.9000 m) and every call converges; the thrown box's
-    /// stack stands (drift 66 mm against 70); the pyramid of 55 keeps its
+    /// stack stands (drift 66 mm against 67); the pyramid of 55 keeps its
     /// shape but drifts 34 mm (28) and the settled pile of 200 creeps 154
     /// mm (118). Its cost: the contacts it corrects are left sunk by about
     /// one tolerance (largest exact depth after a call 8.0e-7 m on the
-    /// stacks, 2.0e-6 on the pile, where `VelocityConsistency` leaves 0 and
-    /// 7.8e-7), and the tolerance follows the f32 round-off of the
-    /// farthest body ([`super::round_off`]): with the thrown box 350 m
-    /// away the stack's contacts are left 6.8e-5 m deep (within the
-    /// call's tolerance, 1.7e-4).
+    /// stacks, 8.9e-7 on the thrown box, 2.0e-6 on the pile, where
+    /// `VelocityConsistency` leaves 0 and 7.8e-7), within the tolerance
+    /// each call states.
     #[default]
     ClosedContacts,
 }

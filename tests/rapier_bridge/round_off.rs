@@ -90,3 +90,33 @@ fn call_tolerance_is_the_larger_of_the_default_and_the_rule() {
     );
     assert!(f32_world_depth(&world) <= stabilizer.tolerance);
 }
+
+/// A body far from the origin and from every other body (a projectile)
+/// does not raise the tolerance of a call whose contacts are near the
+/// origin: its rounding cannot change any depth, and it is not written.
+#[test]
+fn a_lone_far_body_does_not_raise_the_tolerance() {
+    let near_only = || {
+        let mut world = PhysicsWorld::default();
+        super::ground(&mut world);
+        let body = RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.45, 0.0));
+        world.insert(body, ColliderBuilder::cuboid(0.5, 0.5, 0.5));
+        world
+    };
+    let mut world = near_only();
+    let alone = run(&mut bridge(), &mut world);
+
+    let mut world = near_only();
+    let far = RigidBodyBuilder::dynamic().translation(Vector::new(350.0, 20.0, 0.0));
+    world.insert(far, ColliderBuilder::cuboid(0.1, 0.1, 0.1));
+    let with_far = run(&mut bridge(), &mut world);
+
+    assert_eq!(stated_tolerance(&with_far), stated_tolerance(&alone));
+    assert_eq!(with_far.round_off_bound, alone.round_off_bound);
+    assert_eq!(with_far.bodies_written, 1);
+    assert!(f32_world_depth(&world) <= stated_tolerance(&with_far));
+    // Without the restriction the far body's rounding (an f32 ulp at 350 m,
+    // 3e-5 m) would have raised the tolerance about 30 times.
+    let far_delta = F32_UNIT_ROUND_OFF * 350.0;
+    assert!(TOLERANCE_PER_ROUND_OFF * far_delta > 20.0 * stated_tolerance(&alone));
+}
