@@ -65,8 +65,8 @@ pub enum CouplingMode {
     /// [`CouplingMode::VelocityConsistency`]), both stacks stand (top
     /// 0.9023 -> 0.9000 m) and every call converges; the thrown box's
     /// stack stands (drift 66 mm against 67); the pyramid of 55 keeps its
-    /// shape but drifts 34 mm (28) and the settled pile of 200 creeps 154
-    /// mm (118). Its cost: the contacts it corrects are left sunk by about
+    /// shape but drifts 34 mm (28) and the settled pile of 200 creeps 151
+    /// mm (83; one chaotic trajectory each, README). Its cost: the contacts it corrects are left sunk by about
     /// one tolerance (largest exact depth after a call 8.0e-7 m on the
     /// stacks, 8.9e-7 on the thrown box, 2.0e-6 on the pile, where
     /// `VelocityConsistency` leaves 0 and 7.8e-7), within the tolerance
