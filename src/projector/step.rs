@@ -51,7 +51,7 @@ pub struct ProjectionSettings {
     pub friction_model: FrictionModel,
     /// A row within the tolerance of its contact but short of the target
     /// margin (touching, or open by less) holds its current value instead
-    /// of asking for the target margin ([`held_rows`]).
+    /// of asking for the target margin (`held_rows` in `projector/step.rs`).
     pub hold_open_gaps: bool,
 }
 

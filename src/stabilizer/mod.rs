@@ -1,11 +1,13 @@
 //! The stabilizer: the loop of DESIGN.md section 1.
 //!
 //! Each pass:
-//! 1. detection over the whole scene ([`detection`]): broad phase on AABBs
-//!    enlarged by the contact margin, V-Clip on every candidate pair,
-//!    warm-started from the pair's last query (kept across passes and
-//!    calls); if no penetration is deeper than the tolerance, stop;
-//! 2. islands: union-find over the pairs that penetrate or are within the
+//! 1. detection over the whole scene ([`crate::contact::detect`]): broad
+//!    phase on the bodies' AABBs enlarged by the contact margin, V-Clip on
+//!    every candidate pair of convex parts (a convex body is one part, a
+//!    compound several, [`crate::scene_parts`]), warm-started from the
+//!    pair's last query (kept across passes and calls); if no penetration
+//!    is deeper than the tolerance, stop;
+//! 2. islands: union-find over the bodies of the pairs that penetrate or are within the
 //!    contact margin (fixed bodies never join islands);
 //! 3. for every island with a penetration deeper than the tolerance, one
 //!    projection step ([`crate::projector::projection_step`]) with the

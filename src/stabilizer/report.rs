@@ -153,7 +153,7 @@ pub struct IslandReport {
     /// (walls touching a body on opposite sides ask it to move away from
     /// both) and the island was solved again with the rows within the
     /// tolerance of contact holding their gap
-    /// ([`crate::projector::step::held_rows`], [`crate::Settings::hold_open_gaps`]).
+    /// (`held_rows` in `projector/step.rs`, [`crate::Settings::hold_open_gaps`]).
     pub rows_held: bool,
     /// Linearized constraint rows.
     pub constraints: usize,

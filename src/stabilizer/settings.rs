@@ -127,7 +127,7 @@ pub struct Settings {
     /// When an island's problem cannot be solved with every contact row
     /// asking for the target margin, solve it again with the rows within
     /// the tolerance of contact (touching, or open by less than the
-    /// margin) holding their value ([`crate::projector::step::held_rows`]).
+    /// margin) holding their value (`held_rows` in `projector/step.rs`).
     /// Default true: a box between two walls that touch it (an exactly
     /// fitting slot) was infeasible, both walls asking it to move away, and
     /// the call ended unsolved. Only a retry: holding every such row from
