@@ -11,6 +11,7 @@
 //! the body's pose bit for bit, and the body pairs of the broad phase are
 //! the part pairs unchanged.
 
+use std::borrow::Cow;
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -99,8 +100,12 @@ impl SceneParts {
         }
     }
 
-    /// World poses of every part, given every body's pose.
-    pub fn poses(&self, body_poses: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
+    /// World poses of every part, given every body's pose: the body poses
+    /// themselves, borrowed, in a scene of convex bodies (no copy per pass).
+    pub fn poses<'a>(&self, body_poses: &'a [Isometry3<f64>]) -> Cow<'a, [Isometry3<f64>]> {
+        if self.convex {
+            return Cow::Borrowed(body_poses);
+        }
         (0..self.len())
             .map(|part| self.pose(part, &body_poses[self.owners[part]]))
             .collect()

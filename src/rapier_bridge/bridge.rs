@@ -16,17 +16,21 @@
 //! 4. write back the dynamic bodies whose pose changed, `B' = U' P^-1`,
 //!    rounded to f32, without touching velocities or waking bodies.
 
+use std::collections::HashMap;
+
 use nalgebra::{Isometry3, Vector3};
 use rapier3d::dynamics::{IntegrationParameters, RigidBody, RigidBodyHandle, RigidBodySet};
 use rapier3d::geometry::ColliderSet;
 use rapier3d::math::Vector;
 
 use super::body_map::{BodyMap, MappedCollider};
-use super::collider_shape::{ReadCollider, read_collider, shape_of_read};
+use super::collider_shape::{
+    ReadCollider, compound_parent, read_collider, read_compound, shape_of_read,
+};
 use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
-use super::round_off::{call_settings, write_back_round_off_bound};
+use super::round_off::{call_settings, own_lengths, write_back_round_off_bound};
 use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
 use crate::body::{BodyDesc, MassSpec};
 use crate::scene::{Scene, SceneError};
@@ -129,8 +133,8 @@ impl RapierBridge {
         parameters: &IntegrationParameters,
     ) -> Result<BridgeReport, BridgeError> {
         let sync = self.sync(bodies, colliders)?;
-        let round_off_bound =
-            write_back_round_off_bound(&self.scene, &self.map, &self.settings.stabilizer);
+        let own = own_lengths(&self.settings.stabilizer, &self.scene);
+        let round_off_bound = write_back_round_off_bound(&self.scene, &self.map, &own);
         let mut report = BridgeReport {
             sync,
             stabilizer: None,
@@ -146,12 +150,7 @@ impl RapierBridge {
         let allowed = self
             .settings
             .allowed_penetration(f64::from(parameters.allowed_linear_error()));
-        let mut settings = call_settings(
-            &self.settings.stabilizer,
-            &self.scene,
-            round_off_bound,
-            allowed,
-        );
+        let mut settings = call_settings(&self.settings.stabilizer, &own, round_off_bound, allowed);
         if self.settings.coupling == CouplingMode::ClosedContacts {
             settings.allowed_penetration = allowed.max(closed_contact_allowance(&settings));
         }
@@ -336,11 +335,23 @@ fn read_world(
 ) -> (Vec<ReadCollider>, Vec<SkippedCollider>) {
     let mut read = Vec::new();
     let mut skipped = Vec::new();
-    // A compound is read at each of its colliders: kept once.
-    let mut compounds = std::collections::HashSet::new();
+    // A compound is read once, at its first collider in the set's order;
+    // its other colliders repeat that outcome (`None`: read).
+    let mut compounds: HashMap<RigidBodyHandle, Option<SkipReason>> = HashMap::new();
     for (handle, collider) in colliders.iter() {
-        match read_collider(handle, collider, bodies, colliders) {
-            Ok(r) if !r.parts.is_empty() && !compounds.insert(r.collider) => {}
+        let result = match compound_parent(collider, bodies, colliders) {
+            Some(body) => match compounds.get(&body) {
+                Some(None) => continue,
+                Some(Some(reason)) => Err(reason.clone()),
+                None => {
+                    let result = read_compound(body, bodies, colliders);
+                    compounds.insert(body, result.as_ref().err().cloned());
+                    result
+                }
+            },
+            None => read_collider(handle, collider, bodies),
+        };
+        match result {
             Ok(r) => read.push(r),
             Err(reason) => skipped.push(SkippedCollider {
                 collider: handle,

@@ -61,12 +61,12 @@ pub(crate) struct ReadCollider {
     pub parts: Vec<ReadPart>,
 }
 
-/// Reads a collider, or says why it is skipped.
+/// Reads a collider that is not part of a compound
+/// ([`compound_parent`]), or says why it is skipped.
 pub(crate) fn read_collider(
     handle: ColliderHandle,
     collider: &Collider,
     bodies: &RigidBodySet,
-    colliders: &ColliderSet,
 ) -> Result<ReadCollider, SkipReason> {
     if collider.is_sensor() {
         return Err(SkipReason::Sensor);
@@ -89,43 +89,69 @@ pub(crate) fn read_collider(
     if !body.is_enabled() {
         return Err(SkipReason::Disabled);
     }
-    let collider_in_body = collider
-        .position_wrt_parent()
-        .map(pose_to_f64)
-        .unwrap_or_else(Isometry3::identity);
-    let dynamic_mass = body.is_dynamic().then(|| f64::from(body.mass()));
-    let solid = solid_colliders(body.colliders(), colliders);
-    if dynamic_mass.is_some() && solid.len() > 1 {
-        let parts = solid
-            .into_iter()
-            .map(|(part, collider)| {
-                Ok(ReadPart {
-                    collider: part,
-                    collider_in_body: collider
-                        .position_wrt_parent()
-                        .map(pose_to_f64)
-                        .unwrap_or_else(Isometry3::identity),
-                    signature: signature(collider)?,
-                })
-            })
-            .collect::<Result<Vec<_>, SkipReason>>()?;
-        return Ok(ReadCollider {
-            collider: parts[0].collider,
-            body: Some(body_handle),
-            dynamic_mass,
-            collider_in_body: Isometry3::identity(),
-            signature: parts[0].signature,
-            parts,
-        });
-    }
     Ok(ReadCollider {
         collider: handle,
         body: Some(body_handle),
-        dynamic_mass,
-        collider_in_body,
+        dynamic_mass: body.is_dynamic().then(|| f64::from(body.mass())),
+        collider_in_body: offset_in_body(collider),
         signature: own_signature,
         parts: Vec::new(),
     })
+}
+
+/// The dynamic, enabled body of which `collider` is one of several
+/// enabled non-sensor colliders (a compound); `None` otherwise.
+pub(crate) fn compound_parent(
+    collider: &Collider,
+    bodies: &RigidBodySet,
+    colliders: &ColliderSet,
+) -> Option<RigidBodyHandle> {
+    if collider.is_sensor() || !collider.is_enabled() {
+        return None;
+    }
+    let handle = collider.parent()?;
+    let body = bodies.get(handle)?;
+    let several = body.is_enabled()
+        && body.is_dynamic()
+        && solid_colliders(body.colliders(), colliders).len() > 1;
+    several.then_some(handle)
+}
+
+/// Reads the compound of a body that [`compound_parent`] found: every
+/// solid collider a part, or the reason of the first that cannot be one.
+pub(crate) fn read_compound(
+    handle: RigidBodyHandle,
+    bodies: &RigidBodySet,
+    colliders: &ColliderSet,
+) -> Result<ReadCollider, SkipReason> {
+    let body = bodies.get(handle).ok_or(SkipReason::Disabled)?;
+    let parts = solid_colliders(body.colliders(), colliders)
+        .into_iter()
+        .map(|(part, collider)| {
+            Ok(ReadPart {
+                collider: part,
+                collider_in_body: offset_in_body(collider),
+                signature: signature(collider)?,
+            })
+        })
+        .collect::<Result<Vec<_>, SkipReason>>()?;
+    let first = parts.first().ok_or(SkipReason::Disabled)?;
+    Ok(ReadCollider {
+        collider: first.collider,
+        body: Some(handle),
+        dynamic_mass: Some(f64::from(body.mass())),
+        collider_in_body: Isometry3::identity(),
+        signature: first.signature,
+        parts,
+    })
+}
+
+/// `P`: the collider frame in its parent's frame (identity without one).
+fn offset_in_body(collider: &Collider) -> Isometry3<f64> {
+    collider
+        .position_wrt_parent()
+        .map(pose_to_f64)
+        .unwrap_or_else(Isometry3::identity)
 }
 
 /// The enabled non-sensor colliders of a body, in its order, whatever

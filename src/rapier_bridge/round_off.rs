@@ -61,7 +61,7 @@
 use super::body_map::BodyMap;
 use crate::broad_phase::candidate_pairs;
 use crate::scene::Scene;
-use crate::stabilizer::{Settings, scene_scale};
+use crate::stabilizer::{ResolvedLengths, Settings, scene_scale};
 
 /// f32 unit round-off `2^-24`: the largest relative error of rounding an
 /// f64 to the nearest f32.
@@ -85,8 +85,13 @@ pub const TARGET_PER_ROUND_OFF: f64 = 4.0;
 /// other cannot be moved into contact by a rounding); 0 without them.
 /// The restriction costs a broad phase, run only when the bound over all
 /// dynamic bodies would raise the lengths of `settings` (a body far from
-/// the origin): otherwise that bound is returned.
-pub(crate) fn write_back_round_off_bound(scene: &Scene, map: &BodyMap, settings: &Settings) -> f64 {
+/// the origin): otherwise that bound is returned. `own` are the
+/// stabilizer's own lengths on the scene ([`own_lengths`]).
+pub(crate) fn write_back_round_off_bound(
+    scene: &Scene,
+    map: &BodyMap,
+    own: &ResolvedLengths,
+) -> f64 {
     let deltas: Vec<(usize, f64)> = map
         .entries()
         .iter()
@@ -104,11 +109,6 @@ pub(crate) fn write_back_round_off_bound(scene: &Scene, map: &BodyMap, settings:
         })
         .collect();
     let largest = deltas.iter().map(|&(_, d)| d).fold(0.0, f64::max);
-    let own = Settings {
-        allowed_penetration: 0.0,
-        ..settings.clone()
-    }
-    .resolve(scene_scale(scene));
     let raises_lengths = TOLERANCE_PER_ROUND_OFF * largest > own.tolerance
         || TARGET_PER_ROUND_OFF * largest > own.target_margin;
     if !raises_lengths {
@@ -131,20 +131,25 @@ pub(crate) fn write_back_round_off_bound(scene: &Scene, map: &BodyMap, settings:
         .fold(0.0, f64::max)
 }
 
+/// The stabilizer's own lengths on `scene` (its settings without an
+/// allowed penetration), which the rule raises.
+pub(crate) fn own_lengths(settings: &Settings, scene: &Scene) -> ResolvedLengths {
+    Settings {
+        allowed_penetration: 0.0,
+        ..settings.clone()
+    }
+    .resolve(scene_scale(scene))
+}
+
 /// The stabilizer settings of one call: `settings` with the tolerance and
-/// target margin raised to the rule's (absolute, resolved on `scene`) and
-/// the given allowed penetration.
+/// target margin raised to the rule's (absolute; `own` from
+/// [`own_lengths`]) and the given allowed penetration.
 pub(crate) fn call_settings(
     settings: &Settings,
-    scene: &Scene,
+    own: &ResolvedLengths,
     round_off_bound: f64,
     allowed_penetration: f64,
 ) -> Settings {
-    let plain = Settings {
-        allowed_penetration: 0.0,
-        ..settings.clone()
-    };
-    let own = plain.resolve(scene_scale(scene));
     Settings {
         tolerance_absolute: Some(own.tolerance.max(TOLERANCE_PER_ROUND_OFF * round_off_bound)),
         target_margin_absolute: Some(
@@ -152,7 +157,7 @@ pub(crate) fn call_settings(
                 .max(TARGET_PER_ROUND_OFF * round_off_bound),
         ),
         allowed_penetration,
-        ..plain
+        ..settings.clone()
     }
 }
 
