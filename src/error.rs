@@ -5,14 +5,23 @@ use thiserror::Error;
 
 pub use crate::body::BodyError;
 pub use crate::broad_phase::BroadPhaseError;
+pub use crate::contact::IslandError;
 pub use crate::geometry::GeometryError;
 #[cfg(feature = "serde")]
 pub use crate::io::scene_file::SceneFileError;
-pub use crate::island::IslandError;
 pub use crate::scene::SceneError;
+pub use crate::settings::SettingsError;
 pub use crate::solver::SolverError;
-pub use crate::stabilizer::SettingsError;
 pub use crate::vclip::VClipError;
+
+impl From<crate::contact::DetectionError> for Error {
+    fn from(error: crate::contact::DetectionError) -> Self {
+        match error {
+            crate::contact::DetectionError::BroadPhase(error) => Error::BroadPhase(error),
+            crate::contact::DetectionError::VClip(error) => Error::VClip(error),
+        }
+    }
+}
 
 /// Any error the library returns.
 #[derive(Debug, Error, Clone, PartialEq)]

@@ -7,115 +7,18 @@
 //! old-to-new map ([`IndexMap`]). Names are labels only: they need not be
 //! unique.
 //!
-//! [`SceneSettings`] holds the settings a scene file may carry, every field
-//! optional. Lengths in it are absolute, in the scene's length unit.
-//!
-//! # Applying a scene's settings
-//!
-//! A [`crate::Stabilizer`] is built from [`crate::Settings`] and knows
-//! nothing of the scene it will be given: `Stabilizer::new(Settings::default())`
-//! ignores the settings a scene file carried. The choice is explicit:
-//! [`Scene::stabilizer`] (or [`Scene::stabilizer_settings`] to adjust them
-//! first) gives the stabilizer the scene asks for, the defaults overridden
-//! by every field the scene sets, as the command-line tool does.
+//! A scene also carries the settings its file gave
+//! ([`SceneSettings`], every field optional, lengths absolute in the
+//! scene's unit) as data: [`crate::Stabilizer::for_scene`] builds the
+//! stabilizer they ask for, and [`crate::Settings::with_scene_settings`]
+//! applies them to other settings. `Stabilizer::new(Settings::default())`
+//! ignores them.
 
 use nalgebra::Isometry3;
 use thiserror::Error;
 
 use crate::body::{Body, BodyDesc, BodyError};
-use crate::projector::friction::FrictionModel;
-use crate::stabilizer::{Method, Settings, Stabilizer};
-
-pub use crate::solver::SolverChoice;
-
-/// Settings carried by a scene; `None` means "the stabilizer's default".
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct SceneSettings {
-    /// Deepest penetration left at the end (length, > 0).
-    pub tolerance: Option<f64>,
-    /// Pairs closer than this enter the problem as near contacts (length, >= 0).
-    pub contact_margin: Option<f64>,
-    /// Separation the correction aims for (length, >= 0).
-    pub target_margin: Option<f64>,
-    /// Limit on projection passes (>= 1).
-    pub max_passes: Option<u32>,
-    /// Solver for every island, or `auto`.
-    pub solver: Option<SolverChoice>,
-    /// Solve every island with two solvers and report the difference.
-    pub cross_check: Option<bool>,
-    /// The correction method (`projection` or `gauss_seidel`, with the
-    /// Gauss–Seidel defaults).
-    pub method: Option<Method>,
-    /// How rows with friction bound their sliding (`pyramid` or `cone`).
-    pub friction_model: Option<FrictionModel>,
-}
-
-/// Why a [`SceneSettings`] value is invalid.
-#[derive(Debug, Error, Clone, PartialEq)]
-pub enum SettingsError {
-    /// A length is NaN, infinite, or has the wrong sign.
-    #[error("settings field `{field}` is {value}: it must be finite and {requirement}")]
-    InvalidLength {
-        /// The field name, as in scene files.
-        field: &'static str,
-        /// The value given.
-        value: f64,
-        /// `"positive"` or `"non-negative"`.
-        requirement: &'static str,
-    },
-    /// `max_passes` is zero.
-    #[error("settings field `max_passes` is 0: at least one pass is needed")]
-    ZeroPasses,
-}
-
-impl SettingsError {
-    /// The settings field the error is about.
-    pub fn field(&self) -> &'static str {
-        match self {
-            SettingsError::InvalidLength { field, .. } => field,
-            SettingsError::ZeroPasses => "max_passes",
-        }
-    }
-}
-
-impl SceneSettings {
-    /// Checks signs and finiteness of the fields that are present.
-    pub fn validate(&self) -> Result<(), SettingsError> {
-        check_length("tolerance", self.tolerance, false)?;
-        check_length("contact_margin", self.contact_margin, true)?;
-        check_length("target_margin", self.target_margin, true)?;
-        if self.max_passes == Some(0) {
-            return Err(SettingsError::ZeroPasses);
-        }
-        Ok(())
-    }
-
-    /// Whether no field is set.
-    pub fn is_empty(&self) -> bool {
-        *self == SceneSettings::default()
-    }
-}
-
-fn check_length(
-    field: &'static str,
-    value: Option<f64>,
-    zero_allowed: bool,
-) -> Result<(), SettingsError> {
-    let Some(value) = value else { return Ok(()) };
-    let ok = value.is_finite() && (value > 0.0 || (zero_allowed && value == 0.0));
-    if ok {
-        return Ok(());
-    }
-    Err(SettingsError::InvalidLength {
-        field,
-        value,
-        requirement: if zero_allowed {
-            "non-negative"
-        } else {
-            "positive"
-        },
-    })
-}
+use crate::settings::{SceneSettings, SettingsError};
 
 /// Why a scene could not be built.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -364,22 +267,6 @@ impl Scene {
     /// The settings given with the scene.
     pub fn settings(&self) -> &SceneSettings {
         &self.settings
-    }
-
-    /// The stabilizer settings this scene asks for: `base` with every field
-    /// that [`Scene::settings`] sets put in its place (lengths as absolute
-    /// overrides, see [`Settings::with_scene_settings`]). With no scene
-    /// settings this is `base`.
-    pub fn stabilizer_settings(&self, base: Settings) -> Settings {
-        base.with_scene_settings(&self.settings)
-    }
-
-    /// A stabilizer with the default settings overridden by the scene's
-    /// ([`Scene::stabilizer_settings`]): what a scene file asks for. Fails
-    /// only if the combination is invalid (the scene's settings were
-    /// validated when they were set; the defaults are valid).
-    pub fn stabilizer(&self) -> Result<Stabilizer, crate::Error> {
-        Stabilizer::new(self.stabilizer_settings(Settings::default()))
     }
 
     /// Validates and replaces the settings.

@@ -42,12 +42,13 @@ use nalgebra::{Isometry3, Matrix3, Point3, Quaternion, Translation3, UnitQuatern
 use thiserror::Error;
 
 use crate::geometry::{ConvexPolyhedron, GeometryError};
-use crate::projector::BodyState;
 
 mod parts;
+mod state;
 
 use parts::Solid;
 pub use parts::{BodyPart, MAX_COMPOUND_PARTS, ShapePart};
+pub use state::{BodyInertia, BodyState};
 
 /// Largest accepted deviation `| |q| - 1 |` of a given rotation quaternion
 /// from unit norm. Quaternions written with four significant digits (for

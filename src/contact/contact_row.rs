@@ -18,7 +18,7 @@
 
 use nalgebra::{Point3, Vector3, Vector6};
 
-use crate::projector::{ConstraintRow, RowFriction};
+use crate::rows::{ConstraintRow, RowFriction};
 
 /// A body's side of a contact: its index in the configuration and its
 /// centre of mass, or `None` for a fixed body.
@@ -97,7 +97,7 @@ fn jacobian_block(normal: &Vector3<f64>, arm: &Vector3<f64>) -> Vector6<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::projector::BodyState;
+    use crate::rows::BodyState;
     use approx::assert_relative_eq;
     use nalgebra::UnitQuaternion;
 

@@ -8,15 +8,38 @@
 
 use std::time::Instant;
 
+use super::island::Island;
 use super::island_contacts::{SceneGeometry, shape_pair};
 use super::memo::{PosedQuery, QueryMemo};
 use super::{PairQuery, PenetrationFeatures, WarmStartCache, query};
-use crate::Error;
-use crate::broad_phase::{BodyPair, IncrementalBroadPhase};
-use crate::island::Island;
+use crate::broad_phase::{BodyPair, BroadPhaseError, IncrementalBroadPhase};
 use crate::parallel;
 use crate::scene::Scene;
-use crate::vclip::{FeaturePair, VClip};
+use crate::settings::ResolvedLengths;
+use crate::vclip::{FeaturePair, VClip, VClipError};
+
+/// Why a detection failed: invalid broad-phase input (a margin, a box) or
+/// an invalid V-Clip query (a pose). [`crate::Error`] has a variant for
+/// each.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DetectionError {
+    /// The broad phase rejected its input.
+    BroadPhase(BroadPhaseError),
+    /// A V-Clip query rejected its input.
+    VClip(VClipError),
+}
+
+impl From<BroadPhaseError> for DetectionError {
+    fn from(error: BroadPhaseError) -> Self {
+        DetectionError::BroadPhase(error)
+    }
+}
+
+impl From<VClipError> for DetectionError {
+    fn from(error: VClipError) -> Self {
+        DetectionError::VClip(error)
+    }
+}
 
 /// One penetrating pair as a detection found it: the feature pair of its
 /// minimum translation and its exact depth. Two compound bodies may have
@@ -82,15 +105,6 @@ impl Detection {
     }
 }
 
-/// Lengths that classify the pairs of a detection.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DetectionLengths {
-    /// Depth above which a pair counts as penetrating.
-    pub tolerance: f64,
-    /// Separated pairs closer than this are active (join islands and rows).
-    pub contact_margin: f64,
-}
-
 /// What detection keeps from one pass (and call) to the next.
 #[derive(Debug)]
 pub struct DetectionState<'a> {
@@ -109,8 +123,8 @@ pub fn detect(
     geometry: SceneGeometry,
     state: DetectionState<'_>,
     vclip: &VClip,
-    lengths: DetectionLengths,
-) -> Result<Detection, Error> {
+    lengths: &ResolvedLengths,
+) -> Result<Detection, DetectionError> {
     let DetectionState {
         broad_phase,
         cache,
@@ -188,7 +202,7 @@ impl Detection {
         geometry: SceneGeometry,
         pair: BodyPair,
         result: PairQuery,
-        lengths: DetectionLengths,
+        lengths: &ResolvedLengths,
     ) {
         let value = result.signed_value();
         self.deepest = self.deepest.max(-value);
@@ -217,7 +231,7 @@ impl Detection {
 }
 
 /// The debug line of a penetrating pair (trace for a near one), by body.
-fn log_pair(scene: &Scene, pair: BodyPair, result: &PairQuery, lengths: DetectionLengths) {
+fn log_pair(scene: &Scene, pair: BodyPair, result: &PairQuery, lengths: &ResolvedLengths) {
     let name = |i: usize| scene.bodies().get(i).map_or("?", |b| b.name());
     let (a, b) = (pair.body_a, pair.body_b);
     match &result.penetration {
@@ -242,7 +256,7 @@ fn query_pair(
     pair: BodyPair,
     vclip: &VClip,
     start: Option<FeaturePair>,
-) -> Result<PairQuery, Error> {
+) -> Result<PairQuery, VClipError> {
     let (a, b) = (geometry.held(pair.body_a), geometry.held(pair.body_b));
-    Ok(query(vclip, &a, &b, start)?)
+    query(vclip, &a, &b, start)
 }

@@ -19,12 +19,12 @@ use std::time::Instant;
 use nalgebra::Isometry3;
 
 use super::memo::PosedQuery;
+use super::scene_parts::SceneParts;
 use super::{BodyGeometry, ContactFriction, PairQuery, WarmStartCache, contact_rows, query};
 use crate::broad_phase::BodyPair;
-use crate::contact::ManifoldOptions;
 use crate::geometry::ConvexPolyhedron;
-use crate::projector::{BodyState, ConstraintProvider, ConstraintRow, Measurement};
-use crate::scene_parts::SceneParts;
+use crate::rows::{BodyState, ConstraintProvider, ConstraintRow, Measurement};
+use crate::settings::Settings;
 use crate::vclip::{FeaturePair, VClip};
 
 /// Signed value reported for a pair whose query failed (a non-finite trial
@@ -53,17 +53,6 @@ impl<'a> SceneGeometry<'a> {
     }
 }
 
-/// Options of the contacts of an island.
-#[derive(Debug, Clone, Copy)]
-pub struct ContactOptions {
-    /// V-Clip with its settings.
-    pub vclip: VClip,
-    /// Separated pairs closer than this give rows.
-    pub margin: f64,
-    /// How the pairs' contact points are built.
-    pub manifold: ManifoldOptions,
-}
-
 /// Contacts of one island.
 pub struct IslandContacts<'a> {
     scene: SceneGeometry<'a>,
@@ -79,7 +68,12 @@ pub struct IslandContacts<'a> {
     warm_starts: Vec<Option<FeaturePair>>,
     /// Pair index of each row of the last linearization.
     row_pairs: Vec<usize>,
-    options: ContactOptions,
+    /// The call's settings (manifolds, V-Clip).
+    settings: &'a Settings,
+    /// V-Clip with the settings' parameters.
+    vclip: VClip,
+    /// Separated pairs closer than this give rows.
+    margin: f64,
     queries: usize,
     query_seconds: f64,
 }
@@ -88,7 +82,8 @@ impl<'a> IslandContacts<'a> {
     /// The contacts of the part pairs `pairs` (each with at least one part
     /// of a body in `bodies`),
     /// with friction coefficients `friction`, whose answers at
-    /// `configuration` (the bodies' poses in `scene`) are `answers`.
+    /// `configuration` (the bodies' poses in `scene`) are `answers`;
+    /// separated pairs closer than `margin` give rows.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         scene: SceneGeometry<'a>,
@@ -97,7 +92,8 @@ impl<'a> IslandContacts<'a> {
         friction: Vec<f64>,
         answers: Vec<PairQuery>,
         configuration: Vec<BodyState>,
-        options: ContactOptions,
+        settings: &'a Settings,
+        margin: f64,
     ) -> Self {
         let warm_starts = answers.iter().map(|a| Some(a.vclip.final_pair)).collect();
         IslandContacts {
@@ -109,7 +105,9 @@ impl<'a> IslandContacts<'a> {
             answered_at: configuration,
             warm_starts,
             row_pairs: Vec::new(),
-            options,
+            settings,
+            vclip: VClip::new(settings.vclip),
+            margin,
             queries: 0,
             query_seconds: 0.0,
         }
@@ -206,7 +204,7 @@ impl<'a> IslandContacts<'a> {
             let pair = self.pairs[k];
             let a = self.geometry(pair.body_a, configuration);
             let b = self.geometry(pair.body_b, configuration);
-            self.answers[k] = match query(&self.options.vclip, &a, &b, self.warm_starts[k]) {
+            self.answers[k] = match query(&self.vclip, &a, &b, self.warm_starts[k]) {
                 Ok(result) => {
                     self.warm_starts[k] = Some(result.vclip.final_pair);
                     Some(result)
@@ -234,12 +232,10 @@ impl ConstraintProvider for IslandContacts<'_> {
             };
             let a = self.geometry(pair.body_a, configuration);
             let b = self.geometry(pair.body_b, configuration);
-            let options = &self.options;
             let friction = ContactFriction {
                 mu: self.friction[k],
             };
-            let pair_rows =
-                contact_rows(result, &a, &b, options.margin, options.manifold, friction);
+            let pair_rows = contact_rows(result, &a, &b, self.margin, self.settings, friction);
             if let Some(penetration) = &result.penetration {
                 let (exact, reference) = (&penetration.exact, &penetration.reference);
                 log::trace!(

@@ -39,25 +39,30 @@
 mod contact_row;
 mod detection;
 pub mod gauss_map;
+pub mod island;
 mod island_contacts;
 pub mod manifold;
 mod memo;
 pub mod penetration;
+pub mod scene_parts;
 mod warm_start;
 
 use nalgebra::{Isometry3, Point3, Vector3};
 
 use crate::geometry::{ConvexPolyhedron, Feature};
-use crate::projector::ConstraintRow;
+use crate::rows::ConstraintRow;
+use crate::settings::Settings;
 use crate::vclip::{FeaturePair, Outcome, VClip, VClipError, VClipResult};
 pub use contact_row::{ContactSide, contact_row, contact_row_with_friction, tangent_basis};
-pub use detection::{Detection, DetectionLengths, DetectionState, PairPenetration, detect};
-pub use island_contacts::{ContactOptions, IslandContacts, SceneGeometry};
+pub use detection::{Detection, DetectionError, DetectionState, PairPenetration, detect};
+pub use island::{Island, IslandError, islands};
+pub use island_contacts::{IslandContacts, SceneGeometry};
 pub use manifold::{ContactPoint, Manifold};
 pub use memo::{PosedQuery, QueryMemo};
 pub use penetration::{
     ContactAxis, Penetration, PenetrationFeatures, minimum_translation, widest_separation,
 };
+pub use scene_parts::SceneParts;
 pub use warm_start::WarmStartCache;
 
 /// Distance, relative to the pair's scale, below which the witness
@@ -205,18 +210,18 @@ pub struct PairContactPoints {
 }
 
 /// The constraint rows of a pair with narrow-phase answer `query` (no row
-/// for a separated pair at or beyond `margin`). `manifold = false` keeps
-/// the deepest point of a penetration only. Every row gets `friction`
+/// for a separated pair at or beyond `margin`). Without
+/// [`Settings::contact_manifold`], the deepest point of a penetration only. Every row gets `friction`
 /// ([`ContactFriction`]).
 pub fn contact_rows(
     query: &PairQuery,
     a: &BodyGeometry,
     b: &BodyGeometry,
     margin: f64,
-    manifold: ManifoldOptions,
+    settings: &Settings,
     friction: ContactFriction,
 ) -> Vec<ConstraintRow> {
-    contact_points(query, a, b, margin, manifold)
+    contact_points(query, a, b, margin, settings)
         .points
         .iter()
         .map(|point| {
@@ -231,30 +236,6 @@ pub fn contact_rows(
         .collect()
 }
 
-/// How a pair's contact points are built.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ManifoldOptions {
-    /// Up to four points per face contact (else the deepest point of a
-    /// penetration, or V-Clip's closest points of a near pair):
-    /// [`crate::Settings::contact_manifold`].
-    pub all_points: bool,
-    /// A near pair's manifold on a face axis nearly as wide as its widest
-    /// separating edge–edge axis, as a penetrating pair's
-    /// ([`penetration::FACE_PREFERENCE_RELATIVE`]):
-    /// [`crate::Settings::near_pair_faces`].
-    pub near_faces: bool,
-}
-
-impl ManifoldOptions {
-    /// The options of `settings`.
-    pub fn of(settings: &crate::Settings) -> Self {
-        ManifoldOptions {
-            all_points: settings.contact_manifold,
-            near_faces: settings.near_pair_faces,
-        }
-    }
-}
-
 /// The contact points of a pair with narrow-phase answer `query`, one per
 /// row of [`contact_rows`] and in the same order (none for a separated pair
 /// at or beyond `margin`): the manifold of a penetrating pair, or of a near
@@ -265,9 +246,9 @@ pub fn contact_points(
     a: &BodyGeometry,
     b: &BodyGeometry,
     margin: f64,
-    options: ManifoldOptions,
+    settings: &Settings,
 ) -> PairContactPoints {
-    let manifold = options.all_points;
+    let manifold = settings.contact_manifold;
     let near = match (&query.penetration, &query.vclip.outcome) {
         (Some(penetration), _) => Some(*penetration),
         (None, Outcome::Separated { distance, .. }) if *distance < margin && manifold => {
@@ -277,7 +258,7 @@ pub fn contact_points(
                 b.shape,
                 &b.pose,
                 query.vclip.final_pair.to_array(),
-                options.near_faces,
+                settings.near_pair_faces,
             ))
         }
         _ => None,

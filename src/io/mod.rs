@@ -3,8 +3,6 @@
 
 pub mod lcp_file;
 #[cfg(feature = "serde")]
-pub mod report_json;
-#[cfg(feature = "serde")]
 pub mod scene_file;
 #[cfg(feature = "serde")]
 mod strict_json;

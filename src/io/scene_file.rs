@@ -54,9 +54,10 @@ use serde_json::{Map, Value};
 use thiserror::Error;
 
 use crate::body::{Body, BodyDesc, BodyError, MAX_COMPOUND_PARTS, MassSpec, Shape, ShapePart};
-use crate::projector::friction::FrictionModel;
-use crate::scene::{Scene, SceneSettings, SettingsError, SolverChoice};
-use crate::stabilizer::Method;
+use crate::scene::Scene;
+use crate::settings::FrictionModel;
+use crate::settings::{Method, SceneSettings, SettingsError};
+use crate::solver::SolverChoice;
 
 const BODY_FIELDS: [&str; 8] = [
     "name",

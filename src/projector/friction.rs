@@ -75,46 +75,8 @@
 //! coefficient `mu`: frictional forces appear only when the contact would
 //! slide.
 
-use super::ConstraintRow;
+use crate::rows::ConstraintRow;
 use crate::solver::{FrictionCone, JacobianRow};
-
-/// Default number of pyramid directions `K`.
-pub const DEFAULT_FRICTION_DIRECTIONS: usize = 4;
-
-/// How the projection treats the friction cone (1) of a row with friction.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum FrictionModel {
-    /// The pyramid (2) of `K` facets for every solver: a QP with linear
-    /// rows, which clarabel, Lemke and PGS solve alike. It allows up to
-    /// `1 / cos(pi / K)` times the cone's sliding in its corners.
-    #[default]
-    Pyramid,
-    /// The exact cone (1) as a second-order cone of clarabel's primal form
-    /// ([`crate::solver::friction_cone`]). Lemke, PGS and clarabel's dual
-    /// form, which take linear rows only, solve the pyramid (2) instead
-    /// when they run (a named choice, a fallback, the cross-check); under
-    /// `SolverChoice::Auto` a problem with cones goes to clarabel.
-    Cone,
-}
-
-impl FrictionModel {
-    /// Both models, with [`FrictionModel::name`] as in files.
-    pub const ALL: [FrictionModel; 2] = [FrictionModel::Pyramid, FrictionModel::Cone];
-
-    /// `pyramid` or `cone`.
-    pub fn name(self) -> &'static str {
-        match self {
-            FrictionModel::Pyramid => "pyramid",
-            FrictionModel::Cone => "cone",
-        }
-    }
-
-    /// The model with the given name, if any.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|m| m.name() == name)
-    }
-}
 
 /// The cone (1) of every row with friction, for contact rows with target
 /// `target` (apex where the row reaches its target, for open rows too),
@@ -167,7 +129,7 @@ pub fn pyramid_rows(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::projector::RowFriction;
+    use crate::rows::RowFriction;
     use nalgebra::{Vector3, Vector6};
 
     /// One contact of body 0 against a fixed body: normal z, tangents x

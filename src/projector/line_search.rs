@@ -20,39 +20,9 @@
 
 use nalgebra::DVector;
 
-use super::configuration::moved_configuration;
-use super::{BodyState, Configuration, ConstraintProvider, Measurement};
-
-/// Settings of the backtracking line search.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LineSearchSettings {
-    /// Factor `beta` by which a rejected step is shrunk. Default 0.5.
-    pub shrink: f64,
-    /// Smallest step `alpha_min` tried. Default 2^-10 (11 trials at most).
-    pub min_step: f64,
-    /// Fraction `sigma` of the linear decrease that must be achieved.
-    /// Default 1e-4 (the customary Armijo constant).
-    pub sufficient_decrease: f64,
-    /// A constraint that was clear may end a step penetrating by at most
-    /// `max(tolerance, new_penetration_fraction * d)`, with `d` the deepest
-    /// penetration before the step. The linearization holds a clear contact
-    /// at its place only to first order: a rotation by `theta` moves it by
-    /// about `theta^2 r / 2`, which a strict tolerance would turn into a
-    /// stall. Default 0.1: a neighbour is never pushed in by more than a
-    /// tenth of the depth being removed.
-    pub new_penetration_fraction: f64,
-}
-
-impl Default for LineSearchSettings {
-    fn default() -> Self {
-        LineSearchSettings {
-            shrink: 0.5,
-            min_step: 1.0 / 1024.0,
-            sufficient_decrease: 1e-4,
-            new_penetration_fraction: 0.1,
-        }
-    }
-}
+use crate::rows::moved_configuration;
+use crate::rows::{BodyState, Configuration, ConstraintProvider, Measurement};
+use crate::settings::LineSearchSettings;
 
 /// The result of a line search.
 #[derive(Debug, Clone, PartialEq)]

@@ -10,7 +10,7 @@
 //! x_i <- x_i + alpha dx_i,      R_i <- exp(alpha dtheta_i) R_i.
 //! ```
 //!
-//! A [`ConstraintProvider`] evaluates, at a configuration, constraints
+//! A [`ConstraintProvider`](crate::rows::ConstraintProvider) evaluates, at a configuration, constraints
 //! `phi_k(q) >= 0` (negative = penetration) with Jacobian rows `J_k`. One
 //! projection step solves
 //!
@@ -27,18 +27,14 @@
 //! its trust region ([`TrustRegion`]). The loop is independent of the geometry: contacts from
 //! V-Clip are one provider; analytic providers test it alone.
 
-mod configuration;
 pub mod friction;
 mod line_search;
-mod provider;
 mod step;
 mod trust_region;
 
-pub use configuration::{BodyInertia, BodyState, Configuration, moved_configuration};
-pub use line_search::{LineSearchOutcome, LineSearchSettings, line_search};
-pub use provider::{ConstraintProvider, ConstraintRow, Measurement, RowFriction};
+pub use line_search::{LineSearchOutcome, line_search};
 pub use step::{
-    Plan, PlannedStep, ProjectionSettings, ProjectionStatus, ProjectionSummary, StepOutcome,
-    StepReport, plan_step, project, projection_qp, projection_step, take_step,
+    Plan, PlannedStep, ProjectionStatus, ProjectionSummary, StepOutcome, StepReport, plan_step,
+    project, projection_qp, projection_step, take_step,
 };
 pub use trust_region::{TrustRegion, radius_of_gyration};

@@ -12,48 +12,18 @@
 
 use std::time::Instant;
 
-use super::friction::{FrictionModel, friction_cones};
-use super::line_search::{LineSearchOutcome, LineSearchSettings, line_search};
-use super::trust_region::TrustRegion;
 use nalgebra::DVector;
 
-use super::{BodyInertia, BodyState, ConstraintProvider, ConstraintRow, Measurement};
+use super::friction::friction_cones;
+use super::line_search::{LineSearchOutcome, line_search};
+use super::trust_region::TrustRegion;
+use crate::settings::{FrictionModel, ResolvedLengths, Settings};
+
+use crate::rows::{BodyInertia, BodyState, ConstraintProvider, ConstraintRow, Measurement};
 use crate::solver::friction_cone::CONE_DIM;
 use crate::solver::{
-    BodyMetric, JacobianRow, ProjectionQp, ProjectionSolution, SolverError, SolverSettings,
-    solve_projection,
+    BodyMetric, JacobianRow, ProjectionQp, ProjectionSolution, SolverError, solve_projection,
 };
-
-/// Settings of a projection. Lengths are absolute (the caller scales them).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ProjectionSettings {
-    /// Penetration depth below which a constraint counts as satisfied.
-    pub tolerance: f64,
-    /// Margin `target >= 0` that the linearized constraints aim for, so that
-    /// the second-order error of the linearization does not leave a
-    /// penetration behind.
-    pub target_margin: f64,
-    /// The line search.
-    pub line_search: LineSearchSettings,
-    /// Per-body limits of one step; the correction is scaled into them
-    /// before the line search.
-    pub trust_region: TrustRegion,
-    /// The QP/LCP solvers.
-    pub solver: SolverSettings,
-    /// Largest number of steps of [`project`].
-    pub max_steps: usize,
-    /// Directions `K` of the friction pyramid of rows with friction
-    /// ([`super::friction`]): the problem's under
-    /// [`FrictionModel::Pyramid`], the one that Lemke and PGS solve under
-    /// [`FrictionModel::Cone`].
-    pub friction_directions: usize,
-    /// The pyramid or the exact cone ([`FrictionModel`]).
-    pub friction_model: FrictionModel,
-    /// A row within the tolerance of its contact but short of the target
-    /// margin (touching, or open by less) holds its current value instead
-    /// of asking for the target margin (`held_rows` in `projector/step.rs`).
-    pub hold_open_gaps: bool,
-}
 
 /// What a step did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -101,7 +71,7 @@ pub struct StepReport {
 pub enum ProjectionStatus {
     /// No penetration beyond the tolerance remains.
     Converged,
-    /// `max_steps` steps were taken and a penetration remains.
+    /// `max_passes` steps were taken and a penetration remains.
     StepLimit,
     /// A line search found no acceptable step.
     Stalled,
@@ -152,16 +122,21 @@ pub enum Plan {
     Step(Box<PlannedStep>),
 }
 
-/// Measures, linearizes and solves at `configuration` (not moved).
+/// Measures, linearizes and solves at `configuration` (not moved). With
+/// `hold_rows`, the rows within the tolerance of contact but short of the
+/// target margin hold their value ([`held_rows`]) instead of asking for
+/// the margin.
 pub fn plan_step<P: ConstraintProvider + ?Sized>(
     provider: &mut P,
     configuration: &[BodyState],
     inertias: &[BodyInertia],
-    settings: &ProjectionSettings,
+    settings: &Settings,
+    lengths: &ResolvedLengths,
+    hold_rows: bool,
 ) -> Result<Plan, SolverError> {
     let before = provider.measure(configuration);
     let depth_before = before.deepest_penetration();
-    if depth_before <= settings.tolerance {
+    if depth_before <= lengths.tolerance {
         return Ok(Plan::Satisfied(depth_before));
     }
     let solve_start = Instant::now();
@@ -172,22 +147,19 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
         rows.iter().filter(|row| row.friction.is_some()).count(),
         depth_before
     );
-    let held = settings
-        .hold_open_gaps
-        .then(|| held_rows(&rows, settings.tolerance, settings.target_margin))
+    let held = hold_rows
+        .then(|| held_rows(&rows, lengths.tolerance, lengths.target_margin))
         .flatten();
     let (qp, qp_parents) = projection_qp(
         configuration,
         inertias,
         held.as_deref().unwrap_or(&rows),
-        settings.target_margin,
+        lengths.target_margin,
         settings.friction_directions,
         settings.friction_model,
     );
     let solution = solve_projection(&qp, &settings.solver)?;
-    let trust_scale = settings
-        .trust_region
-        .scale(&solution.dq, inertias, depth_before);
+    let trust_scale = TrustRegion::of(settings).scale(&solution.dq, inertias, depth_before);
     let dq = &solution.dq * trust_scale;
     Ok(Plan::Step(Box::new(PlannedStep {
         before,
@@ -226,7 +198,8 @@ pub fn take_step<P: ConstraintProvider + ?Sized>(
     provider: &mut P,
     configuration: &mut Vec<BodyState>,
     plan: PlannedStep,
-    settings: &ProjectionSettings,
+    settings: &Settings,
+    lengths: &ResolvedLengths,
 ) -> StepReport {
     let PlannedStep {
         before,
@@ -251,7 +224,7 @@ pub fn take_step<P: ConstraintProvider + ?Sized>(
         configuration,
         &dq,
         &before,
-        settings.tolerance,
+        lengths.tolerance,
         &settings.line_search,
     );
     match search {
@@ -288,39 +261,51 @@ pub fn take_step<P: ConstraintProvider + ?Sized>(
 }
 
 /// One projection step on `configuration` (moved in place only if a step is
-/// accepted): [`plan_step`], then [`take_step`]. On a solver error the
+/// accepted): [`plan_step`], then [`take_step`], the rows in contact held
+/// when `settings.hold_open_gaps` is set. On a solver error the
 /// configuration is unchanged.
 pub fn projection_step<P: ConstraintProvider + ?Sized>(
     provider: &mut P,
     configuration: &mut Vec<BodyState>,
     inertias: &[BodyInertia],
-    settings: &ProjectionSettings,
+    settings: &Settings,
+    lengths: &ResolvedLengths,
 ) -> Result<StepReport, SolverError> {
+    let hold_rows = settings.hold_open_gaps;
     Ok(
-        match plan_step(provider, configuration, inertias, settings)? {
+        match plan_step(
+            provider,
+            configuration,
+            inertias,
+            settings,
+            lengths,
+            hold_rows,
+        )? {
             Plan::Satisfied(depth) => StepReport::satisfied(depth),
-            Plan::Step(plan) => take_step(provider, configuration, *plan, settings),
+            Plan::Step(plan) => take_step(provider, configuration, *plan, settings, lengths),
         },
     )
 }
 
-/// Projection steps until no penetration beyond the tolerance remains, a
-/// step stalls, or `max_steps` is reached.
+/// Projection steps ([`projection_step`]) until no penetration beyond the
+/// tolerance remains, a step stalls, or `settings.max_passes` steps moved.
 pub fn project<P: ConstraintProvider + ?Sized>(
     provider: &mut P,
     configuration: &mut Vec<BodyState>,
     inertias: &[BodyInertia],
-    settings: &ProjectionSettings,
+    settings: &Settings,
+    lengths: &ResolvedLengths,
 ) -> Result<ProjectionSummary, SolverError> {
+    let max_steps = settings.max_passes;
     let mut steps = Vec::new();
-    for _ in 0..=settings.max_steps {
-        let report = projection_step(provider, configuration, inertias, settings)?;
+    for _ in 0..=max_steps {
+        let report = projection_step(provider, configuration, inertias, settings, lengths)?;
         let outcome = report.outcome;
         steps.push(report);
         let status = match outcome {
             StepOutcome::AlreadySatisfied => ProjectionStatus::Converged,
             StepOutcome::Stalled => ProjectionStatus::Stalled,
-            StepOutcome::Moved if steps.len() > settings.max_steps => ProjectionStatus::StepLimit,
+            StepOutcome::Moved if steps.len() > max_steps => ProjectionStatus::StepLimit,
             StepOutcome::Moved => continue,
         };
         return Ok(ProjectionSummary { status, steps });

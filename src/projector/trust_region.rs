@@ -36,7 +36,8 @@
 
 use nalgebra::DVector;
 
-use super::BodyInertia;
+use crate::rows::BodyInertia;
+use crate::settings::Settings;
 
 /// Limits of one step, per body. Infinite limits turn the region off.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -49,6 +50,15 @@ pub struct TrustRegion {
 }
 
 impl TrustRegion {
+    /// The limits of [`Settings::step_max_rotation`] and
+    /// [`Settings::step_max_translation_relative`].
+    pub fn of(settings: &Settings) -> Self {
+        TrustRegion {
+            max_rotation: settings.step_max_rotation,
+            max_translation_relative: settings.step_max_translation_relative,
+        }
+    }
+
     /// No limit: the solver's correction is used whole.
     pub const UNLIMITED: TrustRegion = TrustRegion {
         max_rotation: f64::INFINITY,

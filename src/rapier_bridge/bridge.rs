@@ -30,11 +30,12 @@ use super::collider_shape::{
 use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
-use super::round_off::{call_settings, own_lengths, write_back_round_off_bound};
+use super::round_off::{own_lengths, raised_lengths, write_back_round_off_bound};
 use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
 use crate::body::{BodyDesc, MassSpec};
 use crate::scene::{Scene, SceneError};
-use crate::stabilizer::{BodyVelocity, Settings, Stabilizer, VelocityOptions, VelocityReport};
+use crate::settings::Settings;
+use crate::stabilizer::{BodyVelocity, Stabilizer, VelocityOptions, VelocityReport};
 
 /// Stabilizes a Rapier world after each step; keeps the scene, the handle
 /// map and the stabilizer (with its warm starts) from call to call.
@@ -150,11 +151,13 @@ impl RapierBridge {
         let allowed = self
             .settings
             .allowed_penetration(f64::from(parameters.allowed_linear_error()));
-        let mut settings = call_settings(&self.settings.stabilizer, &own, round_off_bound, allowed);
-        if self.settings.coupling == CouplingMode::ClosedContacts {
-            settings.allowed_penetration = allowed.max(closed_contact_allowance(&settings));
-        }
-        self.stabilizer.set_settings(settings)?;
+        let raised = raised_lengths(&own, round_off_bound);
+        let allowed = match self.settings.coupling {
+            CouplingMode::ClosedContacts => allowed.max(closed_contact_allowance(&raised)),
+            _ => allowed,
+        };
+        self.stabilizer
+            .set_call_lengths(Some(raised.allowing(allowed)));
         let before: Vec<UserPose> = self.scene.bodies().iter().map(user_pose_of).collect();
         report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
         let (moved, round_off) = self.write_back(bodies, &before);

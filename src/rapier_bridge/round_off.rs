@@ -61,7 +61,8 @@
 use super::body_map::BodyMap;
 use crate::broad_phase::candidate_pairs;
 use crate::scene::Scene;
-use crate::stabilizer::{ResolvedLengths, Settings, scene_scale};
+use crate::settings::{ResolvedLengths, Settings};
+use crate::stabilizer::scene_scale;
 
 /// f32 unit round-off `2^-24`: the largest relative error of rounding an
 /// f64 to the nearest f32.
@@ -141,23 +142,16 @@ pub(crate) fn own_lengths(settings: &Settings, scene: &Scene) -> ResolvedLengths
     .resolve(scene_scale(scene))
 }
 
-/// The stabilizer settings of one call: `settings` with the tolerance and
-/// target margin raised to the rule's (absolute; `own` from
-/// [`own_lengths`]) and the given allowed penetration.
-pub(crate) fn call_settings(
-    settings: &Settings,
-    own: &ResolvedLengths,
-    round_off_bound: f64,
-    allowed_penetration: f64,
-) -> Settings {
-    Settings {
-        tolerance_absolute: Some(own.tolerance.max(TOLERANCE_PER_ROUND_OFF * round_off_bound)),
-        target_margin_absolute: Some(
-            own.target_margin
-                .max(TARGET_PER_ROUND_OFF * round_off_bound),
-        ),
-        allowed_penetration,
-        ..settings.clone()
+/// The lengths of one call: `own` (from [`own_lengths`]) with the
+/// tolerance and target margin raised to the rule's for `round_off_bound`,
+/// before any allowed penetration.
+pub(crate) fn raised_lengths(own: &ResolvedLengths, round_off_bound: f64) -> ResolvedLengths {
+    ResolvedLengths {
+        tolerance: own.tolerance.max(TOLERANCE_PER_ROUND_OFF * round_off_bound),
+        target_margin: own
+            .target_margin
+            .max(TARGET_PER_ROUND_OFF * round_off_bound),
+        ..*own
     }
 }
 

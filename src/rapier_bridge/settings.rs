@@ -12,7 +12,8 @@
 //! ([`crate::Settings::allowed_penetration`]), so the engine's soft
 //! contacts keep their slop.
 
-use crate::stabilizer::{Settings, VelocityFriction};
+use crate::settings::{ResolvedLengths, Settings};
+use crate::stabilizer::VelocityFriction;
 
 /// How a bridge call couples with the engine.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -90,12 +91,12 @@ impl CouplingMode {
 /// rows aim at the gap `target_margin - allowed` (see
 /// [`crate::Settings::allowed_penetration`]), so `allowed = target_margin +
 /// tolerance` aims at the depth `tolerance`, half of what the call then
-/// accepts (`allowed + tolerance`). `settings` are the call's, with
-/// absolute lengths ([`super::round_off`]); f32 rounding of the written
+/// accepts (`allowed + tolerance`). `lengths` are the call's before any
+/// allowed penetration ([`super::round_off`]); f32 rounding of the written
 /// poses moves a contact by at most an eighth of the tolerance, so a
 /// corrected contact stays closed.
-pub fn closed_contact_allowance(settings: &Settings) -> f64 {
-    settings.target_margin_absolute.unwrap_or(0.0) + settings.tolerance_absolute.unwrap_or(0.0)
+pub fn closed_contact_allowance(lengths: &ResolvedLengths) -> f64 {
+    lengths.target_margin + lengths.tolerance
 }
 
 /// Settings of [`super::RapierBridge`].

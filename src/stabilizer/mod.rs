@@ -43,10 +43,12 @@
 //! pose is put back and the report says so; on an error (invalid input)
 //! every pose is as it was before the call.
 
+pub(crate) mod gauss_seidel;
 mod region;
 mod removal;
 mod report;
-mod settings;
+#[cfg(feature = "serde")]
+pub mod report_json;
 mod solve_island;
 mod velocity;
 
@@ -54,25 +56,20 @@ use std::time::Instant;
 
 use nalgebra::{Isometry3, Vector3};
 
-pub use crate::gauss_seidel::{GaussSeidelSettings, GaussSeidelSettingsError};
 pub use report::{
     IslandLeft, IslandOutcome, IslandReport, PairPenetration, PassReport, Report, StageTimes,
     Status,
 };
-pub use settings::{Method, ResolvedLengths, Settings, SettingsError};
 pub use velocity::{BodyVelocity, VelocityFriction, VelocityOptions, VelocityReport};
 
 use crate::Error;
 use crate::broad_phase::IncrementalBroadPhase;
-use crate::contact::{
-    Detection, DetectionLengths, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect,
-};
-use crate::gauss_seidel;
-use crate::island::islands;
+use crate::contact::SceneParts;
+use crate::contact::islands;
+use crate::contact::{Detection, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect};
 use crate::parallel;
-use crate::projector::ProjectionSettings;
 use crate::scene::Scene;
-use crate::scene_parts::SceneParts;
+use crate::settings::{Method, ResolvedLengths, Settings};
 use crate::vclip::VClip;
 use solve_island::{IslandSolution, PassInput, solve_island};
 
@@ -84,6 +81,9 @@ pub type StabilizeError = Error;
 #[derive(Debug, Clone, Default)]
 pub struct Stabilizer {
     settings: Settings,
+    /// Lengths a caller set for the next calls instead of the settings'
+    /// resolution ([`Stabilizer::set_call_lengths`]).
+    call_lengths: Option<ResolvedLengths>,
     cache: WarmStartCache,
     /// The last detection of the last call, with the poses it was made at
     /// (for [`Stabilizer::project_velocities`] at those poses).
@@ -96,14 +96,38 @@ impl Stabilizer {
         settings.validate()?;
         Ok(Stabilizer {
             settings,
+            call_lengths: None,
             cache: WarmStartCache::default(),
             last_detection: None,
         })
     }
 
+    /// A stabilizer with the default settings overridden by every field
+    /// that `scene`'s settings set ([`Settings::with_scene_settings`]):
+    /// what a scene file asks for, as the command-line tool applies it.
+    /// Fails only if the combination is invalid.
+    pub fn for_scene(scene: &Scene) -> Result<Self, Error> {
+        Stabilizer::new(Settings::default().with_scene_settings(scene.settings()))
+    }
+
     /// The settings.
     pub fn settings(&self) -> &Settings {
         &self.settings
+    }
+
+    /// The lengths of a call on `scene`: those set by
+    /// [`Stabilizer::set_call_lengths`], else the settings' resolved at the
+    /// scene's scale ([`Settings::resolve`]).
+    pub fn lengths(&self, scene: &Scene) -> ResolvedLengths {
+        self.call_lengths
+            .unwrap_or_else(|| self.settings.resolve(scene_scale(scene)))
+    }
+
+    /// Makes the next calls use `lengths` as they are, instead of resolving
+    /// the settings' (`None` goes back to them): for a caller, like the
+    /// Rapier bridge, that derives each call's lengths itself.
+    pub(crate) fn set_call_lengths(&mut self, lengths: Option<ResolvedLengths>) {
+        self.call_lengths = lengths;
     }
 
     /// Number of body pairs with a cached V-Clip warm start.
@@ -195,7 +219,7 @@ impl Stabilizer {
     /// current poses: the last call's if it was made at them (nothing is
     /// queried), else a new one; returns the call's lengths.
     fn detect_at(&mut self, scene: &Scene) -> Result<ResolvedLengths, Error> {
-        let lengths = self.settings.resolve(scene_scale(scene));
+        let lengths = self.lengths(scene);
         let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
         if self
             .last_detection
@@ -220,10 +244,7 @@ impl Stabilizer {
             geometry,
             state,
             &VClip::new(self.settings.vclip),
-            DetectionLengths {
-                tolerance: lengths.tolerance,
-                contact_margin: lengths.contact_margin,
-            },
+            &lengths,
         )?;
         self.last_detection = Some((poses, detection));
         Ok(lengths)
@@ -248,35 +269,28 @@ impl Stabilizer {
     ) -> Result<Report, Error> {
         if self.settings.method == Method::GaussSeidel {
             self.cache.forget_dropped_shapes();
-            let (report, last) =
-                gauss_seidel::call::run(scene, &self.settings, &mut self.cache, start, observer)?;
+            let lengths = self.lengths(scene);
+            let (report, last) = gauss_seidel::call::run(
+                scene,
+                &self.settings,
+                &lengths,
+                &mut self.cache,
+                start,
+                observer,
+            )?;
             self.last_detection = Some(last);
             return Ok(report);
         }
-        let lengths = self.settings.resolve(scene_scale(scene));
+        let lengths = self.lengths(scene);
         let vclip = VClip::new(self.settings.vclip);
-        let mut projection = ProjectionSettings {
-            tolerance: lengths.tolerance,
-            target_margin: lengths.target_margin,
-            line_search: self.settings.line_search,
-            trust_region: self.settings.trust_region(),
-            solver: self.settings.solver.clone(),
-            max_steps: 1,
-            friction_directions: self.settings.friction_directions,
-            // Held rows are the retry of an island that cannot be solved
-            // without them (`solve_island`).
-            hold_open_gaps: false,
-            friction_model: self.settings.friction_model,
-        };
+        // The call's own settings: the solver's time limit follows the
+        // budget left.
+        let mut call_settings = self.settings.clone();
         let parts = SceneParts::of(scene);
         let mut report = Report::new(&lengths);
         self.cache.forget_dropped_shapes();
         let mut memo = QueryMemo::default();
         let mut broad_phase = IncrementalBroadPhase::new();
-        let detection_lengths = DetectionLengths {
-            tolerance: lengths.tolerance,
-            contact_margin: lengths.contact_margin,
-        };
         loop {
             let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
             let part_poses = parts.poses(&poses);
@@ -290,7 +304,7 @@ impl Stabilizer {
                 cache: &mut self.cache,
                 memo: &mut memo,
             };
-            let detection = detect(scene, geometry, state, &vclip, detection_lengths)?;
+            let detection = detect(scene, geometry, state, &vclip, &lengths)?;
             report.record_detection(&detection);
             let mut pass = pass_report(&detection, lengths.tolerance);
             let finished = Status::after_detection(
@@ -313,15 +327,15 @@ impl Stabilizer {
                 return Ok(report);
             }
             if let Some(left) = self.time_left(start).filter(|_| report.passes > 0) {
-                let clarabel = &mut projection.solver.clarabel;
+                let clarabel = &mut call_settings.solver.clarabel;
                 clarabel.time_limit = clarabel.time_limit.min(left);
             }
             let solutions = self.solve_pass(
                 scene,
                 geometry,
                 &detection,
+                &call_settings,
                 &lengths,
-                &projection,
                 &mut pass,
             )?;
             report.passes += 1;
@@ -395,8 +409,8 @@ impl Stabilizer {
         scene: &Scene,
         geometry: SceneGeometry,
         detection: &Detection,
+        settings: &Settings,
         lengths: &ResolvedLengths,
-        projection: &ProjectionSettings,
         pass: &mut PassReport,
     ) -> Result<Vec<IslandSolution>, Error> {
         let all_islands = islands(&scene.fixed_flags(), &detection.active_bodies)?;
@@ -412,10 +426,10 @@ impl Stabilizer {
             active_bodies: &detection.active_bodies,
             active_values: &detection.active_values,
             active_queries: &detection.active_queries,
-            frictional: true,
-            settings: &self.settings,
+            settings,
             lengths,
-            projection,
+            hold_rows: false,
+            frictional: true,
         };
         Ok(parallel::map(&penetrating, |island| {
             solve_island(input, island)

@@ -20,12 +20,12 @@
 //! bodies in the same roles. A warm start is only a hint in any case:
 //! [`crate::contact::query`] drops one that does not fit and starts cold.
 
-use super::{Stabilizer, scene_scale};
+use super::Stabilizer;
 use crate::Error;
 use crate::broad_phase::{BodyPair, candidate_pairs};
+use crate::contact::SceneParts;
 use crate::contact::WarmStartCache;
 use crate::scene::{IndexMap, Scene};
-use crate::scene_parts::SceneParts;
 
 impl Stabilizer {
     /// Removes the bodies at `indices` from `scene` ([`Scene::remove_bodies`]:
@@ -37,7 +37,7 @@ impl Stabilizer {
         scene: &mut Scene,
         indices: &[usize],
     ) -> Result<IndexMap, Error> {
-        let margin = self.settings.resolve(scene_scale(scene)).contact_margin;
+        let margin = self.lengths(scene).contact_margin;
         // A broad phase that fails (it cannot for valid bodies) only costs
         // the warm starts: they are dropped rather than the call failed.
         let pairs = candidate_pairs(scene, margin).unwrap_or_default();

@@ -1,11 +1,11 @@
 //! What a stabilization call did: status, passes, islands, solvers,
 //! line-search steps, penetration before and after, displacement, times.
 
-use super::settings::ResolvedLengths;
 use crate::Error;
 use crate::contact::Detection;
 pub use crate::contact::PairPenetration;
 use crate::projector::StepOutcome;
+use crate::settings::ResolvedLengths;
 use crate::solver::{CrossCheck, Fallback, SolverKind};
 
 /// How a call ended.

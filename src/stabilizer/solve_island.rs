@@ -12,21 +12,16 @@
 
 use crate::Error;
 use crate::broad_phase::BodyPair;
-use crate::contact::ManifoldOptions;
-use crate::contact::{
-    ContactOptions, IslandContacts, PairQuery, PosedQuery, SceneGeometry, WarmStartCache,
-};
-use crate::island::{Island, IslandError};
-use crate::projector::{
-    BodyInertia, BodyState, Plan, PlannedStep, ProjectionSettings, StepReport, plan_step, take_step,
-};
+use crate::contact::{Island, IslandError};
+use crate::contact::{IslandContacts, PairQuery, PosedQuery, SceneGeometry, WarmStartCache};
+use crate::projector::{Plan, PlannedStep, StepReport, plan_step, take_step};
+use crate::rows::{BodyInertia, BodyState};
 use crate::scene::Scene;
 use crate::solver::SolverSettings;
-use crate::vclip::VClip;
 
 use super::region::{Region, pushed_bodies};
 use super::report::{IslandOutcome, IslandReport};
-use super::settings::{ResolvedLengths, Settings};
+use crate::settings::{ResolvedLengths, Settings};
 
 /// The outcome of one island's step, to apply to the scene.
 pub struct IslandSolution {
@@ -75,12 +70,14 @@ pub struct PassInput<'a> {
     pub active_values: &'a [f64],
     /// Narrow-phase answer of each active pair at the pass's poses.
     pub active_queries: &'a [PairQuery],
-    /// The stabilizer's settings.
+    /// The call's settings.
     pub settings: &'a Settings,
-    /// Resolved lengths.
+    /// The call's lengths.
     pub lengths: &'a ResolvedLengths,
-    /// The projection's settings.
-    pub projection: &'a ProjectionSettings,
+    /// Whether the rows in contact hold their value
+    /// ([`crate::projector::plan_step`]'s `hold_rows`): the retry of an
+    /// island that cannot be solved without it.
+    pub hold_rows: bool,
     /// Whether pairs get their friction coefficients (else frictionless).
     pub frictional: bool,
 }
@@ -179,11 +176,6 @@ fn plan_region<'a>(
         .collect();
     let has_friction = friction.iter().any(|&mu| mu > 0.0);
     let (configuration, inertias) = island_state(input.scene, &bodies)?;
-    let options = ContactOptions {
-        vclip: VClip::new(input.settings.vclip),
-        margin: input.lengths.contact_margin,
-        manifold: ManifoldOptions::of(input.settings),
-    };
     let mut contacts = IslandContacts::new(
         input.geometry,
         bodies,
@@ -191,7 +183,8 @@ fn plan_region<'a>(
         friction,
         answers,
         configuration.clone(),
-        options,
+        input.settings,
+        input.lengths.contact_margin,
     );
     // A region short of the whole island has one solver and no fallback:
     // its failure only means that it must grow. A whole island with
@@ -201,20 +194,28 @@ fn plan_region<'a>(
     // (`solve_island_or_fail`).
     let whole = contacts_cover_island(island, contacts.bodies());
     let trial_settings;
-    let projection = if whole && !has_friction {
-        input.projection
+    let settings = if whole && !has_friction {
+        input.settings
     } else {
-        trial_settings = ProjectionSettings {
+        trial_settings = Settings {
             solver: SolverSettings {
                 fall_back: whole,
                 stop_on_infeasible: true,
-                ..input.projection.solver.clone()
+                ..input.settings.solver.clone()
             },
-            ..input.projection.clone()
+            ..input.settings.clone()
         };
         &trial_settings
     };
-    let plan = plan_step(&mut contacts, &configuration, &inertias, projection).map_err(Error::from);
+    let plan = plan_step(
+        &mut contacts,
+        &configuration,
+        &inertias,
+        settings,
+        input.lengths,
+        input.hold_rows,
+    )
+    .map_err(Error::from);
     Ok(Round {
         contacts,
         configuration,
@@ -342,8 +343,7 @@ fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolut
         island.bodies.len(),
         island.pairs.len()
     );
-    let retry_held = input.settings.hold_open_gaps && !input.projection.hold_open_gaps;
-    let mut held_settings = None;
+    let retry_held = input.settings.hold_open_gaps && !input.hold_rows;
     let mut last = input;
     let mut result = solve_island_once(input, island);
     if let (Err(error), true) = (&result, retry_held) {
@@ -351,12 +351,8 @@ fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolut
             "island {}: not solved with every row at the target margin ({error}); solved again with the rows in contact held",
             island_label(input.scene, &island.bodies)
         );
-        let held = held_settings.insert(ProjectionSettings {
-            hold_open_gaps: true,
-            ..input.projection.clone()
-        });
         last = PassInput {
-            projection: held,
+            hold_rows: true,
             ..input
         };
         result = solve_island_once(last, island).map(|mut solution| {
@@ -376,7 +372,7 @@ fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolut
             };
             let mut solution = solve_island_once(frictionless, island)?;
             solution.report.friction_dropped = true;
-            solution.report.rows_held = last.projection.hold_open_gaps;
+            solution.report.rows_held = last.hold_rows;
             Ok(solution)
         }
         result => result,
@@ -393,7 +389,13 @@ fn solve_island_once(input: PassInput, island: &Island) -> Result<IslandSolution
     } = round;
     let step = match plan? {
         Plan::Satisfied(depth) => StepReport::satisfied(depth),
-        Plan::Step(step) => take_step(&mut contacts, &mut configuration, *step, input.projection),
+        Plan::Step(step) => take_step(
+            &mut contacts,
+            &mut configuration,
+            *step,
+            input.settings,
+            input.lengths,
+        ),
     };
     Ok(finish(
         island,

@@ -100,13 +100,14 @@ use nalgebra::{DVector, Vector3, Vector6};
 use super::Stabilizer;
 use crate::Error;
 use crate::broad_phase::BodyPair;
-use crate::contact::ManifoldOptions;
+use crate::contact::SceneParts;
+use crate::contact::islands;
 use crate::contact::{BodyGeometry, ContactFriction, Detection, SceneGeometry, contact_rows};
-use crate::island::islands;
-use crate::projector::friction::{FrictionModel, pyramid_rows};
-use crate::projector::{ConstraintRow, projection_qp};
+use crate::projector::friction::pyramid_rows;
+use crate::projector::projection_qp;
+use crate::rows::ConstraintRow;
 use crate::scene::Scene;
-use crate::scene_parts::SceneParts;
+use crate::settings::FrictionModel;
 use crate::solver::solve_projection;
 
 /// A body's velocity: of its centre of mass, and its angular velocity,
@@ -353,8 +354,7 @@ impl Stabilizer {
             };
             let query = &contacts.detection.active_queries[k];
             let gap = contacts.contact_gap;
-            let pair_rows =
-                contact_rows(query, &a, &b, gap, ManifoldOptions::of(settings), friction);
+            let pair_rows = contact_rows(query, &a, &b, gap, settings, friction);
             for row in pair_rows.into_iter().filter(|row| row.phi <= gap) {
                 gaps.push(row.phi.max(0.0) * contacts.gap_rate);
                 rows.push(row);

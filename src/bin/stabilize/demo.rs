@@ -6,13 +6,14 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
-use constraint_stabilization::demo::{DEFAULT_BODY_COUNT, DEFAULT_SEED, demo_scene};
-use constraint_stabilization::io::report_json::report_to_json;
 use constraint_stabilization::io::scene_file::write_scene;
 use constraint_stabilization::scene::Scene;
+use constraint_stabilization::settings::GaussSeidelSettings;
 use constraint_stabilization::solver::SolverChoice;
-use constraint_stabilization::verify::parry_penetration;
-use constraint_stabilization::{GaussSeidelSettings, Method, Report, Settings, Stabilizer};
+use constraint_stabilization::stabilizer::report_json::report_to_json;
+use constraint_stabilization::testbed::demo::{DEFAULT_BODY_COUNT, DEFAULT_SEED, demo_scene};
+use constraint_stabilization::testbed::verify::parry_penetration;
+use constraint_stabilization::{Method, Report, Settings, Stabilizer};
 
 use crate::exit;
 use crate::progress::PassProgress;

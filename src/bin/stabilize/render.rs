@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 use constraint_stabilization::io::scene_file::read_scene;
-use constraint_stabilization::render::{View, render_svg};
+use constraint_stabilization::testbed::render::{View, render_svg};
 use constraint_stabilization::{Settings, Stabilizer};
 
 use crate::exit;

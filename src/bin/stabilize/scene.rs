@@ -11,8 +11,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
-use constraint_stabilization::io::report_json::report_to_json;
+use constraint_stabilization::Stabilizer;
 use constraint_stabilization::io::scene_file::{read_scene, write_scene};
+use constraint_stabilization::stabilizer::report_json::report_to_json;
 
 use crate::exit;
 use crate::progress::PassProgress;
@@ -33,7 +34,7 @@ pub fn run(args: &SceneArgs) -> ExitCode {
         Ok(scene) => scene,
         Err(error) => return exit::bad_input(&error),
     };
-    let mut stabilizer = match scene.stabilizer() {
+    let mut stabilizer = match Stabilizer::for_scene(&scene) {
         Ok(stabilizer) => stabilizer,
         Err(error) => return exit::bad_input(&error),
     };

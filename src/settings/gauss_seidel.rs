@@ -9,7 +9,8 @@
 //! metre is one `L`, and a scene scaled by `s` is corrected the same way up
 //! to the scale.
 
-use thiserror::Error;
+use super::SettingsError;
+use super::error::{at_least, check, non_negative, positive_or_infinite};
 
 /// Box2D's `b2_baumgarte`: the fraction of a contact's error removed per
 /// visit.
@@ -26,7 +27,7 @@ pub const DEFAULT_MAX_CORRECTION_RELATIVE: f64 = 0.2;
 /// 8, 3)`).
 pub const DEFAULT_ITERATIONS: usize = 3;
 
-/// Settings of [`crate::stabilizer::Method::GaussSeidel`].
+/// Settings of [`super::Method::GaussSeidel`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GaussSeidelSettings {
     /// Largest number of sweeps (one sweep: detect, then visit every contact
@@ -65,62 +66,21 @@ impl Default for GaussSeidelSettings {
     }
 }
 
-/// An invalid [`GaussSeidelSettings`] field.
-#[derive(Debug, Error, Clone, PartialEq)]
-pub enum GaussSeidelSettingsError {
-    /// `iterations` is 0.
-    #[error("setting `gauss_seidel.iterations` is 0: at least one sweep is needed")]
-    ZeroIterations,
-    /// `baumgarte` is outside `(0, 1]` or NaN.
-    #[error("setting `gauss_seidel.baumgarte` is {0}: it must be in (0, 1]")]
-    Baumgarte(f64),
-    /// `slop_relative` is negative or not finite.
-    #[error("setting `gauss_seidel.slop_relative` is {0}: it must be finite and non-negative")]
-    Slop(f64),
-    /// `max_correction_relative` is zero, negative or NaN.
-    #[error(
-        "setting `gauss_seidel.max_correction_relative` is {0}: it must be positive (infinite for no cap)"
-    )]
-    MaxCorrection(f64),
-}
-
-/// The absolute lengths of one call.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GaussSeidelLengths {
-    /// Depth left alone.
-    pub slop: f64,
-    /// Largest correction of one point per visit.
-    pub max_correction: f64,
-}
-
 impl GaussSeidelSettings {
     /// Checks every field (NaN fails every check).
-    pub fn validate(&self) -> Result<(), GaussSeidelSettingsError> {
-        if self.iterations == 0 {
-            return Err(GaussSeidelSettingsError::ZeroIterations);
-        }
-        if !(self.baumgarte > 0.0 && self.baumgarte <= 1.0) {
-            return Err(GaussSeidelSettingsError::Baumgarte(self.baumgarte));
-        }
-        if !(self.slop_relative.is_finite() && self.slop_relative >= 0.0) {
-            return Err(GaussSeidelSettingsError::Slop(self.slop_relative));
-        }
-        // `> 0` is false for NaN: NaN is rejected.
-        let positive = self.max_correction_relative > 0.0;
-        if !positive {
-            return Err(GaussSeidelSettingsError::MaxCorrection(
-                self.max_correction_relative,
-            ));
-        }
-        Ok(())
-    }
-
-    /// The lengths for a scene of length scale `scale`.
-    pub fn resolve(&self, scale: f64) -> GaussSeidelLengths {
-        GaussSeidelLengths {
-            slop: self.slop_relative * scale,
-            max_correction: self.max_correction_relative * scale,
-        }
+    pub(crate) fn validate(&self) -> Result<(), SettingsError> {
+        at_least("gauss_seidel.iterations", self.iterations, 1)?;
+        check(
+            "gauss_seidel.baumgarte",
+            self.baumgarte,
+            self.baumgarte > 0.0 && self.baumgarte <= 1.0,
+            "in (0, 1]",
+        )?;
+        non_negative("gauss_seidel.slop_relative", self.slop_relative)?;
+        positive_or_infinite(
+            "gauss_seidel.max_correction_relative",
+            self.max_correction_relative,
+        )
     }
 }
 
@@ -140,40 +100,29 @@ mod tests {
 
     #[test]
     fn each_invalid_field_has_its_error() {
-        let with = |change: fn(&mut GaussSeidelSettings)| {
+        let field_of = |change: fn(&mut GaussSeidelSettings)| {
             let mut settings = GaussSeidelSettings::default();
             change(&mut settings);
-            settings.validate()
+            settings.validate().err().map(|e| e.field())
         };
-        use GaussSeidelSettingsError as E;
-        assert_eq!(with(|s| s.iterations = 0), Err(E::ZeroIterations));
-        assert_eq!(with(|s| s.baumgarte = 0.0), Err(E::Baumgarte(0.0)));
-        assert_eq!(with(|s| s.baumgarte = 1.5), Err(E::Baumgarte(1.5)));
-        assert!(matches!(
-            with(|s| s.baumgarte = f64::NAN),
-            Err(E::Baumgarte(_))
-        ));
-        assert_eq!(with(|s| s.slop_relative = -1e-3), Err(E::Slop(-1e-3)));
-        assert!(matches!(
-            with(|s| s.slop_relative = f64::INFINITY),
-            Err(E::Slop(_))
-        ));
+        let baumgarte = Some("gauss_seidel.baumgarte");
         assert_eq!(
-            with(|s| s.max_correction_relative = 0.0),
-            Err(E::MaxCorrection(0.0))
+            field_of(|s| s.iterations = 0),
+            Some("gauss_seidel.iterations")
         );
-        assert!(matches!(
-            with(|s| s.max_correction_relative = f64::NAN),
-            Err(E::MaxCorrection(_))
-        ));
-        assert_eq!(with(|s| s.max_correction_relative = f64::INFINITY), Ok(()));
-        assert_eq!(with(|s| s.baumgarte = 1.0), Ok(()));
-    }
-
-    #[test]
-    fn lengths_scale_with_the_scene() {
-        let lengths = GaussSeidelSettings::default().resolve(2.0);
-        assert_eq!(lengths.slop, 0.01);
-        assert_eq!(lengths.max_correction, 0.4);
+        assert_eq!(field_of(|s| s.baumgarte = 0.0), baumgarte);
+        assert_eq!(field_of(|s| s.baumgarte = 1.5), baumgarte);
+        assert_eq!(field_of(|s| s.baumgarte = f64::NAN), baumgarte);
+        let slop = Some("gauss_seidel.slop_relative");
+        assert_eq!(field_of(|s| s.slop_relative = -1e-3), slop);
+        assert_eq!(field_of(|s| s.slop_relative = f64::INFINITY), slop);
+        let cap = Some("gauss_seidel.max_correction_relative");
+        assert_eq!(field_of(|s| s.max_correction_relative = 0.0), cap);
+        assert_eq!(field_of(|s| s.max_correction_relative = f64::NAN), cap);
+        assert_eq!(
+            field_of(|s| s.max_correction_relative = f64::INFINITY),
+            None
+        );
+        assert_eq!(field_of(|s| s.baumgarte = 1.0), None);
     }
 }

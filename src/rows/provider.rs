@@ -19,7 +19,7 @@ pub struct ConstraintRow {
     /// d phi / d theta]`).
     pub blocks: Vec<(usize, Vector6<f64>)>,
     /// Coulomb friction of a resting contact (`None`: frictionless), see
-    /// [`super::friction`].
+    /// [`crate::projector::friction`].
     pub friction: Option<RowFriction>,
 }
 

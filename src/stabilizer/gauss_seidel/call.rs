@@ -26,13 +26,12 @@ use super::contacts::{SweepContacts, sweep_points};
 use super::sweep::{InverseMass, PushParameters, SweepBodies, SweepSummary};
 use crate::Error;
 use crate::broad_phase::IncrementalBroadPhase;
-use crate::contact::ManifoldOptions;
 use crate::contact::{
-    Detection, DetectionLengths, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect,
+    Detection, DetectionState, QueryMemo, SceneGeometry, SceneParts, WarmStartCache, detect,
 };
 use crate::scene::Scene;
-use crate::scene_parts::SceneParts;
-use crate::stabilizer::{PassReport, Report, Settings, Status, pass_report, scene_scale};
+use crate::settings::{ResolvedLengths, Settings};
+use crate::stabilizer::{PassReport, Report, Status, pass_report};
 use crate::vclip::VClip;
 
 /// The poses of a call's result and the detection made at them.
@@ -62,21 +61,18 @@ struct Best {
 pub fn run(
     scene: &mut Scene,
     settings: &Settings,
+    lengths: &ResolvedLengths,
     cache: &mut WarmStartCache,
     start: Instant,
     observer: &mut dyn FnMut(&PassReport),
 ) -> Result<(Report, MeasuredPoses), Error> {
-    let lengths = settings.resolve(scene_scale(scene));
     let gauss_seidel = settings.gauss_seidel;
     let parameters = PushParameters {
         baumgarte: gauss_seidel.baumgarte,
-        lengths: gauss_seidel.resolve(lengths.scale),
+        slop: lengths.gauss_seidel_slop,
+        max_correction: lengths.gauss_seidel_max_correction,
     };
     let vclip = VClip::new(settings.vclip);
-    let detection_lengths = DetectionLengths {
-        tolerance: lengths.tolerance,
-        contact_margin: lengths.contact_margin,
-    };
     let parts = SceneParts::of(scene);
     let fixed = scene.fixed_flags();
     let mut bodies = sweep_bodies(scene);
@@ -121,7 +117,7 @@ pub fn run(
             cache,
             memo: &mut memo,
         };
-        let detection = detect(scene, geometry, state, &vclip, detection_lengths)?;
+        let detection = detect(scene, geometry, state, &vclip, &lengths)?;
         report.record_detection(&detection);
         let mut pass = pass_report(&detection, lengths.tolerance);
         let solve_start = Instant::now();
@@ -133,7 +129,7 @@ pub fn run(
                 &fixed,
                 &detection,
                 &lengths,
-                ManifoldOptions::of(settings),
+                settings,
             )?),
         };
         keep_if_best(&mut best, &report, &bodies.poses, detection);

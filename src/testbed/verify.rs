@@ -5,9 +5,9 @@
 
 use crate::Error;
 use crate::broad_phase::candidate_pairs;
+use crate::contact::SceneParts;
 use crate::geometry::isometry_to_parry;
 use crate::scene::Scene;
-use crate::scene_parts::SceneParts;
 
 /// Penetration statistics of a scene by parry.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -14,10 +14,9 @@ use nalgebra::Isometry3;
 
 use super::point::StoredPoint;
 use crate::Error;
-use crate::contact::ManifoldOptions;
+use crate::contact::islands;
 use crate::contact::{Detection, SceneGeometry, contact_points};
-use crate::island::islands;
-use crate::stabilizer::ResolvedLengths;
+use crate::settings::{ResolvedLengths, Settings};
 
 /// The contacts of one sweep.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,7 +37,7 @@ pub fn sweep_points(
     fixed: &[bool],
     detection: &Detection,
     lengths: &ResolvedLengths,
-    manifold: ManifoldOptions,
+    settings: &Settings,
 ) -> Result<SweepContacts, Error> {
     let all_islands = islands(fixed, &detection.active_bodies)?;
     let island_count = all_islands.len();
@@ -58,7 +57,7 @@ pub fn sweep_points(
             &a,
             &b,
             lengths.contact_margin,
-            manifold,
+            settings,
         );
         let (pose_a, pose_b) = (&body_poses[bodies.body_a], &body_poses[bodies.body_b]);
         points.extend(contact.points.iter().map(|point| {

@@ -28,7 +28,6 @@
 use nalgebra::{Isometry3, Matrix3, Point3, Translation3, UnitQuaternion, Vector3};
 
 use super::point::StoredPoint;
-use super::settings::GaussSeidelLengths;
 
 /// Inverse mass properties of a dynamic body.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,8 +52,10 @@ pub struct SweepBodies {
 pub struct PushParameters {
     /// Fraction of the error removed per visit.
     pub baumgarte: f64,
-    /// Depth left alone, and the cap of one push.
-    pub lengths: GaussSeidelLengths,
+    /// Depth left alone.
+    pub slop: f64,
+    /// The cap of one push.
+    pub max_correction: f64,
 }
 
 /// What a sweep did.
@@ -101,8 +102,8 @@ impl SweepBodies {
         let (a, b) = (point.body_a, point.body_b);
         let measured = point.measure(&self.poses[a], &self.poses[b]);
         let s = measured.separation;
-        let lengths = parameters.lengths;
-        let c = (parameters.baumgarte * (s + lengths.slop)).clamp(-lengths.max_correction, 0.0);
+        let c =
+            (parameters.baumgarte * (s + parameters.slop)).clamp(-parameters.max_correction, 0.0);
         if c >= 0.0 {
             return (false, s);
         }
@@ -195,10 +196,8 @@ mod tests {
     fn parameters(baumgarte: f64, slop: f64, max_correction: f64) -> PushParameters {
         PushParameters {
             baumgarte,
-            lengths: GaussSeidelLengths {
-                slop,
-                max_correction,
-            },
+            slop,
+            max_correction,
         }
     }
 

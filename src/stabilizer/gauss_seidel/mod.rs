@@ -41,7 +41,6 @@
 //! by the engine's sweep.
 //!
 //! Files:
-//! - `settings`: the parameters, Box2D's defaults, validation;
 //! - `point`: a contact point in body frames, measured at any poses;
 //! - `contacts`: the points of a sweep, from a detection;
 //! - `sweep`: the visits and the push of one point;
@@ -50,7 +49,4 @@
 pub(crate) mod call;
 mod contacts;
 pub mod point;
-pub mod settings;
 pub mod sweep;
-
-pub use settings::{GaussSeidelLengths, GaussSeidelSettings, GaussSeidelSettingsError};

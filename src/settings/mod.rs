@@ -1,4 +1,10 @@
-//! Settings of the stabilizer, with documented defaults.
+//! The settings of a call: one [`Settings`] with nested groups
+//! (`line_search`, `solver`, `vclip`, `gauss_seidel`), built and validated
+//! by [`Settings::builder`] (every field has a documented default), and
+//! one resolved view of its lengths for a scene, [`ResolvedLengths`],
+//! which the stages of a call read.
+//!
+//! Every invalid value is a [`SettingsError`] naming the field by its path.
 //!
 //! Lengths are relative to the scene's length scale `L`, the circumradius
 //! (largest distance of a vertex from the centre of mass) of the smallest
@@ -21,7 +27,7 @@
 //!
 //! [`Settings::method`] chooses the correction: the projection (the
 //! default; every setting but `gauss_seidel` is its) or the nonlinear
-//! Gauss–Seidel baseline ([`crate::gauss_seidel`]), which reads
+//! Gauss–Seidel baseline (`stabilizer/gauss_seidel/`), which reads
 //! `gauss_seidel`, the lengths (`tolerance_*`, `contact_margin_*`,
 //! `allowed_penetration`), `contact_manifold`, `time_budget` and `vclip`,
 //! and ignores the rest (`max_passes` included: its sweeps are
@@ -29,25 +35,36 @@
 
 use std::time::Duration;
 
-use thiserror::Error;
+mod builder;
+mod error;
+mod friction;
+mod gauss_seidel;
+mod lengths;
+mod line_search;
+mod scene;
 
-use crate::gauss_seidel::{GaussSeidelSettings, GaussSeidelSettingsError};
-use crate::projector::friction::FrictionModel;
-use crate::projector::{LineSearchSettings, TrustRegion};
-use crate::scene::SceneSettings;
+pub use builder::SettingsBuilder;
+pub use error::SettingsError;
+pub use friction::{DEFAULT_FRICTION_DIRECTIONS, FrictionModel};
+pub use gauss_seidel::GaussSeidelSettings;
+pub use lengths::ResolvedLengths;
+pub use line_search::LineSearchSettings;
+pub use scene::SceneSettings;
+
 use crate::solver::SolverSettings;
 use crate::vclip::VClipSettings;
+use error::{at_least, non_negative, positive, positive_or_infinite};
 
 /// How a call corrects the poses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Method {
     /// The smallest mass-weighted correction: linearized contact rows, a QP
-    /// per island, line search, passes until resolved (DESIGN.md section 1).
+    /// per island, line search, passes until resolved (docs/design.md
+    /// section 1).
     #[default]
     Projection,
     /// The game-engine baseline: nonlinear Gauss–Seidel position correction
-    /// (Box2D v2.4's position solver), [`crate::gauss_seidel`], with
-    /// [`Settings::gauss_seidel`].
+    /// (Box2D v2.4's position solver), with [`Settings::gauss_seidel`].
     GaussSeidel,
 }
 
@@ -69,8 +86,11 @@ impl Method {
     }
 }
 
-/// Settings of [`super::Stabilizer`].
+/// Settings of [`crate::Stabilizer`]. Build them with
+/// [`Settings::builder`], or change fields of [`Settings::default`]; the
+/// stabilizer validates them when it is made.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Settings {
     /// The correction method. Default [`Method::Projection`].
     pub method: Method,
@@ -102,7 +122,7 @@ pub struct Settings {
     pub allowed_penetration: f64,
     /// Wall-time budget of one call, checked after each pass: when it is
     /// spent, the call stops at the configuration reached
-    /// ([`super::Status::TimeLimit`]; never worse than the input, as any
+    /// ([`crate::Status::TimeLimit`]; never worse than the input, as any
     /// call). The first pass always runs, so a zero budget does exactly one
     /// pass. Default none (no limit).
     pub time_budget: Option<Duration>,
@@ -210,7 +230,7 @@ impl Default for Settings {
             near_pair_faces: true,
             hold_open_gaps: true,
             friction: 0.0,
-            friction_directions: crate::projector::friction::DEFAULT_FRICTION_DIRECTIONS,
+            friction_directions: DEFAULT_FRICTION_DIRECTIONS,
             friction_model: FrictionModel::default(),
             solve_whole_islands: false,
             step_max_rotation: DEFAULT_STEP_MAX_ROTATION,
@@ -222,63 +242,17 @@ impl Default for Settings {
     }
 }
 
-/// The lengths of one call, resolved against the scene's scale.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ResolvedLengths {
-    /// The scene's length scale `L`.
-    pub scale: f64,
-    /// Penetration tolerance.
-    pub tolerance: f64,
-    /// Contact margin.
-    pub contact_margin: f64,
-    /// Target margin: the gap the linearized rows aim for (negative when
-    /// an allowed penetration deeper than the plain margin is set).
-    pub target_margin: f64,
-    /// The allowed penetration, included in `tolerance` and subtracted
-    /// from `target_margin`.
-    pub allowed_penetration: f64,
-}
-
-/// An invalid setting.
-#[derive(Debug, Error, Clone, PartialEq)]
-pub enum SettingsError {
-    /// A length is negative, zero where it must be positive, or not finite.
-    #[error("setting `{name}` is {value}: it must be finite and {requirement}")]
-    InvalidLength {
-        /// The setting's name.
-        name: &'static str,
-        /// The value given.
-        value: f64,
-        /// What it must be.
-        requirement: &'static str,
-    },
-    /// A step limit of the trust region is zero, negative or NaN.
-    #[error("setting `{name}` is {value}: it must be positive (infinite for no limit)")]
-    InvalidLimit {
-        /// The setting's name.
-        name: &'static str,
-        /// The value given.
-        value: f64,
-    },
-    /// `max_passes` is zero.
-    #[error("setting `max_passes` is 0: at least one pass is needed")]
-    ZeroPasses,
-    /// A line-search factor is outside its range.
-    #[error("line search: {0}")]
-    LineSearch(&'static str),
-    /// Fewer than three friction pyramid directions (no pyramid).
-    #[error("setting `friction_directions` is {0}: at least 3 are needed")]
-    FrictionDirections(usize),
-    /// A field of [`Settings::gauss_seidel`] is invalid.
-    #[error(transparent)]
-    GaussSeidel(#[from] GaussSeidelSettingsError),
-}
-
 /// The fewest directions of a friction pyramid (a triangle).
 pub const MIN_FRICTION_DIRECTIONS: usize = 3;
 
 impl Settings {
-    /// Checks every field.
+    /// A builder starting from the defaults.
+    pub fn builder() -> SettingsBuilder {
+        SettingsBuilder::default()
+    }
+
+    /// Checks every field; the error names the first invalid one by its
+    /// path.
     pub fn validate(&self) -> Result<(), SettingsError> {
         self.gauss_seidel.validate()?;
         positive("tolerance_relative", self.tolerance_relative)?;
@@ -299,126 +273,16 @@ impl Settings {
             "step_max_translation_relative",
             self.step_max_translation_relative,
         )?;
-        if self.max_passes == 0 {
-            return Err(SettingsError::ZeroPasses);
-        }
+        at_least("max_passes", self.max_passes, 1)?;
         non_negative("friction", self.friction)?;
-        if self.friction_directions < MIN_FRICTION_DIRECTIONS {
-            return Err(SettingsError::FrictionDirections(self.friction_directions));
-        }
+        at_least(
+            "friction_directions",
+            self.friction_directions,
+            MIN_FRICTION_DIRECTIONS,
+        )?;
         // The solvers' residual check `residual > tol` never fails for a
         // NaN tolerance: any candidate would be accepted.
         positive("solver.tol_residual", self.solver.tol_residual)?;
-        let search = &self.line_search;
-        if !(search.shrink > 0.0 && search.shrink < 1.0) {
-            return Err(SettingsError::LineSearch("shrink must be in (0, 1)"));
-        }
-        if !(search.min_step > 0.0 && search.min_step <= 1.0) {
-            return Err(SettingsError::LineSearch("min_step must be in (0, 1]"));
-        }
-        if !(search.sufficient_decrease >= 0.0 && search.sufficient_decrease < 1.0) {
-            return Err(SettingsError::LineSearch(
-                "sufficient_decrease must be in [0, 1)",
-            ));
-        }
-        if !(search.new_penetration_fraction >= 0.0 && search.new_penetration_fraction < 1.0) {
-            return Err(SettingsError::LineSearch(
-                "new_penetration_fraction must be in [0, 1)",
-            ));
-        }
-        Ok(())
-    }
-
-    /// These settings overridden by those a scene file carries: its lengths
-    /// are absolute (in the scene's unit).
-    pub fn with_scene_settings(mut self, scene: &SceneSettings) -> Self {
-        if let Some(tolerance) = scene.tolerance {
-            self.tolerance_absolute = Some(tolerance);
-        }
-        if let Some(margin) = scene.contact_margin {
-            self.contact_margin_absolute = Some(margin);
-        }
-        if let Some(margin) = scene.target_margin {
-            self.target_margin_absolute = Some(margin);
-        }
-        if let Some(passes) = scene.max_passes {
-            self.max_passes = passes as usize;
-        }
-        if let Some(choice) = scene.solver {
-            self.solver.choice = choice;
-        }
-        if let Some(cross_check) = scene.cross_check {
-            self.solver.cross_check = cross_check;
-        }
-        if let Some(method) = scene.method {
-            self.method = method;
-        }
-        if let Some(model) = scene.friction_model {
-            self.friction_model = model;
-        }
-        self
-    }
-
-    /// The per-body step limits of the projection.
-    pub fn trust_region(&self) -> TrustRegion {
-        TrustRegion {
-            max_rotation: self.step_max_rotation,
-            max_translation_relative: self.step_max_translation_relative,
-        }
-    }
-
-    /// The lengths for a scene of length scale `scale`; the allowed
-    /// penetration is added to the tolerance and taken from the target
-    /// margin (both unchanged, bit for bit, when it is 0).
-    pub fn resolve(&self, scale: f64) -> ResolvedLengths {
-        let allowed = self.allowed_penetration;
-        ResolvedLengths {
-            scale,
-            tolerance: self
-                .tolerance_absolute
-                .unwrap_or(self.tolerance_relative * scale)
-                + allowed,
-            contact_margin: self
-                .contact_margin_absolute
-                .unwrap_or(self.contact_margin_relative * scale),
-            target_margin: self
-                .target_margin_absolute
-                .unwrap_or(self.target_margin_relative * scale)
-                - allowed,
-            allowed_penetration: allowed,
-        }
-    }
-}
-
-fn positive(name: &'static str, value: f64) -> Result<(), SettingsError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(SettingsError::InvalidLength {
-            name,
-            value,
-            requirement: "positive",
-        })
-    }
-}
-
-fn non_negative(name: &'static str, value: f64) -> Result<(), SettingsError> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(())
-    } else {
-        Err(SettingsError::InvalidLength {
-            name,
-            value,
-            requirement: "non-negative",
-        })
-    }
-}
-
-/// A step limit: positive, possibly infinite (no limit), never NaN.
-fn positive_or_infinite(name: &'static str, value: f64) -> Result<(), SettingsError> {
-    if value > 0.0 {
-        Ok(())
-    } else {
-        Err(SettingsError::InvalidLimit { name, value })
+        self.line_search.validate()
     }
 }
