@@ -35,7 +35,7 @@ use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
 use crate::body::{BodyDesc, MassSpec};
 use crate::scene::{Scene, SceneError};
 use crate::settings::Settings;
-use crate::stabilizer::{BodyVelocity, Stabilizer, VelocityOptions, VelocityReport};
+use crate::stabilizer::{BodyVelocity, Stabilizer, VelocityReport};
 
 /// Stabilizes a Rapier world after each step; keeps the scene, the handle
 /// map and the stabilizer (with its warm starts) from call to call.
@@ -196,13 +196,14 @@ impl RapierBridge {
             })
             .collect();
         let mut projected = velocities.clone();
-        let options = VelocityOptions {
-            time_step: Some(f64::from(parameters.dt)).filter(|dt| *dt > 0.0),
-            friction: self.settings.velocity_friction,
-        };
-        let report =
-            self.stabilizer
-                .project_velocities(&self.scene, &mut projected, moved, &options)?;
+        let time_step = Some(f64::from(parameters.dt)).filter(|dt| *dt > 0.0);
+        let report = self.stabilizer.project_velocities(
+            &self.scene,
+            &mut projected,
+            moved,
+            time_step,
+            self.settings.velocity_friction,
+        )?;
         let mut written = 0;
         for ((handle, old), new) in handles.iter().zip(&velocities).zip(&projected) {
             let Some(body) = handle.and_then(|h| bodies.get_mut(h)) else {

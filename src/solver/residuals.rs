@@ -33,8 +33,8 @@
 //! certificate:
 //!
 //! - feasibility: `max_i max(0, -w_i) / L` with the acceptance length
-//!   `L = max(||b||_inf, length_scale)` (`length_scale` the caller's scene
-//!   scale, or 0): how far a linearized row is left below its target,
+//!   `L = ||b||_inf` (and the `|b|` of the cones): how far a linearized row
+//!   is left below its target,
 //!   relative to the largest violation the problem started with;
 //! - optimality: `sqrt(gap / E)`, a certified bound on the relative error of
 //!   `dq` in the `M`-norm, from the duality gap of the QP. For any
@@ -149,7 +149,7 @@ pub struct ProjectionResiduals {
     pub objective: f64,
     /// `sqrt(dq^T M dq)` (sqrt(mass) x length).
     pub displacement: f64,
-    /// `max_i max(0, -w_i) / L`, `L = max(||b||_inf, length_scale)`: the
+    /// `max_i max(0, -w_i) / L`, `L = ||b||_inf`: the
     /// violation of the linearized rows relative to the acceptance length.
     pub feasibility: f64,
     /// Duality gap `1/2 ||dq - v||_M^2 + lambda^+ . w^+` relative to the
@@ -228,18 +228,6 @@ pub fn length_scale(b: &DVector<f64>) -> f64 {
     b.amax().max(f64::MIN_POSITIVE)
 }
 
-/// Residuals of `(dq, lambda)` for the projection QP, with the problem's
-/// own length scale only (`length_scale = 0` in
-/// [`projection_residuals_scaled`]).
-pub fn projection_residuals(
-    qp: &ProjectionQp,
-    metric: &[BlockMetric],
-    dq: &DVector<f64>,
-    lambda: &DVector<f64>,
-) -> ProjectionResiduals {
-    projection_residuals_scaled(qp, metric, dq, lambda, 0.0)
-}
-
 /// The acceptance measures of `dq` (module docs): feasibility relative to
 /// `l_accept`, the relative duality gap, and its square root; with the
 /// cones' terms ([`super::cone_residuals`]).
@@ -296,15 +284,14 @@ fn acceptance_measures(
     (feasibility, duality_gap, duality_gap.sqrt())
 }
 
-/// Residuals of `(dq, lambda)` for the projection QP; the acceptance length
-/// is `max(||b||_inf, scene_length)` (module docs; `scene_length` is
-/// [`super::SolverSettings::length_scale`]).
-pub fn projection_residuals_scaled(
+/// Residuals of `(dq, lambda)` for the projection QP, with the problem's
+/// own acceptance length `L = max(||b||_inf, |b| of its cones)` (module
+/// docs).
+pub fn projection_residuals(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
     dq: &DVector<f64>,
     lambda: &DVector<f64>,
-    scene_length: f64,
 ) -> ProjectionResiduals {
     let b = qp.b();
     let w = &b + qp.apply_j(dq);
@@ -344,7 +331,7 @@ pub fn projection_residuals_scaled(
     };
     let displacement = m_norm(metric, dq);
     let (feasibility, duality_gap, optimality) =
-        acceptance_measures(qp, metric, dq, lambda, &w, &cones, l.max(scene_length));
+        acceptance_measures(qp, metric, dq, lambda, &w, &cones, l);
     ProjectionResiduals {
         feasibility,
         duality_gap,

@@ -64,7 +64,7 @@ use super::outcome::{Candidate, FailureReason, Fallback, SolverKind};
 use super::pgs::{self, PgsSettings};
 use super::projection::{JacobianRow, ProjectionQp};
 use super::projection_lcp::{dq_from_lambda, projection_to_lcp};
-use super::residuals::{ProjectionResiduals, projection_residuals_scaled};
+use super::residuals::{ProjectionResiduals, projection_residuals};
 
 /// Which solver to use for a projection QP.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -121,18 +121,13 @@ pub struct SolverSettings {
     /// Acceptance tolerance: every returned solution has
     /// [`ProjectionResiduals::acceptance`] at most this, i.e. each
     /// linearized row is at most `tol_residual * L` below its target
-    /// (`L = max(||phi - target||_inf, length_scale)`) and the duality gap
+    /// (`L = ||phi - target||_inf`) and the duality gap
     /// certifies `||dq - dq*||_M <= tol_residual * sqrt(2 E)` (`E` about
     /// `1/2 dq^T M dq`; [`super::residuals`]). Default 1e-6: a correction
     /// right to one part in a million, far below what the linearization
     /// itself gets wrong (second order in `dq`), and above the rounding
     /// floor of the gap measure (about `sqrt(n u)`, 1e-7 at 500 rows).
     pub tol_residual: f64,
-    /// The caller's length scale (the scene's), or 0: the acceptance length
-    /// is `L = max(||phi - target||_inf, length_scale)`, so that an island
-    /// whose violations are tiny against the scene is not held to a
-    /// relative accuracy that the rounding of `phi` cannot give.
-    pub length_scale: f64,
     /// Under `Auto`, Lemke for up to this many rows, clarabel (primal)
     /// above. Measured by `benchmarks/solvers.rs` on random stacks (median
     /// of 3 seeds, two shared cores): Lemke 0.74 ms vs clarabel 2.5 ms at
@@ -167,7 +162,6 @@ impl Default for SolverSettings {
             choice: SolverChoice::Auto,
             cross_check: false,
             tol_residual: 1e-6,
-            length_scale: 0.0,
             auto_lemke_max_rows: 160,
             fall_back: true,
             stop_on_infeasible: false,
@@ -426,13 +420,8 @@ impl Problem<'_> {
             return Ok((self.cone_candidate(candidate), residuals));
         }
         let candidate = self.run(kind)?;
-        let residuals = projection_residuals_scaled(
-            self.qp,
-            self.metric,
-            &candidate.dq,
-            &candidate.lambda,
-            self.settings.length_scale,
-        );
+        let residuals =
+            projection_residuals(self.qp, self.metric, &candidate.dq, &candidate.lambda);
         let tolerance = self.settings.tol_residual;
         let residual = residuals.acceptance();
         log::debug!(

@@ -60,7 +60,7 @@ pub use report::{
     IslandLeft, IslandOutcome, IslandReport, PairPenetration, PassReport, Report, StageTimes,
     Status,
 };
-pub use velocity::{BodyVelocity, VelocityFriction, VelocityOptions, VelocityReport};
+pub use velocity::{BodyVelocity, VelocityFriction, VelocityReport};
 
 use crate::Error;
 use crate::broad_phase::IncrementalBroadPhase;
@@ -72,9 +72,6 @@ use crate::scene::Scene;
 use crate::settings::{Method, ResolvedLengths, Settings};
 use crate::vclip::VClip;
 use solve_island::{IslandSolution, PassInput, solve_island};
-
-/// The error type of a stabilization call.
-pub type StabilizeError = Error;
 
 /// Removes interpenetration from scenes; owns its settings and the V-Clip
 /// warm starts of earlier queries (temporal coherence across calls).

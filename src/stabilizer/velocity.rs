@@ -139,22 +139,6 @@ pub enum VelocityFriction {
     OnVelocity,
 }
 
-/// Options of [`Stabilizer::project_velocities`].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct VelocityOptions {
-    /// The engine's time step `h`: contacts within the contact margin count
-    /// as speculative contacts, `J_k v' >= -phi / h` (module docs). `None`:
-    /// touching contacts only.
-    pub time_step: Option<f64>,
-    /// Friction of the projection (default none). Measured in
-    /// `examples/with_and_without.rs` (README): friction on the change
-    /// lets the 1:1000 stack creep and fall (a contact whose normal
-    /// velocity is raised beyond its approach slides by `1 / mu` of the
-    /// excess); the Rapier bridge's choice is its
-    /// `BridgeSettings::velocity_friction`.
-    pub friction: VelocityFriction,
-}
-
 /// What [`Stabilizer::project_velocities`] did.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct VelocityReport {
@@ -179,18 +163,24 @@ pub struct VelocityReport {
 impl Stabilizer {
     /// Removes the approach velocities at the contacts of the islands of
     /// `bodies` (scene indices, typically the bodies the last call moved)
-    /// at the scene's current poses (module docs), as `options` say.
-    /// `velocities` has one entry per scene body; fixed bodies' entries are
-    /// ignored. An island whose projection fails keeps its velocities
-    /// (counted in the report).
+    /// at the scene's current poses (module docs). `velocities` has one
+    /// entry per scene body; fixed bodies' entries are ignored.
+    ///
+    /// `time_step` is the engine's step `h`: contacts within the contact
+    /// margin then count as speculative contacts, `J_k v' >= -phi / h`
+    /// (module docs); `None` takes touching contacts only. `friction` is
+    /// the projection's friction ([`VelocityFriction::None`] for none;
+    /// friction on the change lets heavy stacks creep, measured in
+    /// `examples/with_and_without.rs`). An island whose projection fails
+    /// keeps its velocities (counted in the report).
     pub fn project_velocities(
         &mut self,
         scene: &Scene,
         velocities: &mut [BodyVelocity],
         bodies: &[usize],
-        options: &VelocityOptions,
+        time_step: Option<f64>,
+        friction: VelocityFriction,
     ) -> Result<VelocityReport, Error> {
-        let time_step = options.time_step;
         if velocities.len() != scene.len() {
             return Err(Error::VelocityCount {
                 velocities: velocities.len(),
@@ -243,7 +233,7 @@ impl Stabilizer {
                 detection,
                 contact_gap,
                 gap_rate,
-                friction: options.friction,
+                friction,
             };
             self.project_island(scene, velocities, &contacts, &mut report);
         }
