@@ -1,6 +1,6 @@
 //! Engine states from Rapier: simulates scenes with Rapier's default
 //! integration parameters (60 Hz) and writes the state of chosen steps as
-//! scene files (DESIGN.md section 6), read through the Rapier bridge.
+//! scene files (docs/design.md section 6), read through the Rapier bridge.
 //!
 //! ```text
 //! cargo run --features rapier --example engine_states -- DIR [--large PATH]

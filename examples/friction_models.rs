@@ -45,8 +45,9 @@ struct Input {
 /// The scenes the bridge's stabilizer receives on the 1:1000 stack.
 fn recorded_stack(steps: usize) -> Result<Vec<Input>, Box<dyn std::error::Error>> {
     let (mut world, _) = scenes::aligned_heavy_stack_world(1000.0);
-    // Velocity consistency, the coupling the README's table was measured
-    // with (the default before `ClosedContacts`).
+    // Velocity consistency, the coupling the table of
+    // benchmarks/results/friction_models.md was measured with (the
+    // default before `ClosedContacts`).
     let mut bridge = RapierBridge::with_settings(BridgeSettings {
         coupling: CouplingMode::VelocityConsistency,
         ..BridgeSettings::default()
