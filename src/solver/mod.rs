@@ -21,28 +21,30 @@
 //! can cross-check two solvers ([`cross_check`]).
 
 pub mod clarabel_qp;
-pub mod closed_form;
-pub mod cone_residuals;
-pub mod cross_check;
-pub mod error;
+pub(crate) mod closed_form;
+pub(crate) mod cone_residuals;
+pub(crate) mod cross_check;
+mod error;
 pub mod friction_cone;
-pub mod lcp;
+mod lcp;
 pub mod lemke;
-pub mod metric;
-pub mod outcome;
+pub(crate) mod metric;
+mod outcome;
 pub mod pgs;
-pub mod projection;
-pub mod projection_lcp;
+mod projection;
+pub(crate) mod projection_lcp;
 pub mod residuals;
-pub mod scaling;
-pub mod solve;
+pub(crate) mod scaling;
+mod solve;
 
 pub use cross_check::{CrossCheck, CrossCheckOutcome, Differences};
 pub use error::SolverError;
 pub use friction_cone::FrictionCone;
 pub use lcp::Lcp;
-pub use outcome::{FailureReason, Fallback, SolverKind};
+pub use metric::BlockMetric;
+pub use outcome::{Candidate, FailureReason, Fallback, SolverKind};
 pub use projection::{BodyMetric, JacobianRow, ProjectionQp};
+pub use projection_lcp::{dq_from_lambda, lcp_matrix, projection_to_lcp};
 pub use residuals::ProjectionResiduals;
 pub use solve::{
     ProjectionSolution, SolverChoice, SolverSettings, cross_check_projection, solve_projection,

@@ -85,19 +85,4 @@ impl LcpScaling {
     pub fn unscale_z(&self, z_scaled: &DVector<f64>) -> DVector<f64> {
         self.d.component_mul(z_scaled) * self.s
     }
-
-    /// `w = s D^-1 w~`.
-    pub fn unscale_w(&self, w_scaled: &DVector<f64>) -> DVector<f64> {
-        w_scaled.component_div(&self.d) * self.s
-    }
-
-    /// `z~ = D^-1 z / s`.
-    pub fn scale_z(&self, z: &DVector<f64>) -> DVector<f64> {
-        z.component_div(&self.d) / self.s
-    }
-
-    /// `w~ = D w / s`.
-    pub fn scale_w(&self, w: &DVector<f64>) -> DVector<f64> {
-        self.d.component_mul(w) / self.s
-    }
 }

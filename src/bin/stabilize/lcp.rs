@@ -20,10 +20,10 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use constraint_stabilization::io::read_lcp_file;
+use constraint_stabilization::solver::FailureReason;
 use constraint_stabilization::solver::Lcp;
 use constraint_stabilization::solver::clarabel_qp::{ClarabelSettings, dual};
 use constraint_stabilization::solver::lemke::{self, LemkeSettings, LemkeStatus};
-use constraint_stabilization::solver::outcome::FailureReason;
 use constraint_stabilization::solver::pgs::{self, PgsSettings, PgsStatus};
 use constraint_stabilization::solver::residuals::lcp_natural_map;
 use nalgebra::DVector;
