@@ -4,7 +4,7 @@
 //! inputs, interleaved, median wall time of the stabilizer call.
 //!
 //! ```text
-//! cargo run --release --features rapier,demo --example friction_models -- [--steps N] [--repeats R] [--pile BODIES]
+//! cargo run --release --features rapier,testbed --example friction_models -- [--steps N] [--repeats R] [--pile BODIES]
 //! ```
 //!
 //! Inputs: (1) the scenes that the Rapier bridge's stabilizer receives on
