@@ -540,7 +540,7 @@ impl Problem<'_> {
 }
 
 /// Solves one problem with clarabel (primal) and with Lemke and reports
-/// their differences (the cross-check of DESIGN.md section 5). The first
+/// their differences (the cross-check of docs/design.md section 5). The first
 /// element is clarabel's solution; `outcome` holds Lemke's.
 pub fn cross_check_projection(
     qp: &ProjectionQp,

@@ -1,4 +1,4 @@
-//! The deepest-vertex search (DESIGN.md section 4), this project's
+//! The deepest-vertex search (docs/design.md section 4), this project's
 //! extension of V-Clip.
 //!
 //! From a penetration witness with face `F` (plane `P`) of one body:
