@@ -36,10 +36,10 @@
 //! change any depth (counted over every dynamic body, a box thrown 350 m
 //! away would give each call `delta` of about 2e-5 and a tolerance of
 //! 1.7e-4 on a stack of 20 cm boxes near the origin, and closed contacts
-//! would leave that stack that deep). `r` is bounded by the shape's reach from its
-//! centre of mass ([`crate::body::Body::reach`]) plus the distance from the
-//! body origin to that centre. The depth of a pair of two written bodies
-//! changes by at most `2 delta`.
+//! would leave that stack that deep). `r` is bounded by the shape's reach
+//! from its centre of mass ([`crate::body::Body::reach`]) plus the
+//! distance from the body origin to that centre. The depth of a pair of
+//! two written bodies changes by at most `2 delta`.
 //!
 //! # The rule
 //!
