@@ -55,8 +55,8 @@
 //! depths within rounding of one another (see [`DEPTH_TIE_RELATIVE`]).
 //!
 //! The cap is only as tight as the balls are round: for flat or long bodies
-//! it is wide and the walk visits more arcs. Its cost is measured in
-//! `benchmarks/contact_depth.rs`.
+//! it is wide and the walk visits more arcs. Its cost is measured by
+//! `benchmarks/contact_depth.rs` (`benchmarks/results/contact_depth.md`).
 //!
 //! Nearly parallel edges (the sine of their angle below
 //! [`EDGE_PARALLEL_SINE`]) are skipped: their cross product is too short to

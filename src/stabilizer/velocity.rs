@@ -70,7 +70,7 @@
 //!   projection leaves closed (`J_n v' = 0`) has no relative tangential
 //!   velocity at all: it sticks. A
 //!   heavy body's large normal impulse through slightly tilted normals
-//!   (as after an engine step) can no longer push the light bodies below
+//!   (as after an engine step) cannot push the light bodies below
 //!   it sideways, which the frictionless projection does
 //!   (`docs/coupling.md`).
 //!   Averaging (2) over symmetric directions gives the contact row, so the
