@@ -2,7 +2,7 @@
 //!
 //! Two bodies A and B touch or overlap at world points `p_a` (on A) and
 //! `p_b` (on B) with unit normal `n` pointing from B towards A. The
-//! constraint and its Jacobian (DESIGN.md section 3) are
+//! constraint and its Jacobian (docs/design.md section 3) are
 //!
 //! ```text
 //! phi = n . (p_a - p_b)                                  (negative = penetration)

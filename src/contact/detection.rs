@@ -66,7 +66,7 @@ pub struct Detection {
     pub candidates: usize,
     /// Candidate pairs queried (the others were answered by the memo).
     pub queried: usize,
-    /// Part pairs ([`crate::scene_parts::SceneParts`]) penetrating or
+    /// Part pairs (`contact::scene_parts::SceneParts`) penetrating or
     /// within the contact margin, ascending (body pairs in a scene of
     /// convex bodies).
     pub active_pairs: Vec<BodyPair>,

@@ -34,10 +34,11 @@
 //! `-delta n`, which leaves the Jacobian unchanged), plus the edge–edge
 //! point on the exact normal. The raised face rows keep the body level; the
 //! edge–edge row is the exact constraint. Without the raise the face rows
-//! asked for the face's depth; raising them by the full difference of the
-//! axes instead lifted the deepest clipped point clear when the face's
-//! deepest vertex lay outside the reference face, and every demo seed
-//! stalled (measured).
+//! would ask for the face's depth, more than the exact one; raised by the
+//! full difference of the axes' depths instead, they would lift the
+//! deepest clipped point clear whenever the face's deepest vertex lies
+//! outside the reference face (measured on the demo scene:
+//! `benchmarks/results/contact_geometry.md`, "The face preference").
 
 use nalgebra::{Point3, Vector3};
 

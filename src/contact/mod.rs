@@ -11,15 +11,15 @@
 //! The signed value of a pair is its distance when separated and minus the
 //! exact penetration depth when penetrating.
 //!
-//! Rows (DESIGN.md section 3), with the normal `n` from B towards A:
+//! Rows (`docs/design.md` section 3), with the normal `n` from B towards A:
 //! - penetrating: one row per manifold point (at most four for a face
 //!   contact, one for an edge–edge contact), `phi` = the point's separation
 //!   along `n`; with the manifold off, the deepest point only;
 //! - separated closer than the contact margin: the same manifold, on the
 //!   axis of widest separation ([`widest_separation`]), so that two nearly
 //!   touching faces get up to four rows, not one at an arbitrary closest
-//!   point (measured on the engine states of `tests/data/engine/`: the
-//!   single row needed up to 4.5 times the passes, see the README); with
+//!   point (chosen by measurement on the engine states of
+//!   `tests/data/engine/`: `benchmarks/results/contact_geometry.md`); with
 //!   the manifold off, one row at V-Clip's closest points,
 //!   `n = (p_a - p_b) / d`. When `d` is too small for that quotient, the
 //!   normal comes from the closest features (a face normal, or the cross

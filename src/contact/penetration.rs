@@ -55,8 +55,8 @@
 //! depths within rounding of one another (see [`DEPTH_TIE_RELATIVE`]).
 //!
 //! The cap is only as tight as the balls are round: for flat or long bodies
-//! it is wide and the walk visits more arcs. Its cost is measured in
-//! `benchmarks/contact_depth.rs`.
+//! it is wide and the walk visits more arcs. Its cost is measured by
+//! `benchmarks/contact_depth.rs` (`benchmarks/results/contact_depth.md`).
 //!
 //! Nearly parallel edges (the sine of their angle below
 //! [`EDGE_PARALLEL_SINE`]) are skipped: their cross product is too short to
@@ -90,12 +90,13 @@ pub const DEPTH_TIE_RELATIVE: f64 = 1e-12;
 /// small angle; the row of that edge pair is a poor model (its crossing
 /// point slides by the motion divided by the sine of that angle), and a
 /// single row tilts the box pass after pass where the face manifold lifts
-/// it flat (measured on the 100-body demo: a stall after 35 passes with the
-/// edge–edge row alone, 5 passes with the face manifold). The face rows are
-/// raised so that they ask for the exact depth, not the face's, and the
-/// edge–edge row is kept beside them (see [`super::manifold`]). Game
-/// engines prefer faces the same way (D. Gregorius, "Robust contact
-/// creation for physics simulations", GDC 2015).
+/// it flat (measured on the demo scene:
+/// `benchmarks/results/contact_geometry.md`, "The face preference"). The
+/// face rows are raised so that they ask for the exact depth, not the
+/// face's, and the edge–edge row is kept beside them (see
+/// [`super::manifold`]). Game engines prefer faces the same way
+/// (D. Gregorius, "Robust contact creation for physics simulations", GDC
+/// 2015).
 pub const FACE_PREFERENCE_RELATIVE: f64 = 0.05;
 
 /// The largest ratio of the face depth to the exact (edge–edge) depth for
@@ -355,11 +356,12 @@ pub fn widest_separation(
 /// may keep a gap `FACE_PREFERENCE_RELATIVE` narrower than the widest, or
 /// a quarter of it when aligned. Written with the depths' signs, the
 /// penetrating tests read wrongly for gaps: the face of two level boxes a
-/// hair apart was never preferred, and their single edge–edge row let a
-/// step tilt one into the other (a stack of 50 boxes: two passes of
-/// line-search steps of 1/64 and 1/128, measured). `gap_ratios = false`
-/// keeps the penetrating tests for gaps too (the seed's contacts,
-/// [`crate::Settings::near_pair_faces`]).
+/// hair apart is then never preferred, and their single edge–edge row lets
+/// a step tilt one into the other (stacks take extra passes of short
+/// line-search steps; `CHANGELOG.md`, 2026-12-02). `gap_ratios = false`
+/// keeps the penetrating tests for gaps too, so that a near pair's
+/// manifold stays on its widest separating axis
+/// ([`crate::Settings::near_pair_faces`] off).
 fn face_preference(
     face_depth: f64,
     exact_depth: f64,
@@ -557,10 +559,11 @@ impl Search<'_> {
         // The crossing test is ill-conditioned on a thin body, whose edge
         // arcs span nearly half a circle: a crossing it reports may be
         // false, and `n . (p_b - p_a)` then falls below the overlap along
-        // `n` (found by fuzzing: -2.6e-3 for a true depth of 3.4e-3,
-        // tests/data/fuzz/vclip_depth/crash-negative-depth). The supports
-        // confirm it; the overlap along any axis bounds the depth from
-        // above, so the confirmed value is never too small.
+        // `n` (the kept fuzz input
+        // tests/data/fuzz/vclip_depth/crash-negative-depth;
+        // benchmarks/results/fuzzing.md). The supports confirm it; the
+        // overlap along any axis bounds the depth from above, so the
+        // confirmed value is never too small.
         let confirmed = self.evaluate(features, normal);
         if confirmed.depth > candidate.depth + self.tie {
             candidate = confirmed;

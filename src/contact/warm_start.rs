@@ -5,12 +5,11 @@
 //! `Weak` references. A `Weak` keeps its allocation alive, so no other shape
 //! can be allocated at the same address while the entry exists: comparing
 //! addresses (and that the shape is still alive) identifies the object
-//! exactly. (Keying by the bare address, as before, let a shape dropped
-//! between calls and a new one allocated at its place inherit its warm
-//! start, whose features could be out of range or wrong for the new shape:
-//! 35 to 45 failed calls per 3,000 fresh scenes, issue 12.) A warm start is
-//! only a hint, and [`super::query`] also drops one that does not fit and
-//! starts cold.
+//! exactly. (Keyed by the bare address, a shape dropped between calls and
+//! a new one allocated at its place would inherit its warm start, whose
+//! features could be out of range or wrong for the new shape.) A warm
+//! start is only a hint, and [`super::query`] also drops one that does not
+//! fit and starts cold.
 //!
 //! Entries of shapes that no longer exist are removed by
 //! [`WarmStartCache::forget_dropped_shapes`], called once per stabilization

@@ -37,12 +37,12 @@
 //!    convexity; finally every merged input point must lie on or below every
 //!    face plane within [`CONTAINMENT_TOLERANCE`]` * max(L, M)`.
 //!
-//! Why not parry's hull (`parry3d_f64::transformation::try_convex_hull`,
-//! tried first): it decides that a set is flat when an eigenvalue of its
-//! normalized covariance is below `1e-7`, so solids thinner than about
-//! `3e-4 L` come back as a flat double-sided mesh; and on a rotated
-//! `5 × 5 × 3` lattice (many coplanar points) it returned a non-convex
-//! triangle mesh. Exact predicates cannot produce either.
+//! Why not parry's hull (`parry3d_f64::transformation::try_convex_hull`):
+//! it decides that a set is flat when an eigenvalue of its normalized
+//! covariance is below `1e-7`, so solids thinner than about `3e-4 L` come
+//! back as a flat double-sided mesh; and on a rotated `5 × 5 × 3` lattice
+//! (many coplanar points) it can return a non-convex triangle mesh. Exact
+//! predicates cannot produce either.
 
 use std::collections::HashSet;
 
@@ -97,8 +97,9 @@ impl ConvexPolyhedron {
     /// [`GeometryError::CoordinatesOutOfRange`],
     /// [`GeometryError::Degenerate`] (all equal, collinear or coplanar after
     /// merging near duplicates), and, should the checks of the result fail
-    /// (observed only far from the origin, `M ≈ 1.7e7 L`, once in 1600 fuzz
-    /// cases: a face collapsed when edge points were removed),
+    /// (possible far from the origin, where the rounding of the
+    /// coordinates approaches the tolerances and a face can collapse when
+    /// edge points are removed; `benchmarks/results/reliability.md`),
     /// [`GeometryError::HullFailed`],
     /// [`GeometryError::InvalidTopology`] or [`GeometryError::NotConvex`].
     pub fn from_points(points: &[Point3<f64>]) -> Result<Self, GeometryError> {

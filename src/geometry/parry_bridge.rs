@@ -26,8 +26,8 @@ impl ConvexPolyhedron {
     /// AABBs use), are exactly ours. parry's *faces* are not: it merges
     /// adjacent triangles whose normals are within about `1.7e-4` rad
     /// (`1 - n1·n2 < sqrt(ε)`), and on thin hulls its
-    /// `Shape::mass_properties` then loses volume (observed: half of a slab
-    /// of relative thickness `3e-5`). Use [`ConvexPolyhedron::mass_properties`].
+    /// `Shape::mass_properties` then loses volume (half of it for a slab of
+    /// relative thickness `3e-5`). Use [`ConvexPolyhedron::mass_properties`].
     pub fn to_parry(&self) -> Result<ParryConvexPolyhedron, GeometryError> {
         let points: Vec<Vector> = self.vertices().iter().map(point_to_parry).collect();
         let triangles: Vec<[u32; 3]> = self

@@ -31,10 +31,12 @@
 //! which a point set is rejected as flat. A set that is accepted as a solid
 //! is at least `FLATNESS_TOLERANCE * L` wide, so its faces across that
 //! width (the sides of a thin slab) are wider than the thin-face tolerance
-//! whenever `M < 10 L`, and the solid keeps its corners. (With
-//! `THIN_FACE_TOLERANCE = 1e-6` the sides of a slab `[-1, 1]² × [-t, t]`
-//! with `t = 7.3e-7`, width `1.46e-6` against `2.83e-6`, were dropped and
-//! its hull came back as a tetrahedron.) Farther from the origin the
+//! whenever `M < 10 L`, and the solid keeps its corners. (A tolerance
+//! above the flatness one would not: at `1e-6` the sides of a slab
+//! `[-1, 1]² × [-t, t]` with `t = 7.3e-7`, width `1.46e-6` against
+//! `1e-6 max(L, M) = 2.83e-6`, would be dropped and its hull would come
+//! back as a tetrahedron, although the flatness test accepts the slab as
+//! a solid.) Farther from the origin the
 //! rounding `ε M` itself approaches the flatness tolerance: at `M = 1e8 L`
 //! it is `2.2e-8 L`.
 

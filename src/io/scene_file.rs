@@ -1,4 +1,4 @@
-//! Scene files (JSON, `DESIGN.md` section 6), feature `serde`.
+//! Scene files (JSON, `docs/design.md` section 6), feature `serde`.
 //!
 //! ```text
 //! { "bodies": [ { "name": "ground", "shape": { "cuboid": [10.0, 0.5, 10.0] },
@@ -23,7 +23,7 @@
 //!   `contact_margin`, `target_margin`, `max_passes`, `solver`
 //!   (`auto|clarabel|lemke|pgs`), `cross_check`, `method`
 //!   (`projection|gauss_seidel`: the projection, the default, or the
-//!   game-engine baseline of [`crate::gauss_seidel`] with its defaults),
+//!   game-engine baseline of `stabilizer::gauss_seidel` with its defaults),
 //!   `friction_model` (`pyramid|cone`, [`crate::FrictionModel`];
 //!   friction itself is per body).
 //! - Limits: a file of at most [`MAX_SCENE_FILE_BYTES`], at most
@@ -43,8 +43,9 @@
 //! accepts and ignores it, so that an output file can be fed back in.
 //!
 //! The file's `settings` are returned in [`Scene::settings`]; they take
-//! effect through [`Scene::stabilizer`] (the defaults overridden by the
-//! file's settings), not through `Stabilizer::new(Settings::default())`.
+//! effect through [`crate::Stabilizer::for_scene`] (the defaults
+//! overridden by the file's settings), not through
+//! `Stabilizer::new(Settings::default())`.
 
 use std::path::Path;
 
@@ -193,20 +194,22 @@ pub enum SceneFileError {
 pub const MAX_SCENE_FILE_BYTES: u64 = 128 * 1024 * 1024;
 
 /// Most bodies a scene file may hold: 200,000. Checked before any body is
-/// built. Measured (README, "Reliability"): a file of a million boxes took
-/// 49 s and 5.3 GB to read, about 5 KB per body; 200,000 take about 1 GB.
+/// built. Reading takes about 5 KB of memory per body, so 200,000 take
+/// about 1 GB (measured: `benchmarks/results/reliability.md`, "The limits
+/// of scene files").
 pub const MAX_BODIES: usize = 200_000;
 
 /// Most points a `convex_hull` in a scene file may have: 10,000. Checked
 /// before the hull is built. The hull's cost grows with the square of its
-/// vertex count when every point is extreme (measured on points on a
-/// sphere: 10,000 in 1.3 s, 100,000 in 131 s); a million points inside a
-/// cube took 2 s, but no rigid body needs that many.
+/// vertex count when every point is extreme (points on a sphere); points
+/// mostly inside their hull cost far less, but no rigid body needs that
+/// many (measured: `benchmarks/results/reliability.md`, "The limits of
+/// scene files").
 pub const MAX_HULL_POINTS: usize = 10_000;
 
 /// Reads a scene file of at most [`MAX_SCENE_FILE_BYTES`]. Its settings are
-/// in [`Scene::settings`]; build the stabilizer with [`Scene::stabilizer`]
-/// to apply them.
+/// in [`Scene::settings`]; build the stabilizer with
+/// [`crate::Stabilizer::for_scene`] to apply them.
 pub fn read_scene(path: &Path) -> Result<Scene, SceneFileError> {
     let read_error = |e: std::io::Error| SceneFileError::Read {
         path: path.display().to_string(),

@@ -33,13 +33,14 @@
 //! (`phi / h + J_n v >= mu |J_t v|` at the velocity level, "An iterative
 //! approach for cone complementarity problems for nonsmooth dynamics",
 //! Comput. Optim. Appl. 2010) with the displacement for `h v`. Without it
-//! an open contact had no friction row and closed while sliding freely:
-//! measured on the 1:1000 stack of `examples/slide_probe.rs`, where
-//! Rapier's step leaves a light box's lower contact open by 3e-5 to
-//! 1.5e-4 m and the call closed it while sliding it 6e-5 to 2.4e-4 m,
-//! whatever `mu`. The relaxation's price, as in Anitescu and Tasora's
-//! scheme: an open contact that stays open may slide only by `mu` times
-//! the gap it keeps; beyond that the correction opens it further.
+//! an open contact has no friction row and may close while sliding
+//! freely, whatever `mu`: an engine step that leaves a light box's lower
+//! contact slightly open lets the call slide it (measured on the 1:1000
+//! stack of `examples/slide_probe.rs`: `benchmarks/results/coupling.md`,
+//! "Friction in the position projection"). The relaxation's price, as in
+//! Anitescu and Tasora's scheme: an open contact that stays open may
+//! slide only by `mu` times the gap it keeps; beyond that the correction
+//! opens it further.
 //!
 //! (1) is a second-order cone in `dq`, so the projection
 //! `min 1/2 dq^T M dq` subject to the contact rows and (1) stays convex. It
@@ -63,11 +64,11 @@
 //! (41 % for `K = 4`, 8 % for `K = 8`). Wherever the frictionless answer
 //! slides nothing, it satisfies (2) and is the answer with friction too.
 //!
-//! **Which one is solved** ([`FrictionModel`]): the pyramid (2) for every
-//! solver ([`FrictionModel::Pyramid`]), or the cone (1) itself as a
-//! second-order cone of clarabel's primal form ([`FrictionModel::Cone`],
-//! [`crate::solver::friction_cone`]), with Lemke and PGS on the pyramid
-//! (they take linear rows only).
+//! **Which one is solved** ([`crate::FrictionModel`]): the pyramid (2)
+//! for every solver ([`crate::FrictionModel::Pyramid`]), or the cone (1)
+//! itself as a second-order cone of clarabel's primal form
+//! ([`crate::FrictionModel::Cone`], [`crate::solver::friction_cone`]),
+//! with Lemke and PGS on the pyramid (they take linear rows only).
 //!
 //! A multiplier `beta_k >= 0` of a facet is a force on the contact
 //! `beta_k (n - mu d_k)`: normal part `beta_k`, tangential part

@@ -124,7 +124,7 @@ pub enum Plan {
 
 /// Measures, linearizes and solves at `configuration` (not moved). With
 /// `hold_rows`, the rows within the tolerance of contact but short of the
-/// target margin hold their value ([`held_rows`]) instead of asking for
+/// target margin hold their value (`held_rows`) instead of asking for
 /// the margin.
 pub fn plan_step<P: ConstraintProvider + ?Sized>(
     provider: &mut P,
@@ -321,11 +321,11 @@ pub fn project<P: ConstraintProvider + ?Sized>(
 /// `phi` raised to the target, so that the linearized row reads
 /// `J dq >= 0` (the contact may open, not close), and their friction apex
 /// where they are (`r = 0`: no sliding without opening). `None` when no row
-/// is such. Asking every row for the target margin made a box pressed
+/// is such. Asking every row for the target margin makes a box pressed
 /// between two walls that touch it (an exactly fitting slot) infeasible:
-/// both walls asked the box to move away from them (Lemke's ray,
-/// clarabel's infeasibility certificate), and the call ended with the box
-/// sunk in the floor. Rows deeper than the tolerance still aim at the
+/// both walls ask the box to move away from them (Lemke's ray, clarabel's
+/// infeasibility certificate), and the box stays sunk in the floor. Rows
+/// deeper than the tolerance still aim at the
 /// target margin, which covers the linearization's second-order error.
 pub fn held_rows(
     rows: &[ConstraintRow],

@@ -67,9 +67,10 @@
 //!
 //! # Coupling
 //!
-//! [`CouplingMode`] (module `settings.rs` has the measurements):
+//! [`CouplingMode`] (the design: `docs/coupling.md`; what each mode does
+//! to a simulation: `benchmarks/results/coupling.md`):
 //! - [`CouplingMode::PositionsOnly`] removes every penetration beyond the
-//!   tolerance, positions only (the seed's behaviour);
+//!   tolerance, positions only (velocities untouched);
 //! - [`CouplingMode::RespectAllowedPenetration`] leaves Rapier its allowed
 //!   linear error (`IntegrationParameters::allowed_linear_error()`, read at
 //!   each call): it becomes the stabilizer's
@@ -84,8 +85,8 @@
 //!   margin ([`closed_contact_allowance`]), so that Rapier's next step
 //!   starts with them touching: Rapier solves separated contact points
 //!   rigidly and penetrating ones softly, and a contact opened to a tiny
-//!   gap sits on that switch (the heavy stacks' sideways drift, issue 10).
-//!   The default.
+//!   gap sits on that switch (the heavy stacks' sideways drift,
+//!   `docs/coupling.md`). The default.
 //!
 //! # Rounding
 //!

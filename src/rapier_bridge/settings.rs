@@ -20,8 +20,8 @@ use crate::stabilizer::VelocityFriction;
 #[non_exhaustive]
 pub enum CouplingMode {
     /// Remove every penetration beyond the tolerance, correct positions
-    /// only (velocities untouched): the seed's behaviour. The stabilizer's
-    /// own `allowed_penetration` applies as set.
+    /// only (velocities untouched). The stabilizer's own
+    /// `allowed_penetration` applies as set.
     PositionsOnly,
     /// Accept penetrations up to Rapier's allowed linear error (read from
     /// the `IntegrationParameters` of each call, in world length): the
@@ -38,10 +38,9 @@ pub enum CouplingMode {
     /// new velocities are written back. Without it a heavy body lifted out
     /// of the bodies it crushed keeps its velocity and sinks again at every
     /// step. With the colliders' friction, it and
-    /// [`CouplingMode::ClosedContacts`] are the modes under which the
-    /// stacks of four light boxes under a box 100 and 1,000 times heavier
-    /// stand for 300 steps (`examples/with_and_without.rs`, README); it
-    /// was the default before `ClosedContacts`, which drifts less.
+    /// [`CouplingMode::ClosedContacts`] are the modes under which stacks
+    /// of four light boxes under a box 100 and 1,000 times heavier stand;
+    /// `ClosedContacts` drifts less (`benchmarks/results/coupling.md`).
     VelocityConsistency,
     /// Velocity consistency with the corrected contacts left *closed*: as
     /// [`CouplingMode::VelocityConsistency`], but the call's rows aim at a
@@ -56,22 +55,16 @@ pub enum CouplingMode {
     /// contact opened to `+target_margin` sits on that switch, and the
     /// corners of a box cross it at different substeps of the next step:
     /// the box is pushed out unevenly, tilts, and its face slides on its
-    /// support. Measured (`examples/slide_probe.rs`, 1:100 stack, step
-    /// 150): the ground contact slides 1.05e-4 m in that step with the
-    /// gap, 1.04e-5 m with the contacts closed.
+    /// support; with the contacts closed the slide is about ten times
+    /// smaller (probed with `examples/slide_probe.rs`:
+    /// `benchmarks/results/coupling.md`, "What drives the stacks' drift").
     ///
-    /// The default, by measurement (`examples/with_and_without.rs`, 300
-    /// steps at 60 Hz, README): the largest sideways drift of a box of the
-    /// 1:100 and 1:1000 stacks is 9.6 and 7.4 mm (33.5 and 44.4 with
-    /// [`CouplingMode::VelocityConsistency`]), both stacks stand (top
-    /// 0.9023 -> 0.9000 m) and every call converges; the thrown box's
-    /// stack stands (drift 66 mm against 67); the pyramid of 55 keeps its
-    /// shape but drifts 34 mm (28) and the settled pile of 200 creeps 151
-    /// mm (83; one chaotic trajectory each, README). Its cost: the contacts it corrects are left sunk by about
-    /// one tolerance (largest exact depth after a call 8.0e-7 m on the
-    /// stacks, 8.9e-7 on the thrown box, 2.0e-6 on the pile, where
-    /// `VelocityConsistency` leaves 0 and 7.8e-7), within the tolerance
-    /// each call states.
+    /// The default, chosen by measurement (`examples/with_and_without.rs`:
+    /// `benchmarks/results/coupling.md`): the heavy stacks stand and drift
+    /// a quarter to a sixth of what they drift under
+    /// [`CouplingMode::VelocityConsistency`], every call converging. Its
+    /// cost: the contacts it corrects are left sunk by about one tolerance,
+    /// within the tolerance each call states.
     #[default]
     ClosedContacts,
 }
@@ -113,25 +106,25 @@ pub struct BridgeSettings {
     /// (`Collider::friction()`, Rapier's default 0.5; a pair's coefficient
     /// is the mean of its two bodies', as Rapier's default combine rule), so
     /// that the position projection is friction-aware
-    /// ([`crate::projector::friction`]). Default true (with the velocity
-    /// modes, measured); false gives the
-    /// seed's frictionless projection.
+    /// ([`crate::projector::friction`]). Default true, chosen by
+    /// measurement with the velocity modes
+    /// (`benchmarks/results/coupling.md`); false leaves the bodies without
+    /// a coefficient of their own, so the stabilizer's
+    /// [`friction`](crate::Settings::friction) applies (default 0:
+    /// frictionless).
     pub collider_friction: bool,
     /// Friction of the velocity projection of
     /// [`CouplingMode::VelocityConsistency`] and
     /// [`CouplingMode::ClosedContacts`]
     /// ([`crate::stabilizer::VelocityFriction`], with the colliders'
     /// coefficients when [`BridgeSettings::collider_friction`], else the
-    /// stabilizer's `friction`). Default [`VelocityFriction::None`], by
-    /// measurement (`examples/with_and_without.rs`, README): with the cone
-    /// on the velocity ([`VelocityFriction::OnVelocity`]) the light boxes
-    /// of the heavy stacks leave each call without sideways velocity, yet
-    /// the stacks drift as much (41.8 and 44.4 mm on the 1:100 and 1:1000
-    /// stacks against 28.6 and 46.4: Rapier's next step gives the
-    /// velocity back), worse on the 1:100 stack, while the pile (51 mm of
-    /// creep against 94), the thrown box and the pyramid are somewhat
-    /// better; calls cost a little more. With friction on the change the
-    /// 1:1000 stack falls.
+    /// stabilizer's `friction`). Default [`VelocityFriction::None`], chosen
+    /// by measurement (`benchmarks/results/coupling.md`): with the cone on
+    /// the velocity ([`VelocityFriction::OnVelocity`]) the light boxes of
+    /// the heavy stacks leave each call without sideways velocity, yet the
+    /// stacks drift as much (Rapier's next step gives the velocity back)
+    /// and calls cost more; with friction on the change the 1:1000 stack
+    /// falls.
     pub velocity_friction: VelocityFriction,
 }
 

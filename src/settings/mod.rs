@@ -131,39 +131,41 @@ pub struct Settings {
     pub max_passes: usize,
     /// One constraint row per penetrating vertex of a pair's witness body
     /// below (or within the contact margin of) the witness face plane, rather
-    /// than the deepest vertex alone. Default true (see the README for the
-    /// measurement that chose it).
+    /// than the deepest vertex alone. Default true, chosen by measurement
+    /// (`benchmarks/results/manifold.md`).
     pub contact_manifold: bool,
     /// Build a near (separated) pair's manifold on a face axis nearly as
     /// wide as its widest separating edge–edge axis, by the ratios of gaps
     /// that a penetrating pair's uses for depths
     /// ([`crate::contact::penetration::FACE_PREFERENCE_RELATIVE`]). Default
-    /// true. Two level boxes a hair apart otherwise got the single row of
-    /// an edge–edge axis, and a step tilted one into the other (a stack of
-    /// 50 boxes: 3 passes instead of 5, two of them line-search steps of
-    /// 1/64 and 1/128). `false` gives the seed's contacts
-    /// (`tests/stabilize_seed.rs`).
+    /// true: without it two level boxes a hair apart get the single row of
+    /// an edge–edge axis, and a step tilts one into the other (stacks then
+    /// take extra passes of short line-search steps; `CHANGELOG.md`,
+    /// 2026-12-02). `false` judges gaps by the penetrating ratios, under
+    /// which a near pair's manifold stays on its widest separating axis,
+    /// an edge–edge one included (`tests/stabilize_seed.rs`).
     pub near_pair_faces: bool,
     /// When an island's problem cannot be solved with every contact row
     /// asking for the target margin, solve it again with the rows within
     /// the tolerance of contact (touching, or open by less than the
     /// margin) holding their value (`held_rows` in `projector/step.rs`).
-    /// Default true: a box between two walls that touch it (an exactly
-    /// fitting slot) was infeasible, both walls asking it to move away, and
-    /// the call ended unsolved. Only a retry: holding every such row from
-    /// the start let the second-order error of a step push held contacts
-    /// past the tolerance (measured in the engine loop: calls left 1.2e-6
-    /// m in the pyramid of 55 and one call on the pile of 200 ended
-    /// unsolved). `false`: the seed's behaviour, the call ends unsolved.
+    /// Default true: with every row asking for the margin, a box between
+    /// two walls that touch it (an exactly fitting slot) is infeasible,
+    /// both walls asking it to move away. Only a retry: holding every such
+    /// row from the start lets the second-order error of a step push held
+    /// contacts past the tolerance (measured in the engine loop of
+    /// `examples/with_and_without.rs`, `CHANGELOG.md`, 2026-12-02). `false`:
+    /// no retry, such an island is left unsolved.
     pub hold_open_gaps: bool,
     /// Coulomb friction coefficient of a body that has none of its own
     /// ([`crate::body::Body::set_friction`]); a pair's coefficient is the
     /// mean of its two bodies'. Every contact row (penetrating, resting,
     /// or open within the contact margin) gets the friction pyramid of
     /// [`crate::projector::friction`]: a contact slides at most `1 / mu`
-    /// times its normal opening beyond its target. Default 0: frictionless, the seed's
-    /// projection bit for bit (the Rapier bridge reads each collider's
-    /// friction instead).
+    /// times its normal opening beyond its target. Default 0: frictionless
+    /// (no friction row is added, so the projection is exactly the one
+    /// without friction; the Rapier bridge reads each collider's friction
+    /// instead).
     pub friction: f64,
     /// Directions `K` of the friction pyramid (at least 3). Default 4
     /// (the pyramid exceeds the cone by at most 41 % in its corners; 8
@@ -172,11 +174,10 @@ pub struct Settings {
     /// of the cross-check.
     pub friction_directions: usize,
     /// The friction pyramid or the exact cone ([`FrictionModel`]). Default
-    /// [`FrictionModel::Pyramid`], by measurement
-    /// (`examples/friction_models.rs`, README): the pyramid of 4 facets
-    /// took 0.77x the cone's time on the Rapier 1:1000 stack and 0.57x on
-    /// a pile with `mu = 0.5`, and differed from the cone by 1e-4 of the
-    /// box size on the stack; 8 facets cost more than the cone.
+    /// [`FrictionModel::Pyramid`], chosen by measurement
+    /// (`benchmarks/results/friction_models.md`): the pyramid of 4 facets
+    /// is faster than the cone and differs from it by a small fraction of
+    /// the body size; 8 facets cost more than the cone.
     pub friction_model: FrictionModel,
     /// Solve every body of a penetrating island in every pass. Default
     /// false: a pass solves the bodies of the pairs that still penetrate,

@@ -1,4 +1,4 @@
-//! LCP and QP solvers (DESIGN.md sections 3 and 5).
+//! LCP and QP solvers (docs/design.md sections 3 and 5).
 //!
 //! The problem of one island is the projection QP
 //!

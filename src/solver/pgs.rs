@@ -36,8 +36,10 @@ pub struct PgsSettings {
     pub tol_residual: f64,
     /// The iterate must also have a natural map at most this relative to
     /// the caller's data ([`natural_map_relative`]): the scaled test alone
-    /// let a 26-row problem through with `||min(z, w)||` 0.16 of the data
-    /// (fuzz input `tests/data/fuzz/lcp_solvers/crash-pgs-natural-map`).
+    /// can pass a `z` whose natural map is a large fraction of the data
+    /// (the kept fuzz input
+    /// `tests/data/fuzz/lcp_solvers/crash-pgs-natural-map`;
+    /// `benchmarks/results/fuzzing.md`).
     pub tol_residual_unscaled: f64,
 }
 

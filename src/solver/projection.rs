@@ -1,5 +1,5 @@
 //! The projection QP: the smallest mass-weighted correction that satisfies
-//! linearized non-penetration constraints (DESIGN.md section 3).
+//! linearized non-penetration constraints (docs/design.md section 3).
 //!
 //! For the dynamic bodies of one island, a correction `dq` has six entries
 //! per body, `[dx (3), dtheta (3)]`: a translation of the centre of mass and

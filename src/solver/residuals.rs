@@ -90,8 +90,8 @@ pub fn natural_map_relative(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>
     if size > 0.0 { natural / size } else { natural }
 }
 
-/// `||min(z, w)||_inf / max(1, ||q||_inf)`: the README measure of the
-/// Siconos LCP files.
+/// `||min(z, w)||_inf / max(1, ||q||_inf)`: the measure of the Siconos
+/// LCP files (`tests/data/siconos/README.md`).
 pub fn lcp_natural_map(z: &DVector<f64>, w: &DVector<f64>, q: &DVector<f64>) -> f64 {
     natural_map_abs(z, w) / q.amax().max(1.0)
 }

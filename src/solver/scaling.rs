@@ -20,10 +20,10 @@ use nalgebra::{DMatrix, DVector};
 /// [`JACOBI_MIN_ROW_REL`] of `max|M|`.
 ///
 /// The row's own magnitude, not `max|M|`: with the global one a row with a
-/// zero diagonal among entries up to 3e14 was scaled by 5e-8 against 0.35
-/// for its neighbour, and Lemke accepted `z = 0` with `w_i = -9` (`q` of
-/// size 3e5) as solved on the scaled problem (fuzz input
-/// `tests/data/fuzz/lcp_solvers/crash-lemke-natural-map`).
+/// zero diagonal among large entries gets a scale far below its
+/// neighbours', which hides its violation in the scaled problem (the kept
+/// fuzz input `tests/data/fuzz/lcp_solvers/crash-lemke-natural-map`;
+/// `benchmarks/results/fuzzing.md`).
 pub const JACOBI_MIN_DIAG_REL: f64 = 1e-14;
 
 /// A row (with its column) whose largest entry is below this fraction of

@@ -4,29 +4,28 @@
 //! Order of solvers tried: under [`SolverChoice::Auto`], nothing when every
 //! row already holds ([`SolverKind::Trivial`]), the closed form for one
 //! row, Lemke up to [`SolverSettings::auto_lemke_max_rows`] rows and clarabel
-//! (primal) above (the crossover measured by `benchmarks/solvers.rs`). A
-//! named choice runs that solver first. Whatever failed is followed by the
-//! remaining ones in an order that depends on the size, like the first
-//! choice: up to `auto_lemke_max_rows` rows clarabel -> Lemke -> PGS; above,
-//! clarabel -> PGS -> Lemke, so that the dense `n^3` tableau of Lemke on
-//! hundreds of rows (973 pivots, 800 ms on a 505-row pyramid) is the last
-//! resort, after the sparse interior point and the `O(n^2)` sweeps.
+//! (primal) above (the crossover chosen by measurement,
+//! `benchmarks/results/solvers.md`). A named choice runs that solver
+//! first. Whatever failed is followed by the remaining ones in an order
+//! that depends on the size, like the first choice: up to
+//! `auto_lemke_max_rows` rows clarabel -> Lemke -> PGS; above, clarabel ->
+//! PGS -> Lemke, so that the dense tableau of Lemke, `O(n^2)` per pivot
+//! and about `n` pivots on hundreds of rows, is the last resort, after the
+//! sparse interior point and the `O(n^2)` sweeps.
 //!
 //! **Lemke's own residual test** ([`LemkeSettings::tol_residual`], 1e-9 on
 //! the scaled LCP) is that of a standalone LCP solver. Here every candidate
 //! passes the projection's acceptance check below, so Lemke's test only has
 //! to reject a wrong basis; it is loosened to [`LEMKE_RESIDUAL_OF_ACCEPTANCE`]
 //! times [`SolverSettings::tol_residual`] (1e-6 by default), and the
-//! acceptance check decides. On a pyramid under a cube 1e5 to 1e6 times
-//! heavier, Lemke's complementary bases missed 1e-9 by 1.2 to 2.1 times
-//! (rounding, at that conditioning): each was thrown away, the four runs of
-//! the regularization ladder failed the same way, and clarabel solved the
-//! island after them, so that `auto` took 1.5 times clarabel's time. A
-//! tenth of the acceptance tolerance was tried first: on Bullet's mid-fall
-//! jumble an island of 147 rows then missed it (1.3e-7) on all five runs
-//! and went to clarabel, slow on that scene; at the acceptance tolerance
-//! Lemke's answer is kept and passes the check. A basis far off (2.7 on an
-//! island of the demo pile) still goes up the ladder.
+//! acceptance check decides. At high mass ratios (a pyramid under a cube
+//! 1e5 to 1e6 times heavier) rounding keeps Lemke's complementary bases
+//! just above 1e-9: at the standalone tolerance each would be thrown away,
+//! the runs of the regularization ladder would fail the same way, and
+//! clarabel would solve the island after them all. At the acceptance
+//! tolerance Lemke's answer is kept and passes the check, while a basis
+//! far off still goes up the ladder (chosen by measurement: `CHANGELOG.md`,
+//! 2026-12-02, "Lemke inside the projection").
 //!
 //! **Friction cones** ([`ProjectionQp::cones`]): only clarabel's primal
 //! form solves a second-order cone program. Under `Auto` a problem with
@@ -129,11 +128,10 @@ pub struct SolverSettings {
     /// floor of the gap measure (about `sqrt(n u)`, 1e-7 at 500 rows).
     pub tol_residual: f64,
     /// Under `Auto`, Lemke for up to this many rows, clarabel (primal)
-    /// above. Measured by `benchmarks/solvers.rs` on random stacks (median
-    /// of 3 seeds, two shared cores): Lemke 0.74 ms vs clarabel 2.5 ms at
-    /// 100 rows, 1.8 vs 3.5 ms at 150, about equal at 200 (8.4 vs 7.5 ms),
-    /// 173 vs 27 ms at 500. Lemke's dense tableau grows as `n^3`, clarabel's
-    /// sparse factorization about linearly.
+    /// above. Default 160, chosen by measurement on random stacks
+    /// (`benchmarks/solvers.rs`: `benchmarks/results/solvers.md`, where the
+    /// crossover lies between 150 and 200 rows). Lemke's dense tableau
+    /// grows as `n^3`, clarabel's sparse factorization about linearly.
     pub auto_lemke_max_rows: usize,
     /// When the first solver fails, try the others (in the order of the
     /// module docs). Default true. The stabilizer turns it off for the
@@ -144,7 +142,7 @@ pub struct SolverSettings {
     /// solution (clarabel's primal infeasibility certificate, or Lemke
     /// ending on a ray, which for the positive semidefinite matrices of
     /// these problems means that the LCP is infeasible). Default false (the
-    /// seed's full chain); the stabilizer sets it for problems with a
+    /// full fallback chain); the stabilizer sets it for problems with a
     /// friction pyramid, which wedged bodies can make infeasible and which
     /// are then solved again without friction.
     pub stop_on_infeasible: bool,
@@ -540,8 +538,8 @@ impl Problem<'_> {
 }
 
 /// Solves one problem with clarabel (primal) and with Lemke and reports
-/// their differences (the cross-check of DESIGN.md section 5). The first
-/// element is clarabel's solution; `outcome` holds Lemke's.
+/// their differences (the cross-check of docs/design.md section 5). The
+/// first element is clarabel's solution; `outcome` holds Lemke's.
 pub fn cross_check_projection(
     qp: &ProjectionQp,
     settings: &SolverSettings,

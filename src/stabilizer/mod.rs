@@ -1,10 +1,10 @@
-//! The stabilizer: the loop of DESIGN.md section 1.
+//! The stabilizer: the loop of docs/design.md section 1.
 //!
 //! Each pass:
 //! 1. detection over the whole scene ([`crate::contact::detect`]): broad
 //!    phase on the bodies' AABBs enlarged by the contact margin, V-Clip on
 //!    every candidate pair of convex parts (a convex body is one part, a
-//!    compound several, [`crate::scene_parts`]), warm-started from the
+//!    compound several, `contact::scene_parts`), warm-started from the
 //!    pair's last query (kept across passes and calls); if no penetration
 //!    is deeper than the tolerance, stop;
 //! 2. islands: union-find over the bodies of the pairs that penetrate or are within the
@@ -31,7 +31,7 @@
 //! time left as its own limit.
 //!
 //! [`Settings::method`] chooses this projection (the default) or the
-//! nonlinear Gauss–Seidel baseline of [`crate::gauss_seidel`]: the same
+//! nonlinear Gauss–Seidel baseline of `stabilizer::gauss_seidel`: the same
 //! detection, report, log lines and guarantees, with the passes replaced
 //! by its sweeps.
 //!
@@ -113,7 +113,7 @@ impl Stabilizer {
     }
 
     /// The lengths of a call on `scene`: those set by
-    /// [`Stabilizer::set_call_lengths`], else the settings' resolved at the
+    /// `Stabilizer::set_call_lengths`, else the settings' resolved at the
     /// scene's scale ([`Settings::resolve`]).
     pub fn lengths(&self, scene: &Scene) -> ResolvedLengths {
         self.call_lengths

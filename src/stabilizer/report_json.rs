@@ -1,5 +1,5 @@
 //! The stabilization [`Report`] as JSON (the `report` object of an output
-//! scene file, DESIGN.md section 6). Bodies are named by index and name.
+//! scene file, docs/design.md section 6). Bodies are named by index and name.
 
 use serde_json::{Value, json};
 

@@ -70,8 +70,9 @@
 //!   projection leaves closed (`J_n v' = 0`) has no relative tangential
 //!   velocity at all: it sticks. A
 //!   heavy body's large normal impulse through slightly tilted normals
-//!   (as after an engine step) can no longer push the light bodies below
-//!   it sideways, which the frictionless projection does (issue 10).
+//!   (as after an engine step) cannot push the light bodies below
+//!   it sideways, which the frictionless projection does
+//!   (`docs/coupling.md`).
 //!   Averaging (2) over symmetric directions gives the contact row, so the
 //!   contact row is implied; it is kept all the same (its approach is the
 //!   one reported). *Artefact*, as in Anitescu and Tasora's scheme: a
@@ -89,11 +90,10 @@
 //!
 //! An island is projected when one of its contacts approaches (beyond what
 //! its gap allows), with or without friction; a contact outside its cone
-//! alone does not start a projection (it is reported, `cone_before`).
-//! Measured (`examples/with_and_without.rs`): projecting on it too tripled
-//! the creep of the settled pile of 200 (300 mm against 94 frictionless),
-//! without it the creep is 51 mm; the stacks, the thrown box and the
-//! pyramid did not change.
+//! alone does not start a projection (it is reported, `cone_before`):
+//! projecting on it too triples the creep of a settled pile (measured with
+//! `examples/with_and_without.rs`: `benchmarks/results/coupling.md`,
+//! "Velocity friction, the bridge's choice").
 
 use nalgebra::{DVector, Vector3, Vector6};
 
@@ -170,8 +170,8 @@ impl Stabilizer {
     /// margin then count as speculative contacts, `J_k v' >= -phi / h`
     /// (module docs); `None` takes touching contacts only. `friction` is
     /// the projection's friction ([`VelocityFriction::None`] for none;
-    /// friction on the change lets heavy stacks creep, measured in
-    /// `examples/with_and_without.rs`). An island whose projection fails
+    /// friction on the change lets a heavy stack fall in an engine loop,
+    /// `benchmarks/results/coupling.md`). An island whose projection fails
     /// keeps its velocities (counted in the report).
     pub fn project_velocities(
         &mut self,

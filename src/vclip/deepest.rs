@@ -1,4 +1,4 @@
-//! The deepest-vertex search (DESIGN.md section 4), this project's
+//! The deepest-vertex search (docs/design.md section 4), this project's
 //! extension of V-Clip.
 //!
 //! From a penetration witness with face `F` (plane `P`) of one body:
@@ -15,10 +15,11 @@
 //!
 //! Face refinement ([`VClipSettings::refine_face`](super::VClipSettings),
 //! on by default). The witness face is where V-Clip happened to detect the
-//! penetration, not a good direction to separate along: its depth was a
-//! median 1.5 and up to 100 times parry's EPA depth on random hulls. Every
-//! face plane of either body with the other body's deepest vertex under it
-//! is a valid answer (the push-out argument holds for each), and the
+//! penetration, not a good direction to separate along: on random hulls
+//! its depth is often well above parry's EPA depth (measured:
+//! `CHANGELOG.md`, 2026-11-22, "face refinement"). Every face plane of
+//! either body with the other body's deepest vertex under it is a valid
+//! answer (the push-out argument holds for each), and the
 //! smallest such depth is the separating-axis bound over face normals. The
 //! refinement climbs towards it locally: it tries the faces adjacent to the
 //! current face (same body) and the faces around the current deepest vertex
@@ -93,9 +94,8 @@ fn candidate(pair: &Pair, vertex_body: usize, start: usize, face: usize) -> Cand
 /// body whose normal is most opposed to the witness face's normal, with the
 /// roles of the bodies swapped. A local search from the witness face alone
 /// can stop in a poor local minimum (a face far from the contact); starting
-/// also from the other side makes that rarer (measured on the stabilizer's
-/// demo scenes: one of three 1,000-body seeds stalled with one start, none
-/// with both).
+/// also from the other side makes that rarer (measured on the demo scenes
+/// of 1,000 bodies: `CHANGELOG.md`, 2026-11-22, "face refinement").
 fn opposed_candidate(pair: &Pair, vertex_body: usize, witness_face: usize) -> Candidate {
     let face_body = 1 - vertex_body;
     let witness_normal = pair.face_plane_in_other(face_body, witness_face).normal;

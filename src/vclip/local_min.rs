@@ -5,7 +5,7 @@
 //! minimum of the signed distance. Test `V` against every face plane of
 //! `F`'s body: if `V` is on or below all of them, it is inside (or on the
 //! surface): penetration, witnessed by the face whose plane `V` is least
-//! below (DESIGN.md section 4). Otherwise `F ->` the face with the largest
+//! below (docs/design.md section 4). Otherwise `F ->` the face with the largest
 //! signed distance of `V`, which is positive, so the walk cannot come back
 //! to the same minimum. O(faces).
 

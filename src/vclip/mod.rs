@@ -1,6 +1,6 @@
 //! V-Clip (B. Mirtich, "V-Clip: Fast and Robust Polyhedral Collision
 //! Detection", ACM TOG 17(3), 1998) with the deepest-vertex search of
-//! DESIGN.md section 4.
+//! docs/design.md section 4.
 //!
 //! The walk keeps a pair of features (vertex, edge or face), one per body,
 //! and moves one of them to a neighbour until the closest points of the two

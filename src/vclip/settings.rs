@@ -53,7 +53,7 @@ pub struct VClipSettings {
     pub touch_tolerance: f64,
     /// After the deepest-vertex walk, search the neighbouring faces for a
     /// less deep vertex–face pair (see the `deepest` module). `false` gives
-    /// exactly the witness face of DESIGN.md section 4.
+    /// exactly the witness face of docs/design.md section 4.
     pub refine_face: bool,
 }
 

@@ -66,7 +66,7 @@ impl FeaturePair {
     }
 }
 
-/// The deepest vertex–face pair of a penetration (DESIGN.md section 4).
+/// The deepest vertex–face pair of a penetration (docs/design.md section 4).
 ///
 /// `face` belongs to the other body than `vertex_body`. With `P` the face
 /// plane, `depth = -D_P(vertex) >= 0`, and the vertex minimizes `D_P` over

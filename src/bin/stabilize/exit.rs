@@ -1,4 +1,4 @@
-//! Exit codes of DESIGN.md section 8 and the messages that go with them.
+//! Exit codes of docs/design.md section 8 and the messages that go with them.
 
 use std::fmt::Display;
 use std::process::ExitCode;

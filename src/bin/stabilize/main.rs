@@ -1,4 +1,4 @@
-//! The `stabilize` command-line tool (feature `cli`), DESIGN.md section 8.
+//! The `stabilize` command-line tool (feature `cli`), docs/design.md section 8.
 //!
 //! One module per subcommand. Exit codes: 0 success; 1 the problem was
 //! read but not solved; 2 bad input or usage (clap's own usage errors exit

@@ -1,4 +1,4 @@
-//! `stabilize scene IN.json -o OUT.json`: correct a scene file (DESIGN.md
+//! `stabilize scene IN.json -o OUT.json`: correct a scene file (docs/design.md
 //! section 6). The output is the input scene (same bodies, order, names and
 //! shapes) with corrected poses and a `report` object; fed back in, it is a
 //! no-op. Exit 0 when no penetration deeper than the tolerance remains, 1

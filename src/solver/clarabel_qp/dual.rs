@@ -43,9 +43,10 @@ pub struct DualSolution {
 /// Largest natural map, relative to the data
 /// ([`natural_map_relative`]), of a solution [`solve_lcp`] returns.
 /// The projection path checks its answers itself (`solver::residuals`);
-/// a general LCP had no check, and clarabel returned `z = 0` with `w_6 =
-/// -3.9e3` on a 26-row problem as a solution (fuzz input
-/// `tests/data/fuzz/lcp_solvers/crash-clarabel-dual`).
+/// a general LCP needs this check, since clarabel can report as solved a
+/// point that is not a solution (the kept fuzz input
+/// `tests/data/fuzz/lcp_solvers/crash-clarabel-dual`;
+/// `benchmarks/results/fuzzing.md`).
 pub const TOL_NATURAL_MAP_RELATIVE: f64 = 1e-6;
 
 /// Solves a symmetric positive semidefinite LCP with clarabel. Fails with

@@ -18,10 +18,11 @@
 //! `1/2` (the cost of the most violated row alone). clarabel stops on an
 //! absolute or a relative duality gap ([`ClarabelSettings::tol_gap`]); with
 //! the optimum of order one both are relative to the correction. (Scaling by
-//! `max_i |b_i| / g_i` instead lets a separated near contact, `b_i` up to
-//! the contact margin, set the scale: on resting piles, where penetrations
-//! are 1e-4 of the margin, the objective became 1e-4 and clarabel's
-//! absolute gap of 1e-8 left a relative gap of 2e-4 in `dq^T M dq`.)
+//! `max_i |b_i| / g_i` instead would let a separated near contact, `b_i`
+//! up to the contact margin, set the scale: on resting piles, where
+//! penetrations are 1e-4 of the margin, the objective is then 1e-4 and
+//! clarabel's absolute gap of 1e-8 leaves a relative gap of 2e-4 in
+//! `dq^T M dq`.)
 //! The KKT condition
 //! `y^ = G^^T z^` maps back to `M dq = J^T lambda` with
 //!

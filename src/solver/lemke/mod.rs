@@ -6,11 +6,11 @@
 //! - the lexicographic ratio test of [`ratio`] (no cycling on degenerate
 //!   problems),
 //! - `n (n + 2)` multiply-adds per pivot on the condensed tableau
-//!   ([`tableau`]) and an LU re-solve in the final basis. Refactorizing
-//!   every pivot instead (`refactor_every = 1`, `O(n^3)` each) reaches the
-//!   same residuals (3e-14 at 100 rows) 90 to 130 times slower
-//!   (`benchmarks/solvers.rs`); the condensed form halved the time of the
-//!   full `B^-1 [I | -M | -d | q]` tableau (1000 rows: 2.7 s to 0.8 s),
+//!   ([`tableau`]), half of the full `B^-1 [I | -M | -d | q]` tableau's,
+//!   and an LU re-solve in the final basis. Refactorizing every pivot
+//!   instead (`refactor_every = 1`, `O(n^3)` each) reaches the same
+//!   residuals about a hundred times slower at 100 rows (measured by
+//!   `benchmarks/solvers.rs`: `benchmarks/results/solvers.md`),
 //! - a pivot limit, and ray termination as an outcome,
 //! - a regularized retry: when the plain run fails, `M~ + eps I` for each
 //!   `eps` of a growing ladder. Whatever run produced it, a `z` is returned
@@ -63,8 +63,9 @@ pub struct LemkeSettings {
     /// times `max(||q||_inf, ||M||_inf ||z||_inf)` on the caller's
     /// (unscaled) problem. The scaled test alone is relative to the largest
     /// scaled row: a row whose scale is small against the others can hide
-    /// a violation as large as `q` (found by fuzzing: `z = 0` accepted with
-    /// `w_2 = -1e20`, `tests/data/fuzz/lcp_solvers/crash-lemke-huge-q`).
+    /// a violation as large as `q` (the kept fuzz input
+    /// `tests/data/fuzz/lcp_solvers/crash-lemke-huge-q`;
+    /// `benchmarks/results/fuzzing.md`).
     pub tol_residual_unscaled: f64,
 }
 

@@ -15,7 +15,7 @@
 //! ```
 //!
 //! `K` is the point's effective inverse mass along `n` (the diagonal entry
-//! of `J M^-1 J^T` of its row, DESIGN.md section 3): to first order the
+//! of `J M^-1 J^T` of its row, docs/design.md section 3): to first order the
 //! push raises `s` by `lambda K = -C`, so a point below `-slop` gets the
 //! fraction `beta` of its error removed, at most `max_correction`. A fixed
 //! body has infinite mass (no term in `K`, no motion). Box2D's inertia is a
