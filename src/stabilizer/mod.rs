@@ -123,6 +123,7 @@ impl Stabilizer {
     /// Makes the next calls use `lengths` as they are, instead of resolving
     /// the settings' (`None` goes back to them): for a caller, like the
     /// Rapier bridge, that derives each call's lengths itself.
+    #[cfg(feature = "rapier")]
     pub(crate) fn set_call_lengths(&mut self, lengths: Option<ResolvedLengths>) {
         self.call_lengths = lengths;
     }
