@@ -3,7 +3,7 @@
 //! contact under the centre of mass, the cap, the slop, convergence on a
 //! stack and a pile, bystanders untouched, never worse than the input,
 //! typed errors. Depths are judged by the brute-force separating-axis
-//! oracle of `stabilize_support` (`sat_depth`, `sat_deepest`), not by the
+//! oracle of `dev_support::sat` (`sat_depth`, `sat_deepest`), not by the
 //! library's report alone.
 
 use constraint_stabilization::body::{BodyDesc, MassSpec};

@@ -12,6 +12,7 @@ use crate::support::proptest_config;
 use constraint_stabilization::contact::{self, BodyGeometry, PairQuery, PenetrationFeatures};
 use constraint_stabilization::geometry::{ConvexPolyhedron, isometry_to_parry};
 use constraint_stabilization::vclip::{VClip, VClipSettings};
+use dev_support::random::random_rotation;
 use dev_support::sat::sat_axis;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};
@@ -52,15 +53,6 @@ fn query(
 ) -> PairQuery {
     let vclip = VClip::new(VClipSettings::default());
     contact::query(&vclip, &geometry(a, *pose_a), &geometry(b, *pose_b), None).expect("valid query")
-}
-
-fn random_rotation(rng: &mut ChaCha8Rng) -> UnitQuaternion<f64> {
-    let axis = Vector3::new(
-        rng.random_range(-1.0..1.0),
-        rng.random_range(-1.0..1.0),
-        rng.random_range(-1.0..1.0),
-    );
-    UnitQuaternion::from_scaled_axis(axis * std::f64::consts::PI)
 }
 
 /// A hull of `count` random points in a ball, stretched by `stretch`.

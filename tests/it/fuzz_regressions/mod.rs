@@ -1,6 +1,7 @@
 //! The inputs kept from fuzzing (`tests/data/fuzz/TARGET/`, one file per
 //! input: those that found a bug, and a few seeds), run through the same
-//! checks as the fuzz targets (`tests/fuzz_checks/`), so that a bug the
+//! checks as the fuzz targets ([`fuzz_checks`], included by the targets
+//! of `fuzz/` from `tests/it/fuzz_regressions/fuzz_checks/`), so that a bug the
 //! fuzzer found once stays fixed without the fuzzer. See README.md,
 //! "Reliability", for the fuzzing runs.
 

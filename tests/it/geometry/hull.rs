@@ -144,7 +144,7 @@ fn check_support(
 /// (0.397,0,0)`. Nor are parry's principal inertias (its eigenvalues)
 /// compared: they are off by up to a few `1e-9` relative, e.g.
 /// `0.2693333325762533` for the rotated slab `[-1, 1]² × [-0.1, 0.1]`
-/// (saved in `geometry_hull.proptest-regressions`) whose closed form is
+/// (saved in `hull.proptest-regressions`) whose closed form is
 /// `m (1 + 0.1²) / 3 = 0.26933333333333334` (`m = 0.8`); ours was
 /// `0.2693333333333338`. By Weyl's inequality the full tensors agreeing
 /// within a tolerance bounds the difference of the sorted eigenvalues by

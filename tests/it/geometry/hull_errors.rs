@@ -131,7 +131,7 @@ fn slab(t: f64) -> Vec<Point3<f64>> {
 /// relative thickness `t >= 1e-8`, enters.
 const SLAB_MASS_TOLERANCE: f64 = 1e-6;
 
-/// Regression (`tests/geometry_hull.proptest-regressions`): the slab
+/// Regression (`tests/it/geometry/hull.proptest-regressions`): the slab
 /// `[-1, 1]² × [-t, t]` with `t = 7.28e-7` and its centre came back as a
 /// tetrahedron. Its sides, `2t = 1.46e-6` wide, were below the old
 /// thin-face tolerance `1e-6 max(L, M) = 2.83e-6`, so each lost two

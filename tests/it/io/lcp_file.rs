@@ -1,5 +1,5 @@
 //! The LCP file reader on malformed input (the well-formed files are read
-//! by `lcp_siconos`).
+//! by `solver::lcp_siconos`).
 
 use constraint_stabilization::io::{LcpFileError, parse_lcp};
 use constraint_stabilization::solver::SolverError;

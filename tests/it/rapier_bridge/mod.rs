@@ -2,7 +2,7 @@
 //! collider offset, hull points off their origin), the correction written
 //! back by the depth with velocities untouched, skipped colliders counted,
 //! kinematic and fixed bodies never moved, the scene kept across calls.
-//! The modules under `tests/rapier_bridge/`: bodies added and removed
+//! The submodules (`compound`, `coupling`, `kept_scene`, `round_off`): bodies added and removed
 //! between steps, the coupling modes, the f32 round-off of the write-back.
 
 mod compound;

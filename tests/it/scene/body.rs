@@ -52,7 +52,9 @@ fn random_hull() -> impl Strategy<Value = Vec<Point3<f64>>> {
         })
 }
 
-fn random_rotation() -> impl Strategy<Value = [f64; 4]> {
+/// Unit quaternions `[x, y, z, w]` as a proptest strategy (shrinkable;
+/// `dev_support::random::random_rotation` draws from a seeded RNG instead).
+fn rotation_strategy() -> impl Strategy<Value = [f64; 4]> {
     (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64, 0.1..1.0f64).prop_map(|(x, y, z, w)| {
         let n = (x * x + y * y + z * z + w * w).sqrt();
         [x / n, y / n, z / n, w / n]
@@ -104,7 +106,7 @@ proptest! {
     #[test]
     fn com_pose_and_inertia_match_parry(
         points in random_hull(),
-        rotation in random_rotation(),
+        rotation in rotation_strategy(),
         translation in (-5.0..5.0f64, -5.0..5.0f64, -5.0..5.0f64),
         density in 0.1..10.0f64,
     ) {
@@ -142,8 +144,8 @@ proptest! {
 
     #[test]
     fn moved_com_pose_gives_consistent_user_pose(
-        rotation in random_rotation(),
-        new_rotation in random_rotation(),
+        rotation in rotation_strategy(),
+        new_rotation in rotation_strategy(),
         dx in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64),
     ) {
         let mut body = Body::new(desc(tetra_offset(), [1.0, -2.0, 0.5], rotation, MassSpec::Mass(1.0))).unwrap();

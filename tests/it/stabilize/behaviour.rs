@@ -5,7 +5,7 @@
 //! agrees), what the contact manifold changes, and invalid settings.
 //!
 //! Residuals are measured by parry3d-f64 `query::contact` (see
-//! `stabilize_support`). `cargo test --test stabilize_behaviour --
+//! `stabilize::support`). `cargo test --test it stabilize::behaviour:: --
 //! --nocapture` prints the figures.
 
 use crate::stabilize::support::{

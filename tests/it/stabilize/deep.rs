@@ -4,10 +4,10 @@
 //! edge to edge with no vertex inside either. Each must converge (exact
 //! depth by brute-force separating axes within the tolerance) and, where
 //! the minimal correction is known in closed form, make it. Boxes at one
-//! pose and a box inside a box are in `stabilize_scenes`; here are the
+//! pose and a box inside a box are in `scenes`; here are the
 //! cases it does not cover.
 //!
-//! `cargo test --test stabilize_deep -- --nocapture` prints each run.
+//! `cargo test --test it stabilize::deep:: -- --nocapture` prints each run.
 
 use crate::stabilize::extreme::{assert_converged, assert_translated, run, target_margin};
 use constraint_stabilization::Settings;

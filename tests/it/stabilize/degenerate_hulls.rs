@@ -6,7 +6,7 @@
 //! duplicate points, below and above the hull's merge tolerance). Each
 //! must converge, judged by the brute-force separating-axis depth.
 //!
-//! `cargo test --test stabilize_degenerate_hulls -- --nocapture` prints
+//! `cargo test --test it stabilize::degenerate_hulls:: -- --nocapture` prints
 //! each run.
 
 use crate::stabilize::extreme::{assert_converged, run};

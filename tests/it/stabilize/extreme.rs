@@ -1,5 +1,5 @@
 //! Shared checks of the stiff, extreme and infeasible scene tests
-//! (`stabilize_stiff`, `stabilize_deep`, `stabilize_infeasible`): run one
+//! (`stiff`, `deep`, `infeasible`): run one
 //! call and judge it by the brute-force separating-axis oracle
 //! (`dev_support::sat::sat_deepest`), which the library did not write.
 //!
@@ -24,7 +24,7 @@ use nalgebra::Vector3;
 pub const DEPTH_AGREEMENT: f64 = 1e-9;
 
 /// A body's motion agrees with its closed form to this fraction of that
-/// motion (as in `stabilize_scenes`).
+/// motion (as in `scenes`).
 pub const RELATIVE_MOTION: f64 = 0.01;
 
 /// One call and what the oracle says of it.

@@ -9,7 +9,7 @@
 //! limit bounds the passes (`max_passes` is lowered to keep the test
 //! short; the property does not depend on it).
 //!
-//! `cargo test --test stabilize_infeasible -- --nocapture` prints each run.
+//! `cargo test --test it stabilize::infeasible:: -- --nocapture` prints each run.
 
 use crate::stabilize::extreme::{Run, run};
 use constraint_stabilization::Settings;

@@ -21,7 +21,7 @@
 //!   rod at one end): one row, `dq = M^-1 J^T lambda` with `lambda =
 //!   (target - phi) / (J M^-1 J^T)`, the inertia in closed form; the
 //!   stabilizer's answer agrees to first order, within a tolerance derived
-//!   from the second-order remainder (`stabilize_support`), and the exact
+//!   from the second-order remainder (`one_row`), and the exact
 //!   depth after the call (separating axes) is within the tolerance.
 
 use crate::stabilize::one_row::{

@@ -1,5 +1,5 @@
 //! Properties of one call on random scenes (proptest, fixed seed; see
-//! `proptest_support`): 2 to 9 boxes and hulls of sizes over a decade and
+//! `support::proptest_config`): 2 to 9 boxes and hulls of sizes over a decade and
 //! masses over four decades, overlapping by up to half their size, some on
 //! a fixed ground, with a resting bystander pair away from them. After the
 //! call, judged by the brute-force separating-axis oracle:

@@ -3,7 +3,7 @@
 //! and 1e4 must take the same passes and end at the poses of scale 1
 //! multiplied by the scale; offset by 1e5 from the origin it must take the
 //! same passes and end at the same poses plus the offset, to the rounding
-//! of the offset. Scales 1e-3 and 1e3 are in `stabilize_scenes`.
+//! of the offset. Scales 1e-3 and 1e3 are in `scenes`.
 //!
 //! `where_f64_runs_out` stabilizes the scene at larger offsets and more
 //! extreme scales and prints what happens (`-- --nocapture`); it asserts

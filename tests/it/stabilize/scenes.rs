@@ -7,7 +7,7 @@
 //! contact margin: it forms an island of its own that does not penetrate, so
 //! the stabilizer must not touch it (bit-identical poses).
 //!
-//! Run with `cargo test --test stabilize_scenes -- --nocapture` to see the
+//! Run with `cargo test --test it stabilize::scenes:: -- --nocapture` to see the
 //! measured figures (status, passes, depth before/after, residual by parry and SAT).
 
 use crate::stabilize::one_row::{
@@ -19,6 +19,7 @@ use constraint_stabilization::body::{Body, BodyDesc, MassSpec};
 use constraint_stabilization::geometry::isometry_to_parry;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::{Report, Settings, Status};
+use dev_support::random::random_rotation;
 use dev_support::sat::sat_depth;
 use dev_support::scene::{
     IDENTITY_XYZW, assert_untouched, bystander_pair, cuboid, ground, hull, pose_bits, scaled,
@@ -227,12 +228,6 @@ fn random_hull_points(rng: &mut ChaCha8Rng, size: f64) -> Vec<Point3<f64>> {
     points
 }
 
-fn random_rotation(rng: &mut ChaCha8Rng) -> [f64; 4] {
-    let axis_angle =
-        Vector3::from_fn(|_, _| rng.random_range(-std::f64::consts::PI..std::f64::consts::PI));
-    xyzw(&UnitQuaternion::from_scaled_axis(axis_angle))
-}
-
 /// `count` random convex hulls, dynamic, no ground, placed by rejection
 /// sampling in a cube so that every pair overlaps by at most `max_overlap`
 /// of the smaller body's circumradius (parry's depth).
@@ -244,7 +239,7 @@ fn random_hulls(count: usize, max_overlap: f64, seed: u64) -> TestScene {
     while descs.len() < count {
         let size = rng.random_range(0.3..0.6);
         let points = random_hull_points(&mut rng, size);
-        let rotation = random_rotation(&mut rng);
+        let rotation = xyzw(&random_rotation(&mut rng));
         loop {
             let translation = [(); 3].map(|_| rng.random_range(0.0..side));
             let desc = hull(

@@ -5,9 +5,9 @@
 //! on fixed ground every box must rise by the overlaps below it, whatever
 //! the masses (pure lifts are feasible and any other motion costs more),
 //! without sliding or turning. Mass ratio 1e4 in a stack is in
-//! `stabilize_scenes`; it is not repeated here.
+//! `scenes`; it is not repeated here.
 //!
-//! `cargo test --test stabilize_stiff -- --nocapture` prints each run.
+//! `cargo test --test it stabilize::stiff:: -- --nocapture` prints each run.
 
 use crate::stabilize::extreme::{assert_converged, assert_translated, run, stack, target_margin};
 use constraint_stabilization::Settings;
@@ -18,7 +18,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 /// Overlap of each box with the one below, a fraction of a unit box.
 const OVERLAP: f64 = 0.01;
 
-/// The mass ratios of the issue (1e4 is in `stabilize_scenes`).
+/// The mass ratios of the issue (1e4 is in `scenes`).
 const RATIOS: [f64; 3] = [1e2, 1e6, 1e8];
 
 /// Passes a stack may take: one solve, at most one refinement.

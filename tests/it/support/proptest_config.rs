@@ -1,7 +1,7 @@
 //! The one proptest configuration of the test suite: a fixed RNG seed, so
 //! that every run draws the same cases and a failure seen once is seen
 //! again, and failures persisted next to the test file
-//! (`tests/NAME.proptest-regressions`, committed), so that a failing case
+//! (`tests/it/AREA/FILE.proptest-regressions`, committed), so that a failing case
 //! is replayed first on every later run.
 //!
 //! To explore other cases, set `PROPTEST_RNG_SEED` (proptest reads it; it

@@ -1,7 +1,7 @@
 //! V-Clip with the exact-depth search (`contact::query`) on two hulls
 //! decoded from the bytes (4 to 19 points each, coordinates on a grid of
 //! 1e-3 of the size, sizes 1e-3 to 1e3) at decoded poses, checked against
-//! the brute-force separating-axis depth of `tests/sat_support`: a
+//! the brute-force separating-axis depth of `dev_support::sat`: a
 //! penetrating answer's depth equals it (to `AGREEMENT` of the size), and a
 //! separated answer has no axis-wise overlap beyond that, with a distance
 //! at least the widest separating gap.
