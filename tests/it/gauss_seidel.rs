@@ -207,6 +207,7 @@ fn stack_of_boxes_converges_below_the_tolerance() {
 const STACK_SWEEPS: usize = 300;
 
 /// Sweeps allowed for the pile: it converged in 644 when this was written.
+#[cfg(feature = "demo")]
 const PILE_SWEEPS: usize = 1000;
 
 #[cfg(feature = "demo")]

@@ -8,9 +8,9 @@
 //! `stabilize::support`). `cargo test --test it stabilize::behaviour:: --
 //! --nocapture` prints the figures.
 
-use crate::stabilize::support::{
-    describe, penetration_residual, pose_hash, solved_bodies, stabilize_default, stabilize_with,
-};
+// Globs, as before the move: some helpers serve only the tests of feature
+// `demo`.
+use crate::stabilize::support::*;
 use constraint_stabilization::body::{BodyDesc, MassSpec};
 #[cfg(feature = "demo")]
 use constraint_stabilization::demo::demo_scene;
@@ -19,10 +19,7 @@ use constraint_stabilization::solver::{CrossCheckOutcome, SolverChoice, SolverKi
 use constraint_stabilization::stabilizer::IslandOutcome;
 use constraint_stabilization::{Error, Settings, Stabilizer, Status};
 use dev_support::sat::sat_depth;
-use dev_support::scene::{
-    IDENTITY_XYZW, PoseBits, assert_untouched, bystander_pair, cuboid, ground, hull, pose_bits,
-    scene_of, unit_cube_sunk, xyzw,
-};
+use dev_support::scene::*;
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 
 /// Seed of the demo scenes used here.
