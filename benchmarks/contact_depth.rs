@@ -54,8 +54,6 @@
 
 #[path = "common/mod.rs"]
 mod common;
-#[path = "../tests/vclip_support/mod.rs"]
-mod vclip_support;
 
 use std::hint::black_box;
 use std::sync::Arc;
@@ -66,14 +64,14 @@ use constraint_stabilization::contact::{self, BodyGeometry, PenetrationFeatures}
 use constraint_stabilization::geometry::{ConvexPolyhedron, isometry_to_parry};
 use constraint_stabilization::io::scene_file::read_scene;
 use constraint_stabilization::vclip::{DeepestVertex, FeaturePair, Outcome, VClip};
+use dev_support::sat::separating_axis_depth;
+use dev_support::vclip::experiments::{CoherenceRun, mirtich_shapes};
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
 use parry3d_f64::math::Pose;
 use parry3d_f64::query;
 use parry3d_f64::shape::ConvexPolyhedron as ParryPolyhedron;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use vclip_support::experiments::{CoherenceRun, mirtich_shapes};
-use vclip_support::separating_axis_depth;
 
 /// Poses per coherence path (as in `benchmarks/vclip.rs`).
 const PATH_LENGTH: usize = 1000;

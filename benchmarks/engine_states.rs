@@ -25,7 +25,7 @@
 //! run): passes and status; deepest penetration before (reported) and
 //! after, both as reported (the exact separating-axis depth) and by the
 //! brute force over every face normal and edge-edge cross product
-//! (`tests/stabilize_support::sat_deepest`); the largest motion of one
+//! (`dev_support::sat::sat_deepest`); the largest motion of one
 //! body (translation of its centre of mass, rotation angle), and the
 //! largest ratio of a body's translation to twice the summed depth of the
 //! penetrating pairs (before the call) of its island (the goal of issue 9
@@ -41,8 +41,6 @@
 //! `-- --only STEM`: the states whose file stem contains STEM).
 
 mod common;
-#[path = "../tests/stabilize_support/mod.rs"]
-mod stabilize_support;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -289,7 +287,7 @@ fn judge(before: &Scene, report: Result<Report, String>, after: &Scene) -> Answe
         .map_or_else(|_| vec![0.0; before.len()], |r| island_depths(before, r));
     let mut answer = Answer {
         report,
-        brute_after: stabilize_support::sat_deepest(after).0,
+        brute_after: dev_support::sat::sat_deepest(after).0,
         max_translation: 0.0,
         max_rotation: 0.0,
         worst_motion_ratio: 0.0,

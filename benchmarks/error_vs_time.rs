@@ -7,7 +7,7 @@
 //! the run's wall time (median of the repeats, every configuration of a
 //! scene interleaved per repeat, the round starting at another configuration
 //! each repeat), the exact deepest remaining penetration
-//! (brute-force separating axes, `common::sat`, not the library's own
+//! (brute-force separating axes, `dev_support::sat`, not the library's own
 //! measure), the mass-weighted displacement and the largest motion of a
 //! body ([`motion`]), the passes, sweeps or steps done, and whether
 //! velocities were changed. [`summary`] turns them into the goals' figures;
@@ -42,10 +42,10 @@ mod settle;
 #[path = "error_vs_time/summary.rs"]
 mod summary;
 
-use common::sat::exact_depth;
 use common::{Provenance, bench_command};
 use constraint_stabilization::solver::{SolverChoice, SolverSettings};
 use constraint_stabilization::stabilizer::scene_scale;
+use dev_support::sat::exact_depth;
 use families::Case;
 use indicatif::{ProgressBar, ProgressStyle};
 use methods::{Config, Kind, RunPoint};

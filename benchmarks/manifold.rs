@@ -15,7 +15,7 @@
 //! displacement, largest rotation of any body (degrees), and for the
 //! resting box its final tilt. The verdict (resolved or not) is the exact
 //! depth of the stabilized scene by brute-force separating axes
-//! (`common::sat`) against the tolerance, not the library's status, which
+//! (`dev_support::sat`) against the tolerance, not the library's status, which
 //! is shown beside it. The table goes to `benchmarks/results/manifold.md`
 //! with the command, the date, the commit and the load average; time
 //! ratios are manifold / deepest.
@@ -28,11 +28,11 @@ mod common;
 
 use std::fmt::Write as _;
 
-use common::sat::{ExactDepth, exact_depth};
 use common::{Provenance, bench_command};
 use constraint_stabilization::demo::demo_scene;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::{Report, Settings};
+use dev_support::sat::{ExactDepth, exact_depth};
 
 /// A named scene and how often to run it per setting.
 struct Case {

@@ -1,5 +1,5 @@
 //! Solver comparison on contact-like projection QPs (random stacks of boxes
-//! with redundant corner contacts, see `tests/solver_support`): time and
+//! with redundant corner contacts, see `dev_support::solver`): time and
 //! residual for each solver, side by side, at 1, 10, 100, 500 and 1000
 //! constraints. Writes `benchmarks/results/solvers.md` (with the command,
 //! the date, the commit, the load average and the seeds) and
@@ -21,8 +21,6 @@
 //! included in their times.
 
 mod common;
-#[path = "../tests/solver_support/mod.rs"]
-mod solver_support;
 
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -36,7 +34,7 @@ use constraint_stabilization::solver::pgs::{self, PgsSettings, PgsStatus};
 use constraint_stabilization::solver::projection_lcp::{dq_from_lambda, projection_to_lcp};
 use constraint_stabilization::solver::residuals::projection_residuals;
 use constraint_stabilization::solver::{Lcp, ProjectionQp};
-use solver_support::{StackSpec, random_stacks};
+use dev_support::solver::{StackSpec, random_stacks};
 
 const SIZES: [usize; 5] = [1, 10, 100, 500, 1000];
 const SEEDS: u64 = 3;
@@ -313,7 +311,7 @@ fn main() {
     let md = format!(
         "# Solvers on contact-like projection QPs\n\n{}\n\
          Problems: `random_stacks(&StackSpec::new(n, seed))` \
-         (`tests/solver_support`, random box stacks with redundant corner \
+         (`dev_support::solver`, random box stacks with redundant corner \
          rows), seeds {SEED_BASE} to {} for each n. For each (n, seed) every \
          solver runs once to warm up, then the solvers run in alternation, one \
          run each per round, at least {MIN_ROUNDS} rounds and until the rounds \

@@ -18,7 +18,7 @@
 //! threads, so their shares can add up to more than 100 % and "other" can
 //! be negative. The verdict of each row ("resolved" or not) is the exact
 //! depth of the stabilized scene, measured by brute-force separating axes
-//! (`common::sat`), not the library's report.
+//! (`dev_support::sat`), not the library's report.
 //!
 //! Run: `cargo bench --bench stabilize` (add `-- --quick` for a short
 //! criterion run). `STABILIZE_SKIP_CRITERION=1` writes the stage table only
@@ -32,12 +32,12 @@ mod common;
 use std::fmt::Write as _;
 use std::hint::black_box;
 
-use common::sat::{ExactDepth, exact_depth};
 use common::{Provenance, bench_command};
 use constraint_stabilization::demo::demo_scene;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::{Report, Settings, Stabilizer};
 use criterion::{BatchSize, BenchmarkId, Criterion};
+use dev_support::sat::{ExactDepth, exact_depth};
 
 /// Body counts benchmarked.
 const SIZES: [usize; 3] = [10, 100, 1000];

@@ -28,8 +28,6 @@
 //! (and leaves its result file as it is).
 
 mod common;
-#[path = "../tests/vclip_support/mod.rs"]
-mod vclip_support;
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -38,12 +36,12 @@ use common::{Provenance, bench_command, results_dir};
 use constraint_stabilization::geometry::ConvexPolyhedron;
 use constraint_stabilization::vclip::{FeaturePair, VClip, vclip};
 use criterion::Criterion;
+use dev_support::vclip::experiments::{CoherenceRun, degeneracy_experiment, mirtich_shapes};
+use dev_support::vclip::{parry_distance, parry_pose, parry_shape, separated_distance};
 use nalgebra::Isometry3;
 use parry3d_f64::query;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use vclip_support::experiments::{CoherenceRun, degeneracy_experiment, mirtich_shapes};
-use vclip_support::{parry_distance, parry_pose, parry_shape, separated_distance};
 
 /// Queries per coherence path (Mirtich: 1000 per run).
 const PATH_LENGTH: usize = 1000;
@@ -256,7 +254,7 @@ fn degeneracy() {
     let md = format!(
         "# V-Clip degeneracy test (Mirtich 1998, Algorithm 10)\n\n{}\n\
          Two cubes (half extent 1) with nearly parallel faces and edges \
-         (`tests/vclip_support/experiments.rs`, `degeneracy_experiment`): \
+         (`dev-support/src/vclip/experiments.rs`, `degeneracy_experiment`): \
          each trial queries a touching and a separated pose of the second \
          cube and, when their closest features differ, binary-searches \
          ({DEGENERACY_DEPTH} halvings) for where they change; every query is \

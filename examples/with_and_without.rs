@@ -25,7 +25,7 @@
 //!
 //! Per step: the exact deepest penetration of the Rapier world after the
 //! step (and the call), by brute-force separating axes over every pair of
-//! colliders with a dynamic body (`tests/sat_support`, on the f32 poses as
+//! colliders with a dynamic body (`dev_support::sat`, on the f32 poses as
 //! Rapier holds them); Rapier's step time and the call's time; the height
 //! of the tracked top body (stacks, pyramid); the largest horizontal drift
 //! of a tracked body from its first pose; failed calls; the steps whose
@@ -37,8 +37,6 @@
 
 #[path = "common/rapier_scenes.rs"]
 mod scenes;
-#[path = "../tests/stabilize_support/mod.rs"]
-mod stabilize_support;
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -327,7 +325,7 @@ fn simulate(
             call_ms = t.elapsed().as_secs_f64() * 1e3;
         }
         measure.sync(&world.bodies, &world.colliders)?;
-        let depth = stabilize_support::sat_deepest(measure.scene()).0;
+        let depth = dev_support::sat::sat_deepest(measure.scene()).0;
         if step == scene.drift_from {
             start = tracked
                 .iter()

@@ -16,8 +16,6 @@
 
 #![allow(dead_code)]
 
-pub mod sat;
-
 use std::time::Instant;
 
 use constraint_stabilization::body::{BodyDesc, MassSpec, Shape};
@@ -56,9 +54,7 @@ pub fn ground() -> BodyDesc {
 }
 
 /// A unit quaternion as `[x, y, z, w]`.
-pub fn xyzw(q: &UnitQuaternion<f64>) -> [f64; 4] {
-    [q.i, q.j, q.k, q.w]
-}
+pub use dev_support::scene::xyzw;
 
 /// Ground plus a column of `height` boxes (see the module doc).
 pub fn box_stack(height: usize, seed: u64) -> Scene {

@@ -293,7 +293,7 @@ fn parameters() -> String {
          interleaved per repeat, each repeat's round starting at another configuration; \
          a configuration whose first run took more than {slow} s \
          is not repeated). Depths are exact: brute-force separating axes over every pair \
-         (`benchmarks/common/sat.rs`).\n\n\
+         (`dev_support::sat`).\n\n\
          - **Library** (`Stabilizer::stabilize`, fresh stabilizer, default settings but \
          for the solver, the pass limit and the tolerance; the target margin stays at \
          its default `1e-6 L`, so that a looser tolerance stops earlier): per solver (`auto`, `clarabel`, `lemke`, `pgs`), a \

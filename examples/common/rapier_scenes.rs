@@ -29,7 +29,14 @@ pub fn quantize(x: f32) -> f32 {
     (x / LENGTH_QUANTUM).round() * LENGTH_QUANTUM
 }
 
-pub fn random_rotation(rng: &mut ChaCha8Rng) -> Rotation {
+/// A random Rapier (f32) rotation: four components uniform in [-1, 1),
+/// normalized. Not `dev_support::random::random_rotation` (f64, uniform
+/// over rotations): its draws differ, and these scenes' recorded results
+/// (benchmarks/results, README) are reproduced from these draws. (This
+/// file stays beside the examples: it needs rapier3d, which the
+/// dev-support crate cannot depend on without building it in every
+/// `cargo test`.)
+fn random_rapier_rotation(rng: &mut ChaCha8Rng) -> Rotation {
     let q = Rotation::from_xyzw(
         rng.random_range(-1.0..1.0),
         rng.random_range(-1.0..1.0),
@@ -127,8 +134,10 @@ pub fn pile_world(count: usize, bin_half_width: f32, seed: u64) -> PhysicsWorld 
     ground_and_bin(&mut world, bin_half_width);
     for i in 0..count {
         let translation = drop_position(i, bin_half_width);
-        let body = RigidBodyBuilder::dynamic()
-            .pose(Pose::from_parts(translation, random_rotation(&mut rng)));
+        let body = RigidBodyBuilder::dynamic().pose(Pose::from_parts(
+            translation,
+            random_rapier_rotation(&mut rng),
+        ));
         world.insert(body, random_collider(&mut rng, i % 2 == 1));
     }
     world
@@ -168,10 +177,10 @@ pub fn compound_pile_world(count: usize, bin_half_width: f32, seed: u64) -> Phys
     ground_and_bin(&mut world, bin_half_width);
     for i in 0..count {
         let translation = drop_position(i, bin_half_width);
-        let body = world.insert_body(
-            RigidBodyBuilder::dynamic()
-                .pose(Pose::from_parts(translation, random_rotation(&mut rng))),
-        );
+        let body = world.insert_body(RigidBodyBuilder::dynamic().pose(Pose::from_parts(
+            translation,
+            random_rapier_rotation(&mut rng),
+        )));
         for collider in random_compound(&mut rng) {
             world.insert_collider(collider, Some(body));
         }
@@ -281,8 +290,10 @@ pub fn jumble_world(seed: u64) -> PhysicsWorld {
             rng.random_range(-0.02..0.02) + ((i / 2) % 2) as f32 * 0.3,
             0.3 + (i / 4) as f32 * 0.3,
         );
-        let body = RigidBodyBuilder::dynamic()
-            .pose(Pose::from_parts(translation, random_rotation(&mut rng)));
+        let body = RigidBodyBuilder::dynamic().pose(Pose::from_parts(
+            translation,
+            random_rapier_rotation(&mut rng),
+        ));
         world.insert(body, random_collider(&mut rng, i % 8 >= 5));
     }
     world

@@ -1,0 +1,13 @@
+//! Files and pictures: scene files (feature `serde`), LCP files, the SVG
+//! picture of a scene.
+
+mod lcp_file;
+mod render_svg;
+#[cfg(feature = "serde")]
+mod scene_file;
+#[cfg(feature = "serde")]
+mod scene_file_bad_input;
+#[cfg(feature = "serde")]
+mod scene_file_limits;
+#[cfg(feature = "serde")]
+mod scene_file_settings;

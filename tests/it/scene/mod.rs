@@ -1,0 +1,7 @@
+//! Scenes: bodies, the broad phase, islands, and the demo scene.
+
+mod body;
+mod broad_phase;
+#[cfg(feature = "demo")]
+mod demo;
+mod island;

@@ -1,0 +1,30 @@
+//! `Stabilizer::stabilize` end to end, and the projection loop on analytic
+//! constraints (`projector_analytic`). Helpers of this area only:
+//! [`support`] (the parry-and-SAT residual, runs, pose hashes),
+//! [`one_row`] (the one-row minimal correction in closed form),
+//! [`extreme`] (checks of the stiff, extreme and infeasible scenes).
+
+mod extreme;
+mod one_row;
+mod support;
+
+mod behaviour;
+mod budget_and_slop;
+mod compound;
+mod deep;
+mod degenerate_hulls;
+mod faults;
+mod friction;
+mod infeasible;
+mod minimal;
+mod projector_analytic;
+mod properties;
+mod scale_extremes;
+mod scenes;
+#[cfg(feature = "demo")]
+mod seed;
+mod stiff;
+mod touching;
+mod velocity;
+mod warm_cache;
+mod work;

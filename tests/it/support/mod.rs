@@ -1,0 +1,7 @@
+//! Helpers of several test areas (not needed by the benchmarks or the
+//! examples, whose shared helpers are in `dev_support`): the proptest
+//! configuration, the LCP and projection-QP oracles, the Siconos files.
+
+pub mod proptest_config;
+pub mod siconos;
+pub mod solver_oracle;
