@@ -10,7 +10,7 @@ median of the call's own total time (`report.times_s.total`) of each. The
 penetration left in each output is measured by the AFTER binary with a
 tolerance above every depth (the call then only measures): its depth is the
 exact separating-axis depth (checked against a brute force in
-tests/contact_manifold.rs), never the depth a build reports about itself.
+tests/it/contact/manifold.rs), never the depth a build reports about itself.
 """
 import glob, json, os, statistics, subprocess, sys, tempfile
 

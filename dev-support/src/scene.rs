@@ -1,5 +1,5 @@
-//! Scene builders and pose snapshots shared by the tests, the benchmarks
-//! and the examples: body descriptions (boxes, hulls, the ground slab),
+//! Scene builders and pose snapshots shared by the test areas (and
+//! `xyzw` by the benchmarks): body descriptions (boxes, hulls, the ground slab),
 //! scenes from descriptions, scaling, bit-exact pose snapshots, and a
 //! far-away bystander pair that a stabilization must leave untouched.
 
