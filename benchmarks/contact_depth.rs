@@ -59,11 +59,11 @@ use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Instant;
 
-use constraint_stabilization::broad_phase::candidate_pairs;
-use constraint_stabilization::contact::{self, BodyGeometry, PenetrationFeatures};
-use constraint_stabilization::geometry::{ConvexPolyhedron, isometry_to_parry};
+use constraint_stabilization::internals::broad_phase::candidate_pairs;
+use constraint_stabilization::internals::contact::{self, BodyGeometry, PenetrationFeatures};
+use constraint_stabilization::internals::geometry::{ConvexPolyhedron, isometry_to_parry};
+use constraint_stabilization::internals::vclip::{DeepestVertex, FeaturePair, Outcome, VClip};
 use constraint_stabilization::io::scene_file::read_scene;
-use constraint_stabilization::vclip::{DeepestVertex, FeaturePair, Outcome, VClip};
 use dev_support::sat::separating_axis_depth;
 use dev_support::vclip::experiments::{CoherenceRun, mirtich_shapes};
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};

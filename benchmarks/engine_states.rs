@@ -46,9 +46,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use constraint_stabilization::broad_phase::candidate_pairs;
+use constraint_stabilization::internals::broad_phase::candidate_pairs;
+use constraint_stabilization::internals::contact::islands;
 use constraint_stabilization::io::scene_file::read_scene;
-use constraint_stabilization::island::islands;
 use constraint_stabilization::rapier_bridge::{GRAVITY_Z_UP, world_from_scene};
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::stabilizer::StageTimes;
@@ -184,9 +184,10 @@ fn rayon_threads() -> usize {
 /// The settings of the side-by-side call: every pass solves whole islands
 /// (the behaviour before regions).
 fn whole_islands() -> Settings {
-    Settings {
-        solve_whole_islands: true,
-        ..Settings::default()
+    {
+        let mut settings = Settings::default();
+        settings.solve_whole_islands = true;
+        settings
     }
 }
 

@@ -29,8 +29,8 @@ mod common;
 use std::fmt::Write as _;
 
 use common::{Provenance, bench_command};
-use constraint_stabilization::demo::demo_scene;
 use constraint_stabilization::scene::Scene;
+use constraint_stabilization::testbed::demo::demo_scene;
 use constraint_stabilization::{Report, Settings};
 use dev_support::sat::{ExactDepth, exact_depth};
 
@@ -166,9 +166,10 @@ fn main() {
 
 /// Runs both settings, interleaved, `case.runs` times each.
 fn measure(case: &Case) -> [Outcome; 2] {
-    let settings = [false, true].map(|manifold| Settings {
-        contact_manifold: manifold,
-        ..Settings::default()
+    let settings = [false, true].map(|manifold| {
+        let mut settings = Settings::default();
+        settings.contact_manifold = manifold;
+        settings
     });
     let mut times: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
     let mut last: [Option<(Report, Scene)>; 2] = [None, None];

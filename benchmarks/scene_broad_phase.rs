@@ -1,9 +1,9 @@
 //! Timings of the scene pipeline's front end on demo scenes: building the
 //! scene (hulls included), the broad phase, and islands over its pairs.
 
-use constraint_stabilization::broad_phase::candidate_pairs;
-use constraint_stabilization::demo::demo_scene;
-use constraint_stabilization::island::islands;
+use constraint_stabilization::internals::broad_phase::candidate_pairs;
+use constraint_stabilization::internals::contact::islands;
+use constraint_stabilization::testbed::demo::demo_scene;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 

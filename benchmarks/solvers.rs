@@ -26,14 +26,14 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use common::{Provenance, bench_command, results_dir};
+use constraint_stabilization::solver::BlockMetric;
+use constraint_stabilization::solver::Candidate;
 use constraint_stabilization::solver::clarabel_qp::{ClarabelSettings, dual, primal};
 use constraint_stabilization::solver::lemke::{self, LemkeSettings};
-use constraint_stabilization::solver::metric::BlockMetric;
-use constraint_stabilization::solver::outcome::Candidate;
 use constraint_stabilization::solver::pgs::{self, PgsSettings, PgsStatus};
-use constraint_stabilization::solver::projection_lcp::{dq_from_lambda, projection_to_lcp};
 use constraint_stabilization::solver::residuals::projection_residuals;
 use constraint_stabilization::solver::{Lcp, ProjectionQp};
+use constraint_stabilization::solver::{dq_from_lambda, projection_to_lcp};
 use dev_support::solver::{StackSpec, random_stacks};
 
 const SIZES: [usize; 5] = [1, 10, 100, 500, 1000];

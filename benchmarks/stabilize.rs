@@ -33,8 +33,8 @@ use std::fmt::Write as _;
 use std::hint::black_box;
 
 use common::{Provenance, bench_command};
-use constraint_stabilization::demo::demo_scene;
 use constraint_stabilization::scene::Scene;
+use constraint_stabilization::testbed::demo::demo_scene;
 use constraint_stabilization::{Report, Settings, Stabilizer};
 use criterion::{BatchSize, BenchmarkId, Criterion};
 use dev_support::sat::{ExactDepth, exact_depth};

@@ -33,8 +33,8 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use common::{Provenance, bench_command, results_dir};
-use constraint_stabilization::geometry::ConvexPolyhedron;
-use constraint_stabilization::vclip::{FeaturePair, VClip, vclip};
+use constraint_stabilization::internals::geometry::ConvexPolyhedron;
+use constraint_stabilization::internals::vclip::{FeaturePair, VClip, vclip};
 use criterion::Criterion;
 use dev_support::vclip::experiments::{CoherenceRun, degeneracy_experiment, mirtich_shapes};
 use dev_support::vclip::{parry_distance, parry_pose, parry_shape, separated_distance};

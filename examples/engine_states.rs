@@ -23,7 +23,7 @@ use constraint_stabilization::Settings;
 use constraint_stabilization::io::scene_file::write_scene;
 use constraint_stabilization::rapier_bridge::RapierBridge;
 use constraint_stabilization::scene::Scene;
-use constraint_stabilization::verify::{ParryPenetration, parry_penetration};
+use constraint_stabilization::testbed::verify::{ParryPenetration, parry_penetration};
 use rapier3d::prelude::*;
 
 #[path = "common/rapier_scenes.rs"]

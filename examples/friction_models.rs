@@ -23,9 +23,9 @@ mod scenes;
 
 use std::time::Instant;
 
-use constraint_stabilization::demo::demo_scene;
 use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
 use constraint_stabilization::scene::Scene;
+use constraint_stabilization::testbed::demo::demo_scene;
 use constraint_stabilization::{FrictionModel, Settings, Stabilizer};
 use nalgebra::Vector3;
 
@@ -92,10 +92,11 @@ fn median(values: &mut [f64]) -> f64 {
 }
 
 fn settings(base: &Settings, model: FrictionModel, directions: usize) -> Settings {
-    Settings {
-        friction_model: model,
-        friction_directions: directions,
-        ..base.clone()
+    {
+        let mut settings = base.clone();
+        settings.friction_model = model;
+        settings.friction_directions = directions;
+        settings
     }
 }
 
@@ -170,9 +171,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let stack = recorded_stack(steps)?;
     let bridge_settings = BridgeSettings::default().stabilizer;
     run_family("1:1000 stack (Rapier)", &stack, &bridge_settings, repeats)?;
-    let with_friction = Settings {
-        friction: 0.5,
-        ..Settings::default()
+    let with_friction = {
+        let mut settings = Settings::default();
+        settings.friction = 0.5;
+        settings
     };
     run_family("demo pile, mu 0.5", &piles(pile), &with_friction, repeats)?;
     Ok(())

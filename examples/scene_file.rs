@@ -8,8 +8,9 @@
 
 use std::path::PathBuf;
 
-use constraint_stabilization::io::report_json::report_to_json;
+use constraint_stabilization::Stabilizer;
 use constraint_stabilization::io::scene_file::{read_scene, write_scene};
+use constraint_stabilization::stabilizer::report_json::report_to_json;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1).map(PathBuf::from);
@@ -19,7 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut scene = read_scene(&input)?;
     // The file's `settings` (tolerance, margins, passes, solver) applied
     // over the library's defaults.
-    let mut stabilizer = scene.stabilizer()?;
+    let mut stabilizer = Stabilizer::for_scene(&scene)?;
     let report = stabilizer.stabilize(&mut scene)?;
     write_scene(&output, &scene, Some(&report_to_json(&report, &scene)))?;
     println!(

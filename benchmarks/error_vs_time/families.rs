@@ -21,8 +21,8 @@
 //!   Bullet after a step; z up; see their notes there).
 
 use constraint_stabilization::body::{BodyDesc, MassSpec, Shape};
-use constraint_stabilization::demo::{DemoOptions, demo_scene_with};
 use constraint_stabilization::scene::Scene;
+use constraint_stabilization::testbed::demo::{DemoOptions, demo_scene_with};
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

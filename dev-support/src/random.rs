@@ -2,7 +2,7 @@
 //! (seeded by the caller: every use passes its own seeded RNG, so that a
 //! run draws the same shapes every time).
 
-use constraint_stabilization::geometry::ConvexPolyhedron;
+use constraint_stabilization::internals::geometry::ConvexPolyhedron;
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rand::Rng;
 

@@ -16,7 +16,7 @@
 //! poses come from the library: nothing of V-Clip, the Gauss-map search,
 //! the contact code or the stabilizer's report is used.
 
-use constraint_stabilization::geometry::ConvexPolyhedron;
+use constraint_stabilization::internals::geometry::ConvexPolyhedron;
 use constraint_stabilization::scene::Scene;
 use nalgebra::{Isometry3, Vector3};
 

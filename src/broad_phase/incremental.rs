@@ -21,7 +21,7 @@
 //! on the same enlarged boxes as a full build's self-traversal, so the
 //! pairs are exactly those of [`super::candidate_pairs`] at the same poses
 //! (checked against it and against brute force in
-//! `tests/scene_broad_phase.rs`).
+//! `tests/it/scene/broad_phase.rs`).
 //!
 //! A full build is made instead on the first update, when the number of
 //! bodies, their fixed flags or the margin changed, and when more than

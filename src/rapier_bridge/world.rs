@@ -142,7 +142,7 @@ mod tests {
     use super::*;
     use crate::body::{BodyDesc, MassSpec};
     use crate::rapier_bridge::RapierBridge;
-    use crate::stabilizer::Settings;
+    use crate::settings::Settings;
 
     /// f32 rounding of numbers of order 1, a few ulps.
     const F32_TOLERANCE: f64 = 1e-6;

@@ -143,7 +143,7 @@ pub struct Settings {
     /// take extra passes of short line-search steps; `CHANGELOG.md`,
     /// 2026-12-02). `false` judges gaps by the penetrating ratios, under
     /// which a near pair's manifold stays on its widest separating axis,
-    /// an edge–edge one included (`tests/stabilize_seed.rs`).
+    /// an edge–edge one included (`tests/it/stabilize/seed.rs`).
     pub near_pair_faces: bool,
     /// When an island's problem cannot be solved with every contact row
     /// asking for the target margin, solve it again with the rows within

@@ -32,8 +32,8 @@
 //! Example:
 //!
 //! ```
-//! use constraint_stabilization::geometry::ConvexPolyhedron;
-//! use constraint_stabilization::vclip::{vclip, Outcome};
+//! use constraint_stabilization::internals::geometry::ConvexPolyhedron;
+//! use constraint_stabilization::internals::vclip::{vclip, Outcome};
 //! use nalgebra::{Isometry3, Vector3};
 //!
 //! let cube = ConvexPolyhedron::cuboid(Vector3::new(1.0, 1.0, 1.0)).unwrap();

@@ -12,7 +12,7 @@
 //! its face refinement is a local search from the face where the walk
 //! detected the penetration. It is only the seed of the exact depth search
 //! (`crate::contact::penetration`), whose answer is the same from any seed
-//! (tested in `tests/vclip_warm.rs`).
+//! (tested in `tests/it/vclip/warm.rs`).
 //!
 //! Rounding ties. In exact arithmetic no state repeats (each move lowers
 //! the inter-feature distance, or keeps it and lowers the dimension). In

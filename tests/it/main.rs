@@ -39,5 +39,5 @@ mod vclip;
 mod cli;
 #[cfg(feature = "serde")]
 mod fuzz_regressions;
-#[cfg(feature = "rapier")]
+#[cfg(all(feature = "rapier", feature = "testbed"))]
 mod rapier_bridge;

@@ -2,8 +2,8 @@
 //! the benchmark: the coherence path (Algorithm 9) and the degeneracy trials
 //! of two cubes (Algorithm 10).
 
-use constraint_stabilization::geometry::ConvexPolyhedron;
-use constraint_stabilization::vclip::{FeaturePair, Outcome, VClip, VClipResult};
+use constraint_stabilization::internals::geometry::ConvexPolyhedron;
+use constraint_stabilization::internals::vclip::{FeaturePair, Outcome, VClip, VClipResult};
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 use rand::Rng;
 

@@ -7,8 +7,8 @@
 
 pub mod experiments;
 
-use constraint_stabilization::geometry::{ConvexPolyhedron, isometry_to_parry};
-use constraint_stabilization::vclip::{BodyRole, DeepestVertex, Outcome, VClipResult};
+use constraint_stabilization::internals::geometry::{ConvexPolyhedron, isometry_to_parry};
+use constraint_stabilization::internals::vclip::{BodyRole, DeepestVertex, Outcome, VClipResult};
 use nalgebra::{Isometry3, Point3, Translation3};
 use parry3d_f64::math::Pose;
 use parry3d_f64::query;

@@ -77,7 +77,7 @@ pub fn run(
     let fixed = scene.fixed_flags();
     let mut bodies = sweep_bodies(scene);
     let input = InputPoses::of(scene);
-    let mut report = Report::new(&lengths);
+    let mut report = Report::new(lengths);
     let mut memo = QueryMemo::default();
     let mut broad_phase = IncrementalBroadPhase::new();
     let mut best: Option<Best> = None;
@@ -117,7 +117,7 @@ pub fn run(
             cache,
             memo: &mut memo,
         };
-        let detection = detect(scene, geometry, state, &vclip, &lengths)?;
+        let detection = detect(scene, geometry, state, &vclip, lengths)?;
         report.record_detection(&detection);
         let mut pass = pass_report(&detection, lengths.tolerance);
         let solve_start = Instant::now();
@@ -128,7 +128,7 @@ pub fn run(
                 &bodies.poses,
                 &fixed,
                 &detection,
-                &lengths,
+                lengths,
                 settings,
             )?),
         };

@@ -9,9 +9,11 @@
 //! that edges cross by 1e-7 to 1e-2 of their size).
 
 use crate::support::proptest_config;
-use constraint_stabilization::contact::{self, BodyGeometry, PairQuery, PenetrationFeatures};
-use constraint_stabilization::geometry::{ConvexPolyhedron, isometry_to_parry};
-use constraint_stabilization::vclip::{VClip, VClipSettings};
+use constraint_stabilization::internals::contact::{
+    self, BodyGeometry, PairQuery, PenetrationFeatures,
+};
+use constraint_stabilization::internals::geometry::{ConvexPolyhedron, isometry_to_parry};
+use constraint_stabilization::internals::vclip::{VClip, VClipSettings};
 use dev_support::random::random_rotation;
 use dev_support::sat::sat_axis;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -150,7 +152,7 @@ fn check_pair(
         penetration.features()
     );
     let seed = match answer.vclip.outcome {
-        constraint_stabilization::vclip::Outcome::Penetrating(deepest) => deepest.depth,
+        constraint_stabilization::internals::vclip::Outcome::Penetrating(deepest) => deepest.depth,
         _ => unreachable!("a penetration comes from a penetrating outcome"),
     };
     (exact > 0.0).then(|| seed / exact)

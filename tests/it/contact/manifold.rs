@@ -4,10 +4,12 @@
 //! separating-axis depth.
 
 use constraint_stabilization::body::{BodyDesc, MassSpec};
-use constraint_stabilization::contact::manifold::manifold;
-use constraint_stabilization::contact::{self, BodyGeometry, PairQuery, PenetrationFeatures};
+use constraint_stabilization::internals::contact::manifold::manifold;
+use constraint_stabilization::internals::contact::{
+    self, BodyGeometry, PairQuery, PenetrationFeatures,
+};
+use constraint_stabilization::internals::vclip::{VClip, VClipSettings};
 use constraint_stabilization::scene::Scene;
-use constraint_stabilization::vclip::{VClip, VClipSettings};
 use constraint_stabilization::{Settings, Stabilizer, Status};
 use dev_support::sat::sat_depth;
 use dev_support::scene::{IDENTITY_XYZW, cuboid, scene_of, xyzw};
@@ -248,9 +250,10 @@ fn engine_states_report_the_brute_force_deepest_penetration() {
     for path in files {
         let mut scene = read_scene(&path).expect("valid scene");
         let (brute, _) = sat_deepest(&scene);
-        let settings = Settings {
-            tolerance_absolute: Some(1.0),
-            ..Settings::default()
+        let settings = {
+            let mut settings = Settings::default();
+            settings.tolerance_absolute = Some(1.0);
+            settings
         };
         let report = Stabilizer::new(settings)
             .expect("valid settings")
@@ -275,16 +278,15 @@ fn engine_states_report_the_brute_force_deepest_penetration() {
 fn near_points(scene: &Scene, near_faces: bool) -> Vec<contact::ContactPoint> {
     let query = pair_query(scene);
     assert!(query.penetration.is_none(), "separated");
-    let options = contact::ManifoldOptions {
-        all_points: true,
-        near_faces,
-    };
+    let mut settings = Settings::default();
+    settings.contact_manifold = true;
+    settings.near_pair_faces = near_faces;
     contact::contact_points(
         &query,
         &geometry(scene, 0),
         &geometry(scene, 1),
         MARGIN,
-        options,
+        &settings,
     )
     .points
 }

@@ -5,7 +5,7 @@
 //! 80° and 200°: every vertex is on or below every face plane, yet the third
 //! face is not a convex polygon, which V-Clip's Voronoi regions assume.
 
-use constraint_stabilization::geometry::{ConvexPolyhedron, GeometryError};
+use constraint_stabilization::internals::geometry::{ConvexPolyhedron, GeometryError};
 use nalgebra::{Point3, Vector3};
 
 /// Orders the vertices of a convex face counter-clockwise about `normal`.

@@ -3,7 +3,7 @@
 //! the input points (support functions, containment).
 
 use crate::support::proptest_config;
-use constraint_stabilization::geometry::{
+use constraint_stabilization::internals::geometry::{
     CONTAINMENT_TOLERANCE, ConvexPolyhedron, GeometryError, point_to_parry, vector_from_parry,
 };
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};

@@ -2,7 +2,7 @@
 //! solid hull, and exact answers for inputs with many coplanar and
 //! collinear points.
 
-use constraint_stabilization::geometry::{
+use constraint_stabilization::internals::geometry::{
     ConvexPolyhedron, DUPLICATE_TOLERANCE, FLAT_VERTEX_TOLERANCE, FLATNESS_TOLERANCE, GeometryError,
 };
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion};

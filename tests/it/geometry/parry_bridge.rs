@@ -3,7 +3,7 @@
 
 use crate::support::proptest_config;
 use approx::assert_relative_eq;
-use constraint_stabilization::geometry::{
+use constraint_stabilization::internals::geometry::{
     ConvexPolyhedron, isometry_from_parry, isometry_to_parry, point_from_parry, point_to_parry,
     vector_from_parry, vector_to_parry,
 };

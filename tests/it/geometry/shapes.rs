@@ -5,7 +5,7 @@
 use std::f64::consts::{PI, TAU};
 
 use approx::assert_relative_eq;
-use constraint_stabilization::geometry::{
+use constraint_stabilization::internals::geometry::{
     ConvexPolyhedron, GeometryError, MAX_GEODESIC_SUBDIVISIONS,
 };
 

@@ -2,6 +2,7 @@
 //! picture of a scene.
 
 mod lcp_file;
+#[cfg(feature = "testbed")]
 mod render_svg;
 #[cfg(feature = "serde")]
 mod scene_file;

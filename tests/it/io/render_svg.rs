@@ -3,7 +3,7 @@
 //! of penetrating pairs, and only those.
 
 use constraint_stabilization::body::MassSpec;
-use constraint_stabilization::render::{View, render_svg};
+use constraint_stabilization::testbed::render::{View, render_svg};
 use constraint_stabilization::{Settings, Stabilizer};
 use dev_support::scene::{IDENTITY_XYZW, cuboid, ground, scene_of, unit_cube_sunk};
 

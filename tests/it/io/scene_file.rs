@@ -2,11 +2,12 @@
 //! input, each naming the body (index and name) and the field.
 
 use crate::support::proptest_config;
+use constraint_stabilization::SettingsError;
 use constraint_stabilization::body::{BodyError, MassSpec, Shape};
 use constraint_stabilization::io::scene_file::{
     FieldProblem, SceneFileError, parse_scene, scene_to_string,
 };
-use constraint_stabilization::scene::{SettingsError, SolverChoice};
+use constraint_stabilization::solver::SolverChoice;
 use proptest::prelude::*;
 
 const DESIGN_EXAMPLE: &str = r#"{
@@ -349,7 +350,7 @@ fn document_and_settings_errors_name_the_field() {
     );
     assert!(matches!(
         field_of(settings(r#"{"tolerance": -1}"#)),
-        (f, FieldProblem::InvalidSetting(SettingsError::InvalidLength { .. })) if f == "tolerance"
+        (f, FieldProblem::InvalidSetting(SettingsError::OutOfRange { .. })) if f == "tolerance"
     ));
     assert!(
         matches!(field_of(settings(r#"{"contact_margin": -0.1}"#)), (f, _) if f == "contact_margin")
@@ -358,7 +359,7 @@ fn document_and_settings_errors_name_the_field() {
         matches!(field_of(settings(r#"{"target_margin": -0.1}"#)), (f, _) if f == "target_margin")
     );
     assert!(
-        matches!(field_of(settings(r#"{"max_passes": 0}"#)), (f, FieldProblem::InvalidSetting(SettingsError::ZeroPasses)) if f == "max_passes")
+        matches!(field_of(settings(r#"{"max_passes": 0}"#)), (f, FieldProblem::InvalidSetting(SettingsError::TooFew { least: 1, .. })) if f == "max_passes")
     );
     assert!(
         matches!(field_of(settings(r#"{"max_passes": 2.5}"#)), (f, FieldProblem::WrongType(_)) if f == "max_passes")

@@ -9,7 +9,7 @@
 //! `scene_file_limits.rs`.
 
 use constraint_stabilization::body::BodyError;
-use constraint_stabilization::geometry::GeometryError;
+use constraint_stabilization::internals::geometry::GeometryError;
 use constraint_stabilization::io::scene_file::{FieldProblem, SceneFileError, parse_scene};
 use constraint_stabilization::{Settings, Stabilizer, Status};
 

@@ -34,7 +34,7 @@ fn box_on_ground(settings: &str) -> Scene {
 fn file_tolerance_is_applied_by_scene_stabilizer() {
     let settings = format!(r#"{{"tolerance": {FILE_TOLERANCE}}}"#);
     let mut scene = box_on_ground(&settings);
-    let mut stabilizer = scene.stabilizer().expect("valid settings");
+    let mut stabilizer = Stabilizer::for_scene(&scene).expect("valid settings");
     let report = stabilizer.stabilize(&mut scene).expect("stabilizes");
     assert_eq!(report.tolerance, FILE_TOLERANCE);
     assert_eq!(report.status, Status::NothingToDo, "depth {SUNK} is within");
@@ -52,14 +52,13 @@ fn file_pass_limit_solver_and_margins_are_applied() {
     let settings = r#"{"max_passes": 1, "solver": "pgs", "cross_check": true,
         "contact_margin": 0.25, "target_margin": 1e-5}"#;
     let scene = box_on_ground(settings);
-    let resolved = scene.stabilizer_settings(Settings::default());
+    let resolved = Settings::default().with_scene_settings(scene.settings());
     assert_eq!(resolved.max_passes, 1);
     assert_eq!(resolved.contact_margin_absolute, Some(0.25));
     assert_eq!(resolved.target_margin_absolute, Some(1e-5));
     assert!(resolved.solver.cross_check);
     let mut scene = scene;
-    let report = scene
-        .stabilizer()
+    let report = Stabilizer::for_scene(&scene)
         .expect("valid settings")
         .stabilize(&mut scene)
         .expect("stabilizes");
@@ -81,11 +80,12 @@ fn file_pass_limit_solver_and_margins_are_applied() {
 #[test]
 fn no_file_settings_means_the_given_base() {
     let scene = box_on_ground("{}");
-    let base = Settings {
-        max_passes: 7,
-        ..Settings::default()
+    let base = {
+        let mut settings = Settings::default();
+        settings.max_passes = 7;
+        settings
     };
-    assert_eq!(scene.stabilizer_settings(base.clone()), base);
+    assert_eq!(base.clone().with_scene_settings(scene.settings()), base);
 }
 
 #[test]
@@ -93,11 +93,10 @@ fn file_method_chooses_gauss_seidel_and_round_trips() {
     use constraint_stabilization::Method;
     use constraint_stabilization::io::scene_file::scene_to_string;
     let scene = box_on_ground(r#"{"method": "gauss_seidel"}"#);
-    let resolved = scene.stabilizer_settings(Settings::default());
+    let resolved = Settings::default().with_scene_settings(scene.settings());
     assert_eq!(resolved.method, Method::GaussSeidel);
     let mut moved = scene.clone();
-    let report = moved
-        .stabilizer()
+    let report = Stabilizer::for_scene(&moved)
         .expect("valid settings")
         .stabilize(&mut moved)
         .expect("stabilizes");
@@ -128,7 +127,7 @@ fn file_friction_model_chooses_the_cone_and_round_trips() {
     use constraint_stabilization::FrictionModel;
     use constraint_stabilization::io::scene_file::scene_to_string;
     let scene = box_on_ground(r#"{"friction_model": "cone"}"#);
-    let resolved = scene.stabilizer_settings(Settings::default());
+    let resolved = Settings::default().with_scene_settings(scene.settings());
     assert_eq!(resolved.friction_model, FrictionModel::Cone);
     assert_eq!(
         Settings::default().friction_model,

@@ -5,7 +5,7 @@
 //! separating-axis oracle, not through the bridge's reading.
 
 use constraint_stabilization::body::{MassSpec, Shape, ShapePart};
-use constraint_stabilization::geometry::ConvexPolyhedron;
+use constraint_stabilization::internals::geometry::ConvexPolyhedron;
 use constraint_stabilization::rapier_bridge::{
     GRAVITY_Z_UP, SkipReason, pose_to_f64, world_from_scene,
 };

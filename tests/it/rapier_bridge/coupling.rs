@@ -5,6 +5,7 @@
 //! and leaves the corrected contacts touching (a depth of about one
 //! tolerance) instead of opened to a gap.
 
+use approx::assert_relative_eq;
 use constraint_stabilization::Settings;
 use constraint_stabilization::Status;
 use constraint_stabilization::rapier_bridge::{
@@ -164,9 +165,18 @@ fn closed_contacts_leave_the_corrected_box_touching_within_the_tolerance() {
     let report = run(&mut bridge, &mut world);
     let stabilizer = report.stabilizer.as_ref().expect("a dynamic body");
     assert_eq!(stabilizer.status, Status::Converged);
-    let allowance = closed_contact_allowance(bridge.stabilizer().settings());
+    // The call's lengths allow `a` on top of the raised tolerance `T` and
+    // take it from the raised target `G`; the allowance is `G + T`.
+    let lengths = bridge.stabilizer().lengths(bridge.scene());
+    let allowance = stabilizer.allowed_penetration;
     assert!(allowance > 0.0);
-    assert_eq!(stabilizer.allowed_penetration, allowance);
+    assert_eq!(lengths.allowed_penetration, allowance);
+    let raised = lengths.allowing(-allowance);
+    assert_relative_eq!(
+        closed_contact_allowance(&raised),
+        allowance,
+        max_relative = 1e-12
+    );
     let plain_tolerance = stabilizer.tolerance - allowance;
     for height in bottom_corner_heights(&world, body) {
         assert!(height < 0.0, "a corner left open: {height:e}");

@@ -5,8 +5,8 @@
 
 use std::sync::Arc;
 
-use constraint_stabilization::Stabilizer;
 use constraint_stabilization::rapier_bridge::pose_to_f64;
+use constraint_stabilization::{Scene, Settings, Stabilizer};
 use nalgebra::Isometry3;
 use rapier3d::prelude::*;
 
@@ -177,7 +177,8 @@ fn bodies_added_and_removed_in_a_loop_match_a_fresh_answer() {
         assert_eq!((sync.removed, sync.appended), expected, "step {k}");
         let mut cold_scene = kept.scene().clone();
         let report = run(&mut kept, &mut world);
-        let mut cold = Stabilizer::new(kept.stabilizer().settings().clone()).expect("valid");
+        let mut cold =
+            Stabilizer::new(call_settings(kept.stabilizer(), &cold_scene)).expect("valid");
         cold.stabilize(&mut cold_scene)
             .expect("the cold call succeeds");
         for (a, b) in cold_scene.bodies().iter().zip(kept.scene().bodies()) {
@@ -258,4 +259,19 @@ fn kinematic_bodies_are_fixed_even_when_they_move_into_a_box() {
         let (depth, tolerance) = (f32_world_depth(&world), stated_tolerance(&report));
         assert!(depth <= tolerance, "step {step}: {depth:e} > {tolerance:e}");
     }
+}
+
+/// Settings whose lengths are those of `stabilizer`'s last call on
+/// `scene` (the bridge's, raised for the f32 round-off and allowing its
+/// coupling's penetration), as absolute lengths: a stabilizer made from
+/// them answers that call cold.
+fn call_settings(stabilizer: &Stabilizer, scene: &Scene) -> Settings {
+    let lengths = stabilizer.lengths(scene);
+    let allowed = lengths.allowed_penetration;
+    let mut settings = stabilizer.settings().clone();
+    settings.tolerance_absolute = Some(lengths.tolerance - allowed);
+    settings.target_margin_absolute = Some(lengths.target_margin + allowed);
+    settings.contact_margin_absolute = Some(lengths.contact_margin);
+    settings.allowed_penetration = allowed;
+    settings
 }

@@ -14,7 +14,7 @@ use constraint_stabilization::Settings;
 use constraint_stabilization::rapier_bridge::{
     BridgeReport, BridgeSettings, CouplingMode, RapierBridge, SkipReason, pose_to_f64,
 };
-use constraint_stabilization::verify::parry_penetration;
+use constraint_stabilization::testbed::verify::parry_penetration;
 use nalgebra::{Isometry3, Point3};
 use rapier3d::prelude::*;
 

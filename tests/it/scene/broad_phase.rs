@@ -4,7 +4,7 @@
 
 use crate::support::proptest_config;
 use constraint_stabilization::body::{BodyDesc, MassSpec, Shape};
-use constraint_stabilization::broad_phase::{
+use constraint_stabilization::internals::broad_phase::{
     BodyPair, BroadPhaseError, BroadPhaseUpdate, IncrementalBroadPhase, REBUILD_MOVED_FRACTION,
     candidate_pairs, candidate_pairs_of_aabbs,
 };

@@ -3,12 +3,12 @@
 //! are present but shallow, and islands that are many and moderate.
 
 use constraint_stabilization::body::Shape;
-use constraint_stabilization::broad_phase::{BodyPair, candidate_pairs};
-use constraint_stabilization::demo::{
+use constraint_stabilization::internals::broad_phase::{BodyPair, candidate_pairs};
+use constraint_stabilization::internals::contact::islands;
+use constraint_stabilization::scene::Scene;
+use constraint_stabilization::testbed::demo::{
     DEFAULT_BODY_COUNT, MAX_CLUSTER_COLUMNS, MAX_STACK_HEIGHT, OVERLAP_MAX, demo_scene,
 };
-use constraint_stabilization::island::islands;
-use constraint_stabilization::scene::Scene;
 use parry3d_f64::math::{Pose, Rotation, Vector};
 use parry3d_f64::shape::ConvexPolyhedron;
 

@@ -3,8 +3,8 @@
 use crate::support::proptest_config;
 use std::collections::VecDeque;
 
-use constraint_stabilization::broad_phase::BodyPair;
-use constraint_stabilization::island::{Island, IslandError, islands};
+use constraint_stabilization::internals::broad_phase::BodyPair;
+use constraint_stabilization::internals::contact::{Island, IslandError, islands};
 use proptest::prelude::*;
 
 /// Oracle: components by BFS over dynamic-dynamic edges, started from every

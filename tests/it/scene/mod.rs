@@ -2,6 +2,6 @@
 
 mod body;
 mod broad_phase;
-#[cfg(feature = "demo")]
+#[cfg(feature = "testbed")]
 mod demo;
 mod island;

@@ -8,10 +8,10 @@
 use crate::support::siconos::{self, known_solution};
 use crate::support::solver_oracle::{LCP_TOL as TOL, lcp_residuals};
 use constraint_stabilization::io::read_lcp_file;
+use constraint_stabilization::solver::FailureReason;
 use constraint_stabilization::solver::Lcp;
 use constraint_stabilization::solver::clarabel_qp::{ClarabelSettings, dual};
 use constraint_stabilization::solver::lemke::{self, LemkeSettings, LemkeStatus};
-use constraint_stabilization::solver::outcome::FailureReason;
 use constraint_stabilization::solver::pgs::{self, PgsSettings, PgsStatus};
 use nalgebra::{DMatrix, DVector};
 

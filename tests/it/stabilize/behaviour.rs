@@ -12,18 +12,18 @@
 // `demo`.
 use crate::stabilize::support::*;
 use constraint_stabilization::body::{BodyDesc, MassSpec};
-#[cfg(feature = "demo")]
-use constraint_stabilization::demo::demo_scene;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::{CrossCheckOutcome, SolverChoice, SolverKind};
 use constraint_stabilization::stabilizer::IslandOutcome;
+#[cfg(feature = "testbed")]
+use constraint_stabilization::testbed::demo::demo_scene;
 use constraint_stabilization::{Error, Settings, Stabilizer, Status};
 use dev_support::sat::sat_depth;
 use dev_support::scene::*;
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 
 /// Seed of the demo scenes used here.
-#[cfg(feature = "demo")]
+#[cfg(feature = "testbed")]
 const DEMO_SEED: u64 = 2026;
 
 /// A small scene with redundant and rotational contacts: a box sunk into
@@ -111,7 +111,7 @@ fn a_stabilized_scene_is_left_alone_on_the_next_call() {
 }
 
 #[test]
-#[cfg(feature = "demo")]
+#[cfg(feature = "testbed")]
 fn bodies_outside_solved_islands_keep_their_poses() {
     let mut scene = demo_scene(100, DEMO_SEED);
     let first_extra = scene.len();
@@ -135,7 +135,7 @@ fn bodies_outside_solved_islands_keep_their_poses() {
 
 /// Needs the demo scene, and rayon's thread pools (feature `parallel`).
 #[test]
-#[cfg(all(feature = "demo", feature = "parallel"))]
+#[cfg(all(feature = "testbed", feature = "parallel"))]
 fn result_is_bit_identical_for_one_two_and_four_threads() {
     let reference = demo_scene(300, DEMO_SEED);
     let mut outcomes = Vec::new();
@@ -158,7 +158,7 @@ fn result_is_bit_identical_for_one_two_and_four_threads() {
 }
 
 #[test]
-#[cfg(feature = "demo")]
+#[cfg(feature = "testbed")]
 fn demo_scenes_converge_within_the_tolerance() {
     for (count, max_passes) in [(10, 10), (100, 10), (300, 10)] {
         let mut scene = demo_scene(count, DEMO_SEED);
@@ -183,7 +183,7 @@ fn demo_scenes_converge_within_the_tolerance() {
 /// settings are not tuned to one seed. Measured: 4 to 11 passes, residual
 /// at most 0.85 of the tolerance.
 #[test]
-#[cfg(feature = "demo")]
+#[cfg(feature = "testbed")]
 fn demo_scenes_of_many_seeds_converge() {
     for seed in 0..20 {
         let mut scene = demo_scene(60, seed);
@@ -311,9 +311,10 @@ fn box_face_down_with(
 ) -> (constraint_stabilization::Report, Scene, Vec<PoseBits>) {
     let mut scene = scene_of(&[ground(), unit_cube_sunk("box", depth)]);
     let before = pose_bits(&scene);
-    let settings = Settings {
-        contact_manifold: manifold,
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.contact_manifold = manifold;
+        settings
     };
     let (report, residual) = stabilize_with(&mut scene, settings);
     println!(
@@ -362,29 +363,35 @@ fn contact_manifold_lifts_flat_deepest_vertex_stalls() {
 #[test]
 fn invalid_settings_are_rejected() {
     let invalid = [
-        Settings {
-            tolerance_relative: 0.0,
-            ..Settings::default()
+        {
+            let mut settings = Settings::default();
+            settings.tolerance_relative = 0.0;
+            settings
         },
-        Settings {
-            tolerance_relative: f64::NAN,
-            ..Settings::default()
+        {
+            let mut settings = Settings::default();
+            settings.tolerance_relative = f64::NAN;
+            settings
         },
-        Settings {
-            tolerance_absolute: Some(-1.0),
-            ..Settings::default()
+        {
+            let mut settings = Settings::default();
+            settings.tolerance_absolute = Some(-1.0);
+            settings
         },
-        Settings {
-            contact_margin_relative: -1e-3,
-            ..Settings::default()
+        {
+            let mut settings = Settings::default();
+            settings.contact_margin_relative = -1e-3;
+            settings
         },
-        Settings {
-            target_margin_absolute: Some(f64::INFINITY),
-            ..Settings::default()
+        {
+            let mut settings = Settings::default();
+            settings.target_margin_absolute = Some(f64::INFINITY);
+            settings
         },
-        Settings {
-            max_passes: 0,
-            ..Settings::default()
+        {
+            let mut settings = Settings::default();
+            settings.max_passes = 0;
+            settings
         },
     ];
     let mut line_search = Vec::new();
@@ -395,10 +402,11 @@ fn invalid_settings_are_rejected() {
         line_search.push(settings);
     }
     for (rotation, translation) in [(0.0, 1.0), (f64::NAN, 1.0), (0.2, -1.0), (0.2, f64::NAN)] {
-        line_search.push(Settings {
-            step_max_rotation: rotation,
-            step_max_translation_relative: translation,
-            ..Settings::default()
+        line_search.push({
+            let mut settings = Settings::default();
+            settings.step_max_rotation = rotation;
+            settings.step_max_translation_relative = translation;
+            settings
         });
     }
     for tol_residual in [f64::NAN, 0.0, -1e-9] {
@@ -516,9 +524,10 @@ fn an_unsolvable_island_keeps_its_poses_and_the_others_are_fixed() {
     let depth_before = deepest_sat_depth(&reference);
 
     let mut one_pass = reference.clone();
-    let settings = Settings {
-        max_passes: 1,
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.max_passes = 1;
+        settings
     };
     let (report, _) = stabilize_with(&mut one_pass, settings);
     println!("{}", describe("wedged cube, one pass", &report, 0.0));
@@ -580,7 +589,7 @@ const RELATIVE_MOTION: f64 = 0.01;
 /// tolerance but below the depth before (the passes made are kept). The same scene converges
 /// when allowed more passes, so the limit is what stopped it.
 #[test]
-#[cfg(feature = "demo")]
+#[cfg(feature = "testbed")]
 fn the_pass_limit_is_reported() {
     let mut converged = demo_scene(100, DEMO_SEED);
     let (full, _) = stabilize_default(&mut converged);
@@ -590,9 +599,10 @@ fn the_pass_limit_is_reported() {
     let mut scene = demo_scene(100, DEMO_SEED);
     let (depth_before, _) = penetration_residual(&scene);
     let max_passes = full.passes - 1;
-    let settings = Settings {
-        max_passes,
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.max_passes = max_passes;
+        settings
     };
     let (report, residual) = stabilize_with(&mut scene, settings);
     println!("{}", describe("demo 100, pass limit", &report, residual));
@@ -614,7 +624,7 @@ fn the_pass_limit_is_reported() {
 /// local search stopped at a face far from the contact, the line search
 /// found no step); it starts from two faces since and converges.
 #[test]
-#[cfg(feature = "demo")]
+#[cfg(feature = "testbed")]
 fn demo_of_1000_bodies_seed_1_converges_with_two_refinement_starts() {
     let mut scene = demo_scene(1000, 1);
     let (report, residual) = stabilize_default(&mut scene);

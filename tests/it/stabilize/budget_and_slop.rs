@@ -9,8 +9,8 @@ use dev_support::sat::sat_deepest;
 use dev_support::scene::{cuboid, ground, pose_bits, scene_of, unit_cube_sunk, xyzw};
 use std::time::Duration;
 
+use constraint_stabilization::SettingsError;
 use constraint_stabilization::body::MassSpec;
-use constraint_stabilization::stabilizer::SettingsError;
 use constraint_stabilization::{Error, Settings, Stabilizer, Status};
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -46,9 +46,10 @@ fn zero_budget_stops_after_the_first_pass_no_worse_than_the_input() {
 
     let mut scene = leaning_stack();
     let (depth_before, _) = sat_deepest(&scene);
-    let settings = Settings {
-        time_budget: Some(Duration::ZERO),
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.time_budget = Some(Duration::ZERO);
+        settings
     };
     let (report, _) = stabilize_with(&mut scene, settings);
     let (depth_after, _) = sat_deepest(&scene);
@@ -69,9 +70,10 @@ fn unspent_budget_gives_the_unlimited_answer() {
     let mut unlimited = leaning_stack();
     stabilize_with(&mut unlimited, Settings::default());
     let mut budgeted = leaning_stack();
-    let settings = Settings {
-        time_budget: Some(Duration::from_secs(3600)),
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.time_budget = Some(Duration::from_secs(3600));
+        settings
     };
     let (report, _) = stabilize_with(&mut budgeted, settings);
     assert_eq!(report.status, Status::Converged);
@@ -83,9 +85,10 @@ fn unspent_budget_gives_the_unlimited_answer() {
 #[test]
 fn zero_budget_still_converges_in_one_pass() {
     let mut scene = scene_of(&[ground(), unit_cube_sunk("cube", 0.1)]);
-    let settings = Settings {
-        time_budget: Some(Duration::ZERO),
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.time_budget = Some(Duration::ZERO);
+        settings
     };
     let (report, _) = stabilize_with(&mut scene, settings);
     assert_eq!((report.status, report.passes), (Status::Converged, 1));
@@ -97,9 +100,10 @@ fn zero_budget_still_converges_in_one_pass() {
 const ALLOWED: f64 = 1e-3;
 
 fn allowing() -> Settings {
-    Settings {
-        allowed_penetration: ALLOWED,
-        ..Settings::default()
+    {
+        let mut settings = Settings::default();
+        settings.allowed_penetration = ALLOWED;
+        settings
     }
 }
 
@@ -130,16 +134,17 @@ fn deeper_penetration_is_brought_back_to_the_allowed_one() {
 #[test]
 fn allowed_penetration_must_be_finite_and_non_negative() {
     for value in [-1e-3, f64::NAN, f64::INFINITY] {
-        let settings = Settings {
-            allowed_penetration: value,
-            ..Settings::default()
+        let settings = {
+            let mut settings = Settings::default();
+            settings.allowed_penetration = value;
+            settings
         };
         let error = Stabilizer::new(settings).expect_err("invalid allowed penetration");
         assert!(
             matches!(
                 error,
-                Error::Settings(SettingsError::InvalidLength {
-                    name: "allowed_penetration",
+                Error::Settings(SettingsError::OutOfRange {
+                    field: "allowed_penetration",
                     ..
                 })
             ),

@@ -9,7 +9,7 @@ use approx::assert_relative_eq;
 use constraint_stabilization::body::{Body, BodyDesc, BodyError, MassSpec, Shape, ShapePart};
 #[cfg(feature = "serde")]
 use constraint_stabilization::io::scene_file::{parse_scene, scene_to_string};
-use constraint_stabilization::stabilizer::{BodyVelocity, VelocityOptions};
+use constraint_stabilization::stabilizer::{BodyVelocity, VelocityFriction};
 use constraint_stabilization::{Method, Settings, Stabilizer, Status};
 use dev_support::sat::{sat_deepest, sat_depth};
 use dev_support::scene::{IDENTITY_XYZW, body, cuboid, ground, pose_bits, scene_of, xyzw};
@@ -127,11 +127,12 @@ fn a_compound_rests_like_the_box_it_is_cut_from() {
     ]);
     // The same lengths for both (by default they follow the smallest
     // convex piece, here a half of the box).
-    let settings = Settings {
-        tolerance_absolute: Some(1e-6),
-        contact_margin_absolute: Some(1e-3),
-        target_margin_absolute: Some(1e-6),
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.tolerance_absolute = Some(1e-6);
+        settings.contact_margin_absolute = Some(1e-3);
+        settings.target_margin_absolute = Some(1e-6);
+        settings
     };
     let (report_whole, _) = stabilize_with(&mut whole, settings.clone());
     let (report_cut, _) = stabilize_with(&mut cut, settings.clone());
@@ -280,9 +281,10 @@ fn two_compounds_interpenetrating_are_separated_by_both_methods() {
 
     let mut scene = scene_of(&descs);
     let before = sat_deepest(&scene).0;
-    let settings = Settings {
-        method: Method::GaussSeidel,
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.method = Method::GaussSeidel;
+        settings
     };
     let (report, _) = stabilize_with(&mut scene, settings);
     let (after, _) = sat_deepest(&scene);
@@ -321,9 +323,8 @@ fn the_velocity_projection_stops_a_compound_landing_on_one_part() {
     assert_eq!(report.status, Status::Converged);
     let mut velocities = vec![BodyVelocity::default(); 2];
     velocities[1].linear = Vector3::new(0.0, -1.0, 0.0);
-    let options = VelocityOptions::default();
     let velocity = stabilizer
-        .project_velocities(&scene, &mut velocities, &[1], &options)
+        .project_velocities(&scene, &mut velocities, &[1], None, VelocityFriction::None)
         .expect("valid velocities");
     assert!(velocity.approach_before > 0.5, "{velocity:?}");
     assert!(velocity.approach_after <= 1e-9, "{velocity:?}");

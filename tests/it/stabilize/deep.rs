@@ -97,9 +97,10 @@ fn box_in_a_slot_with_clearance_rises_without_touching_the_walls() {
 fn box_in_an_exactly_fitting_slot_rises_with_no_target_margin() {
     // The walls touch the box's sides (gap 0). With no target margin the
     // wall rows hold at dq = 0 and the box rises.
-    let settings = Settings {
-        target_margin_absolute: Some(0.0),
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.target_margin_absolute = Some(0.0);
+        settings
     };
     let run = run("exact slot, no target margin", &box_in_slot(0.0), settings);
     assert_converged("exact slot, no target margin", &run, RESTING_PASSES);
@@ -128,9 +129,10 @@ fn box_in_an_exactly_fitting_slot_rises_with_the_default_settings() {
 /// infeasible and the call returns the input: the flag is what fixes it.
 #[test]
 fn box_in_an_exactly_fitting_slot_is_infeasible_with_the_seeds_rows() {
-    let settings = Settings {
-        hold_open_gaps: false,
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.hold_open_gaps = false;
+        settings
     };
     let run = run("exact slot, seed's rows", &box_in_slot(0.0), settings);
     assert!(!run.report.status.is_resolved(), "{:?}", run.report.status);

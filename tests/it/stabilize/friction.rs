@@ -19,19 +19,21 @@ use nalgebra::{UnitQuaternion, Vector3};
 const NO_SLIDE: f64 = 1e-9;
 
 fn with_friction(mu: f64, model: FrictionModel) -> Settings {
-    Settings {
-        friction: mu,
-        friction_model: model,
-        ..Settings::default()
+    {
+        let mut settings = Settings::default();
+        settings.friction = mu;
+        settings.friction_model = model;
+        settings
     }
 }
 
 /// The default settings under `model` (for scenes with their bodies' own
 /// friction).
 fn with_model(model: FrictionModel) -> Settings {
-    Settings {
-        friction_model: model,
-        ..Settings::default()
+    {
+        let mut settings = Settings::default();
+        settings.friction_model = model;
+        settings
     }
 }
 
@@ -312,9 +314,10 @@ fn invalid_friction_is_rejected() {
             assert!(constraint_stabilization::Stabilizer::new(with_friction(mu, model)).is_err());
         }
     }
-    let settings = Settings {
-        friction_directions: 2,
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.friction_directions = 2;
+        settings
     };
     assert!(constraint_stabilization::Stabilizer::new(settings).is_err());
     let mut scene = scene_of(&[ground(), unit_cube_sunk("box", 0.05)]);

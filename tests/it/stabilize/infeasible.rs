@@ -20,9 +20,10 @@ use dev_support::scene::{IDENTITY_XYZW, cuboid};
 const MAX_PASSES: usize = 30;
 
 fn settings() -> Settings {
-    Settings {
-        max_passes: MAX_PASSES,
-        ..Settings::default()
+    {
+        let mut settings = Settings::default();
+        settings.max_passes = MAX_PASSES;
+        settings
     }
 }
 

@@ -43,10 +43,11 @@ const RELATIVE_AGREEMENT: f64 = 0.01;
 const TIGHT: f64 = 1e-9;
 
 fn tight(choice: SolverChoice) -> Settings {
-    let mut settings = Settings {
-        tolerance_relative: TIGHT,
-        target_margin_relative: TIGHT,
-        ..Settings::default()
+    let mut settings = {
+        let mut settings = Settings::default();
+        settings.tolerance_relative = TIGHT;
+        settings.target_margin_relative = TIGHT;
+        settings
     };
     settings.solver.choice = choice;
     settings

@@ -21,7 +21,7 @@ mod projector_analytic;
 mod properties;
 mod scale_extremes;
 mod scenes;
-#[cfg(feature = "demo")]
+#[cfg(feature = "testbed")]
 mod seed;
 mod stiff;
 mod touching;

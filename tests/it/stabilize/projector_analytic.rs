@@ -3,28 +3,56 @@
 
 use approx::assert_relative_eq;
 use constraint_stabilization::FrictionModel;
-use constraint_stabilization::contact::contact_row;
-use constraint_stabilization::projector::{
-    BodyInertia, BodyState, ConstraintProvider, ConstraintRow, LineSearchSettings, Measurement,
-    ProjectionSettings, ProjectionStatus, StepOutcome, TrustRegion, project, projection_step,
+use constraint_stabilization::Settings;
+use constraint_stabilization::internals::contact::contact_row;
+use constraint_stabilization::internals::projector::{
+    ProjectionStatus, ProjectionSummary, StepOutcome, StepReport, project, projection_step,
 };
-use constraint_stabilization::solver::SolverSettings;
+use constraint_stabilization::internals::rows::{
+    BodyInertia, BodyState, ConstraintProvider, ConstraintRow, Measurement,
+};
+use constraint_stabilization::settings::ResolvedLengths;
 use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3, Vector6};
 
 const TOLERANCE: f64 = 1e-9;
 
-fn settings(target_margin: f64) -> ProjectionSettings {
-    ProjectionSettings {
-        tolerance: TOLERANCE,
-        target_margin,
-        line_search: LineSearchSettings::default(),
-        trust_region: TrustRegion::UNLIMITED,
-        solver: SolverSettings::default(),
-        max_steps: 20,
-        friction_directions: 4,
-        friction_model: FrictionModel::Pyramid,
-        hold_open_gaps: true,
-    }
+/// The projection's settings (no trust region, 20 steps, the pyramid of 4,
+/// rows in contact held) and lengths (tolerance [`TOLERANCE`], the given
+/// target margin).
+fn settings(target_margin: f64) -> (Settings, ResolvedLengths) {
+    let mut settings = Settings::default();
+    settings.tolerance_absolute = Some(TOLERANCE);
+    settings.target_margin_absolute = Some(target_margin);
+    settings.step_max_rotation = f64::INFINITY;
+    settings.step_max_translation_relative = f64::INFINITY;
+    settings.max_passes = 20;
+    settings.friction_directions = 4;
+    settings.friction_model = FrictionModel::Pyramid;
+    settings.hold_open_gaps = true;
+    let lengths = settings.resolve(1.0);
+    (settings, lengths)
+}
+
+/// One projection step with [`settings`] for the target margin `target`.
+fn step<P: ConstraintProvider>(
+    provider: &mut P,
+    configuration: &mut Vec<BodyState>,
+    inertias: &[BodyInertia],
+    target: f64,
+) -> StepReport {
+    let (settings, lengths) = settings(target);
+    projection_step(provider, configuration, inertias, &settings, &lengths).expect("solves")
+}
+
+/// The projection loop with [`settings`] for the target margin `target`.
+fn run<P: ConstraintProvider>(
+    provider: &mut P,
+    configuration: &mut Vec<BodyState>,
+    inertias: &[BodyInertia],
+    target: f64,
+) -> ProjectionSummary {
+    let (settings, lengths) = settings(target);
+    project(provider, configuration, inertias, &settings, &lengths).expect("solves")
 }
 
 fn state(position: Point3<f64>) -> BodyState {
@@ -98,13 +126,7 @@ fn sphere_sunk_into_plane_is_lifted_by_its_depth() {
     };
     let mut configuration = vec![state(Point3::new(0.3, -0.2, radius - depth))];
     let inertias = [inertia(2.0, Vector3::repeat(0.2))];
-    let summary = project(
-        &mut provider,
-        &mut configuration,
-        &inertias,
-        &settings(target),
-    )
-    .unwrap();
+    let summary = run(&mut provider, &mut configuration, &inertias, target);
     assert_eq!(summary.status, ProjectionStatus::Converged);
     assert_eq!(summary.steps.len(), 2, "one step and the final check");
     let moved = configuration[0];
@@ -132,13 +154,7 @@ fn rod_end_below_plane_rotates_and_lifts() {
     };
     let mut configuration = vec![state(Point3::new(0.0, 0.0, -depth))];
     let inertias = [inertia(mass, Vector3::new(0.01, inertia_yy, inertia_yy))];
-    let first = projection_step(
-        &mut provider,
-        &mut configuration.clone(),
-        &inertias,
-        &settings(target),
-    )
-    .unwrap();
+    let first = step(&mut provider, &mut configuration.clone(), &inertias, target);
     let dq = &first.solution.as_ref().unwrap().dq;
     let effective = 1.0 / mass + length * length / inertia_yy;
     let lambda = (depth + target) / effective;
@@ -147,13 +163,7 @@ fn rod_end_below_plane_rotates_and_lifts() {
     for k in [0, 1, 3, 5] {
         assert!(dq[k].abs() < 1e-12, "dq[{k}] = {}", dq[k]);
     }
-    let summary = project(
-        &mut provider,
-        &mut configuration,
-        &inertias,
-        &settings(target),
-    )
-    .unwrap();
+    let summary = run(&mut provider, &mut configuration, &inertias, target);
     assert_eq!(summary.status, ProjectionStatus::Converged);
     assert!(summary.steps.len() <= 6, "{} steps", summary.steps.len());
     for pair in summary.steps.windows(2) {
@@ -191,13 +201,7 @@ fn mass_ratio_splits_the_correction() {
         inertia(1e4, Vector3::repeat(4e3)),
         inertia(1.0, Vector3::repeat(0.4)),
     ];
-    let summary = project(
-        &mut TwoSpheres,
-        &mut configuration,
-        &inertias,
-        &settings(0.0),
-    )
-    .unwrap();
+    let summary = run(&mut TwoSpheres, &mut configuration, &inertias, 0.0);
     assert_eq!(summary.status, ProjectionStatus::Converged);
     let heavy_moved = -configuration[0].position.x;
     let light_moved = configuration[1].position.x - 1.9;
@@ -237,7 +241,7 @@ fn line_search_stops_an_overshoot_into_a_clear_constraint() {
     }
     let mut configuration = vec![state(Point3::new(0.0, 0.0, -0.1))];
     let inertias = [inertia(1.0, Vector3::repeat(0.1))];
-    let report = projection_step(&mut Slab, &mut configuration, &inertias, &settings(0.0)).unwrap();
+    let report = step(&mut Slab, &mut configuration, &inertias, 0.0);
     assert_eq!(report.outcome, StepOutcome::Moved);
     assert_eq!(report.alpha, Some(0.5));
     assert_eq!(report.line_search_trials, 2);
@@ -255,7 +259,7 @@ fn overestimated_jacobian_converges_slowly_and_says_so() {
     };
     let mut configuration = vec![state(Point3::new(0.0, 0.0, 0.4))];
     let inertias = [inertia(1.0, Vector3::repeat(0.1))];
-    let summary = project(&mut provider, &mut configuration, &inertias, &settings(0.0)).unwrap();
+    let summary = run(&mut provider, &mut configuration, &inertias, 0.0);
     assert_eq!(summary.status, ProjectionStatus::StepLimit);
     for step in &summary.steps {
         assert_relative_eq!(
@@ -279,8 +283,7 @@ fn satisfied_configuration_is_untouched() {
     }];
     let mut configuration = original.clone();
     let inertias = [inertia(1.0, Vector3::repeat(0.1))];
-    let report =
-        projection_step(&mut provider, &mut configuration, &inertias, &settings(0.0)).unwrap();
+    let report = step(&mut provider, &mut configuration, &inertias, 0.0);
     assert_eq!(report.outcome, StepOutcome::AlreadySatisfied);
     assert!(report.solution.is_none());
     assert_eq!(configuration, original);
@@ -298,8 +301,7 @@ fn impossible_descent_stalls_without_moving() {
     let original = vec![state(Point3::new(0.0, 0.0, 0.4))];
     let mut configuration = original.clone();
     let inertias = [inertia(1.0, Vector3::repeat(0.1))];
-    let report =
-        projection_step(&mut provider, &mut configuration, &inertias, &settings(0.0)).unwrap();
+    let report = step(&mut provider, &mut configuration, &inertias, 0.0);
     assert_eq!(report.outcome, StepOutcome::Stalled);
     assert_eq!(configuration, original);
 }
@@ -340,13 +342,7 @@ fn point_inside_a_box_leaves_through_the_nearest_face() {
     }
     let mut configuration = vec![state(Point3::new(0.8, 0.3, -0.5))];
     let inertias = [inertia(1.0, Vector3::repeat(0.1))];
-    let summary = project(
-        &mut PointInBox,
-        &mut configuration,
-        &inertias,
-        &settings(1e-6),
-    )
-    .unwrap();
+    let summary = run(&mut PointInBox, &mut configuration, &inertias, 1e-6);
     assert_eq!(summary.status, ProjectionStatus::Converged);
     let p = configuration[0].position;
     assert_relative_eq!(p.x, 1.0 + 1e-6, epsilon = 1e-12);

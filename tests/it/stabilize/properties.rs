@@ -47,9 +47,10 @@ const OVERFLOWING: f64 = 1.7e308;
 const OVERFLOWING_MARGIN: f64 = 1e308;
 
 fn overflowing_settings() -> Settings {
-    Settings {
-        contact_margin_absolute: Some(OVERFLOWING_MARGIN),
-        ..Settings::default()
+    {
+        let mut settings = Settings::default();
+        settings.contact_margin_absolute = Some(OVERFLOWING_MARGIN);
+        settings
     }
 }
 

@@ -16,7 +16,7 @@ use crate::stabilize::one_row::{
 };
 use crate::stabilize::support::{describe, penetration_residual, stabilize_default};
 use constraint_stabilization::body::{Body, BodyDesc, MassSpec};
-use constraint_stabilization::geometry::isometry_to_parry;
+use constraint_stabilization::internals::geometry::isometry_to_parry;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::{Report, Settings, Status};
 use dev_support::random::random_rotation;

@@ -7,7 +7,7 @@
 //! demo's answer within the tolerance).
 
 use crate::stabilize::support::pose_hash;
-use constraint_stabilization::demo::demo_scene;
+use constraint_stabilization::testbed::demo::demo_scene;
 use constraint_stabilization::{Settings, Stabilizer};
 
 /// The hash of the demo scene of 300 bodies (seed 2026) after one call
@@ -17,9 +17,10 @@ const SEED_POSE_HASH: u64 = 0x9784_c7b7_e2f7_aeb7;
 #[test]
 fn frictionless_default_reproduces_the_seed_bit_for_bit() {
     let mut scene = demo_scene(300, 2026);
-    let settings = Settings {
-        near_pair_faces: false,
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.near_pair_faces = false;
+        settings
     };
     let mut stabilizer = Stabilizer::new(settings).expect("valid settings");
     let report = stabilizer.stabilize(&mut scene).expect("stabilizes");

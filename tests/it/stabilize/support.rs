@@ -13,7 +13,7 @@
 #![allow(dead_code)]
 
 use constraint_stabilization::body::MassSpec;
-use constraint_stabilization::geometry::isometry_to_parry;
+use constraint_stabilization::internals::geometry::isometry_to_parry;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::{Report, Settings, Stabilizer};
 use dev_support::sat::{deepest_over_pairs, sat_depth};

@@ -13,8 +13,8 @@
 
 use crate::stabilize::support::{parry_pair_depth, parry_shapes};
 use constraint_stabilization::body::MassSpec;
-use constraint_stabilization::contact::{self, BodyGeometry, PairQuery};
-use constraint_stabilization::vclip::{Outcome, VClip, VClipSettings};
+use constraint_stabilization::internals::contact::{self, BodyGeometry, PairQuery};
+use constraint_stabilization::internals::vclip::{Outcome, VClip, VClipSettings};
 use dev_support::sat::sat_depth;
 use dev_support::scene::{IDENTITY_XYZW, cuboid, scene_of, xyzw};
 use nalgebra::{UnitQuaternion, Vector3};

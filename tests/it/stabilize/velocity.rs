@@ -6,9 +6,7 @@
 
 use crate::stabilize::support::heavy_on_light;
 use constraint_stabilization::body::MassSpec;
-use constraint_stabilization::stabilizer::{
-    BodyVelocity, VelocityFriction, VelocityOptions, VelocityReport,
-};
+use constraint_stabilization::stabilizer::{BodyVelocity, VelocityFriction, VelocityReport};
 use constraint_stabilization::{Settings, Stabilizer};
 use dev_support::scene::{IDENTITY_XYZW, cuboid, ground, hull, scene_of, unit_cube_sunk};
 use nalgebra::{Matrix3, Point3, Vector3, Vector6};
@@ -70,7 +68,7 @@ fn a_single_contact_loses_exactly_its_approach_velocity() {
     let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
     let mut velocities = vec![BodyVelocity::default(), velocity];
     let report = stabilizer
-        .project_velocities(&scene, &mut velocities, &[1], &VelocityOptions::default())
+        .project_velocities(&scene, &mut velocities, &[1], None, VelocityFriction::None)
         .expect("projects");
     assert_eq!(report.contacts, 1, "{report:?}");
     assert_eq!(report.islands_solved, 1);
@@ -85,18 +83,16 @@ fn a_single_contact_loses_exactly_its_approach_velocity() {
 
     // With friction, removing the approach adds no sliding at the contact:
     // the tangential velocity of the vertex is unchanged.
-    let settings = Settings {
-        friction: 0.5,
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.friction = 0.5;
+        settings
     };
     let mut stabilizer = Stabilizer::new(settings).expect("valid settings");
     let mut velocities = vec![BodyVelocity::default(), velocity];
-    let options = VelocityOptions {
-        friction: VelocityFriction::OnChange,
-        ..VelocityOptions::default()
-    };
+    let (time_step, velocity_friction) = (None, VelocityFriction::OnChange);
     stabilizer
-        .project_velocities(&scene, &mut velocities, &[1], &options)
+        .project_velocities(&scene, &mut velocities, &[1], time_step, velocity_friction)
         .expect("projects");
     let point_velocity = |v: &BodyVelocity| v.linear + v.angular.cross(&r);
     let before = point_velocity(&velocity);
@@ -150,7 +146,7 @@ fn a_heavy_box_falling_on_light_ones_stops_and_bystanders_keep_their_velocity() 
     ];
     let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
     let report = stabilizer
-        .project_velocities(&scene, &mut velocities, &[3], &VelocityOptions::default())
+        .project_velocities(&scene, &mut velocities, &[3], None, VelocityFriction::None)
         .expect("projects");
     println!("{report:?}: {velocities:?}");
     assert_eq!(report.islands_solved, 1);
@@ -181,7 +177,7 @@ fn bad_velocities_are_typed_errors() {
     let mut short = vec![BodyVelocity::default()];
     assert!(
         stabilizer
-            .project_velocities(&scene, &mut short, &[1], &VelocityOptions::default())
+            .project_velocities(&scene, &mut short, &[1], None, VelocityFriction::None)
             .is_err()
     );
     let mut nan = vec![BodyVelocity::default(); 2];
@@ -189,7 +185,7 @@ fn bad_velocities_are_typed_errors() {
     let before = nan.clone();
     assert!(
         stabilizer
-            .project_velocities(&scene, &mut nan, &[1], &VelocityOptions::default())
+            .project_velocities(&scene, &mut nan, &[1], None, VelocityFriction::None)
             .is_err()
     );
     assert!(nan[1].angular.x.is_nan() && nan[0] == before[0]);
@@ -216,14 +212,11 @@ fn a_speculative_contact_lets_the_gap_close_in_one_step() {
         linear: Vector3::new(0.0, -1.0, 0.0),
         angular: Vector3::zeros(),
     };
-    let options = VelocityOptions {
-        time_step: Some(h),
-        ..VelocityOptions::default()
-    };
+    let (time_step, velocity_friction) = (Some(h), VelocityFriction::None);
     let mut stabilizer = Stabilizer::new(Settings::default()).expect("default settings");
     let mut velocities = vec![BodyVelocity::default(), falling];
     let report = stabilizer
-        .project_velocities(&scene, &mut velocities, &[1], &options)
+        .project_velocities(&scene, &mut velocities, &[1], time_step, velocity_friction)
         .expect("projects");
     assert_eq!(report.islands_solved, 1, "{report:?}");
     let v = velocities[1];
@@ -235,16 +228,13 @@ fn a_speculative_contact_lets_the_gap_close_in_one_step() {
     // Without the time step the box is not in contact: untouched.
     let mut velocities = vec![BodyVelocity::default(), falling];
     let report = stabilizer
-        .project_velocities(&scene, &mut velocities, &[1], &VelocityOptions::default())
+        .project_velocities(&scene, &mut velocities, &[1], None, VelocityFriction::None)
         .expect("projects");
     assert_eq!((report.contacts, velocities[1]), (0, falling));
-    let bad = VelocityOptions {
-        time_step: Some(0.0),
-        ..VelocityOptions::default()
-    };
+    let (bad_step, no_friction) = (Some(0.0), VelocityFriction::None);
     assert!(
         stabilizer
-            .project_velocities(&scene, &mut velocities, &[1], &bad)
+            .project_velocities(&scene, &mut velocities, &[1], bad_step, no_friction)
             .is_err()
     );
 }
@@ -268,18 +258,16 @@ fn project_resting_cube(
     mu: f64,
 ) -> (BodyVelocity, VelocityReport) {
     let (scene, _) = sliding_cube();
-    let settings = Settings {
-        friction: mu,
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.friction = mu;
+        settings
     };
     let mut stabilizer = Stabilizer::new(settings).expect("valid settings");
     let mut velocities = vec![BodyVelocity::default(), velocity];
-    let options = VelocityOptions {
-        friction,
-        ..VelocityOptions::default()
-    };
+    let (time_step, velocity_friction) = (None, friction);
     let report = stabilizer
-        .project_velocities(&scene, &mut velocities, &[1], &options)
+        .project_velocities(&scene, &mut velocities, &[1], time_step, velocity_friction)
         .expect("projects");
     println!("{friction:?}, mu {mu}: {:?} ({report:?})", velocities[1]);
     (velocities[1], report)
@@ -359,18 +347,16 @@ fn a_heavy_box_on_a_tilted_light_one_gives_it_no_sideways_velocity() {
         angular: Vector3::zeros(),
     };
     let sideways = |friction: VelocityFriction| {
-        let settings = Settings {
-            friction: 0.5,
-            ..Settings::default()
+        let settings = {
+            let mut settings = Settings::default();
+            settings.friction = 0.5;
+            settings
         };
         let mut stabilizer = Stabilizer::new(settings).expect("valid settings");
         let mut velocities = vec![BodyVelocity::default(), BodyVelocity::default(), falling];
-        let options = VelocityOptions {
-            time_step: Some(ENGINE_STEP),
-            friction,
-        };
+        let (time_step, velocity_friction) = (Some(ENGINE_STEP), friction);
         let report = stabilizer
-            .project_velocities(&scene, &mut velocities, &[2], &options)
+            .project_velocities(&scene, &mut velocities, &[2], time_step, velocity_friction)
             .expect("projects");
         println!("{friction:?}: {velocities:?} ({report:?})");
         assert_eq!(report.islands_solved, 1, "{report:?}");

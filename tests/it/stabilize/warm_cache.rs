@@ -84,9 +84,9 @@ fn a_shared_stabilizer_answers_like_a_fresh_one() {
 /// warm starts changed the deepest-vertex faces, and the reused stabilizer
 /// found 667 islands where a fresh one found 666.
 #[test]
-#[cfg(feature = "demo")]
+#[cfg(feature = "testbed")]
 fn the_same_input_twice_gives_the_fresh_answer() {
-    use constraint_stabilization::demo::demo_scene;
+    use constraint_stabilization::testbed::demo::demo_scene;
     let mut reused = Stabilizer::new(Settings::default()).expect("valid settings");
     let mut first = demo_scene(1_000, 2026);
     reused.stabilize(&mut first).expect("solvable");

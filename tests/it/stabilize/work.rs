@@ -82,9 +82,10 @@ fn resting_boxes_away_from_the_penetration_hold_still() {
     // The whole island gives the same sunk box: the region's answer did not
     // push the held boxes, so it is the island's to within the tolerance.
     let mut whole = row_of_boxes(count, gap, depth);
-    let settings = Settings {
-        solve_whole_islands: true,
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.solve_whole_islands = true;
+        settings
     };
     let (whole_report, _) = stabilize_with(&mut whole, settings);
     assert!(whole_report.status.is_resolved());
@@ -160,9 +161,10 @@ mod engine_states {
         let mut region = engine_state("rp01_pile_200");
         let (report, _) = stabilize_with(&mut region, Settings::default());
         let mut whole = engine_state("rp01_pile_200");
-        let settings = Settings {
-            solve_whole_islands: true,
-            ..Settings::default()
+        let settings = {
+            let mut settings = Settings::default();
+            settings.solve_whole_islands = true;
+            settings
         };
         let (whole_report, _) = stabilize_with(&mut whole, settings);
         for (label, scene, report) in [

@@ -2,8 +2,8 @@
 //! depth (separating axes, brute force) and parry's EPA, and the exhaustive
 //! fallback (forced by an iteration cap of zero) against parry.
 
-use constraint_stabilization::geometry::ConvexPolyhedron;
-use constraint_stabilization::vclip::{
+use constraint_stabilization::internals::geometry::ConvexPolyhedron;
+use constraint_stabilization::internals::vclip::{
     BodyRole, DeepestVertex, FallbackReason, Outcome, VClip, VClipSettings, vclip,
 };
 use dev_support::random::{random_hull_varied, random_pose};

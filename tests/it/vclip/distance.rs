@@ -1,8 +1,8 @@
 //! Separated distance and penetration status of V-Clip against parry3d-f64
 //! (GJK distance and intersection test) on random pairs.
 
-use constraint_stabilization::geometry::ConvexPolyhedron;
-use constraint_stabilization::vclip::{Outcome, vclip};
+use constraint_stabilization::internals::geometry::ConvexPolyhedron;
+use constraint_stabilization::internals::vclip::{Outcome, vclip};
 use dev_support::random::{random_hull_varied, random_pose};
 use dev_support::vclip::{parry_distance, parry_intersects, parry_shape};
 use nalgebra::Vector3;

@@ -2,7 +2,7 @@
 //! starts, and the degeneracy test of nearly parallel cubes, all checked
 //! against parry3d-f64.
 
-use constraint_stabilization::vclip::{FeaturePair, Outcome, VClip, vclip};
+use constraint_stabilization::internals::vclip::{FeaturePair, Outcome, VClip, vclip};
 use dev_support::random::random_pose;
 use dev_support::vclip::experiments::{CoherenceRun, degeneracy_experiment, mirtich_shapes};
 use dev_support::vclip::{

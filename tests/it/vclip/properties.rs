@@ -4,8 +4,8 @@
 //! Case counts are bounded so that `cargo test` stays fast.
 
 use crate::support::proptest_config;
-use constraint_stabilization::geometry::ConvexPolyhedron;
-use constraint_stabilization::vclip::{Outcome, VClipResult, vclip};
+use constraint_stabilization::internals::geometry::ConvexPolyhedron;
+use constraint_stabilization::internals::vclip::{Outcome, VClipResult, vclip};
 use dev_support::random::random_hull_varied;
 use dev_support::sat::separating_axis_depth;
 use dev_support::vclip::{

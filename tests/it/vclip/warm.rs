@@ -2,9 +2,9 @@
 //! answer as a cold one (Mirtich 1998, Theorem 2: any start converges), and
 //! bad input is rejected with a typed error.
 
-use constraint_stabilization::contact::minimum_translation;
-use constraint_stabilization::geometry::{ConvexPolyhedron, Feature};
-use constraint_stabilization::vclip::{
+use constraint_stabilization::internals::contact::minimum_translation;
+use constraint_stabilization::internals::geometry::{ConvexPolyhedron, Feature};
+use constraint_stabilization::internals::vclip::{
     BodyRole, DeepestVertex, FeaturePair, Outcome, VClipError, VClipResult, vclip,
 };
 use dev_support::random::{random_hull_varied, random_pose};

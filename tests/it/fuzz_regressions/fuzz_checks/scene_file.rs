@@ -3,10 +3,10 @@
 //! left as it was) or stabilizes without NaN, never deeper than it came,
 //! whose written file parses back to the same number of bodies.
 
-use constraint_stabilization::Stabilizer;
 use constraint_stabilization::body::Shape;
 use constraint_stabilization::io::scene_file::{parse_scene, scene_to_string};
 use constraint_stabilization::scene::Scene;
+use constraint_stabilization::{Settings, Stabilizer};
 
 /// Scenes with more bodies are skipped.
 const MAX_BODIES: usize = 24;
@@ -45,7 +45,7 @@ pub fn check(data: &[u8]) {
     if !small(&scene) {
         return;
     }
-    let mut settings = scene.stabilizer_settings(Default::default());
+    let mut settings = Settings::default().with_scene_settings(scene.settings());
     settings.max_passes = settings.max_passes.min(MAX_PASSES);
     let mut stabilizer = Stabilizer::new(settings).expect("a parsed scene's settings are valid");
     // Numbers round-trip exactly (shortest form): equal text, equal bits.

@@ -6,9 +6,9 @@
 //! separated answer has no axis-wise overlap beyond that, with a distance
 //! at least the widest separating gap.
 
-use constraint_stabilization::contact::{BodyGeometry, query};
-use constraint_stabilization::geometry::ConvexPolyhedron;
-use constraint_stabilization::vclip::{Outcome, VClip, VClipSettings};
+use constraint_stabilization::internals::contact::{BodyGeometry, query};
+use constraint_stabilization::internals::geometry::ConvexPolyhedron;
+use constraint_stabilization::internals::vclip::{Outcome, VClip, VClipSettings};
 use dev_support::sat;
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 
