@@ -1,6 +1,7 @@
 //! The integration tests of `constraint-stabilization`, one test binary
 //! (one link of the library) with a module per area:
 //!
+//! - [`architecture`]: the modules of `src/` point one way;
 //! - [`geometry`]: convex polyhedra (hulls, faces, shapes, the parry bridge);
 //! - [`vclip`]: V-Clip distance, deepest vertex, warm starts, Mirtich's
 //!   experiments, property tests;
@@ -13,7 +14,7 @@
 //! - [`gauss_seidel`]: the Gauss-Seidel method;
 //! - [`io`]: scene and LCP files, the SVG picture;
 //! - [`cli`]: the `stabilize` command line (feature `cli`);
-//! - [`rapier_bridge`]: the Rapier bridge (feature `rapier`);
+//! - [`rapier_bridge`]: the Rapier bridge (features `rapier` and `testbed`);
 //! - [`fuzz_regressions`]: the inputs kept from fuzzing (feature `serde`).
 //!
 //! Helpers shared with the benchmarks and examples are in the
@@ -25,6 +26,8 @@
 //! stabilize::scenes:: -- --nocapture`.
 
 mod support;
+
+mod architecture;
 
 mod contact;
 mod gauss_seidel;
