@@ -135,10 +135,12 @@ impl Stabilizer {
 
     /// Replaces the settings (validated first; on error they are kept),
     /// keeping the warm starts: for a caller whose lengths follow the
-    /// scene from call to call.
+    /// scene from call to call. The lengths of the next calls are the new
+    /// settings' again.
     pub fn set_settings(&mut self, settings: Settings) -> Result<(), Error> {
         settings.validate()?;
         self.settings = settings;
+        self.call_lengths = None;
         Ok(())
     }
 
