@@ -2,8 +2,8 @@
 //! input: those that found a bug, and a few seeds), run through the same
 //! checks as the fuzz targets ([`fuzz_checks`], included by the targets
 //! of `fuzz/` from `tests/it/fuzz_regressions/fuzz_checks/`), so that a bug the
-//! fuzzer found once stays fixed without the fuzzer. See README.md,
-//! "Reliability", for the fuzzing runs.
+//! fuzzer found once stays fixed without the fuzzer. See docs/reliability.md
+//! and benchmarks/results/fuzzing.md for the fuzzing runs.
 
 mod fuzz_checks;
 

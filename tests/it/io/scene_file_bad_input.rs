@@ -4,8 +4,8 @@
 //! mass properties, degenerate hulls, empty scenes, malformed and deeply
 //! nested JSON, text that is not UTF-8, duplicate names. Each is a typed
 //! error naming the body and the field where there is one (or the line and
-//! column where the JSON itself is wrong), never a panic; the README's
-//! "Reliability" table lists them. Sizes (files, bodies, hull points) are in
+//! column where the JSON itself is wrong), never a panic; docs/reliability.md
+//! lists them. Sizes (files, bodies, hull points) are in
 //! `scene_file_limits.rs`.
 
 use constraint_stabilization::body::BodyError;

@@ -4,7 +4,7 @@
 //! the largest hull accepted, every point extreme (the hull's worst case),
 //! builds. Each is a typed error or a bounded run, never memory exhaustion.
 //! The inputs are generated here; the figures that chose the limits are in
-//! the README ("Reliability").
+//! benchmarks/results/reliability.md.
 
 use constraint_stabilization::io::scene_file::{
     FieldProblem, MAX_BODIES, MAX_HULL_POINTS, MAX_SCENE_FILE_BYTES, SceneFileError, parse_scene,

@@ -113,7 +113,7 @@ fn box_face_down(depth: f64, target: f64) -> ProjectionQp {
 }
 
 /// Four coplanar contacts constrain three degrees of freedom; the minimal
-/// correction is a pure lift by depth + target (DESIGN.md section 3), with
+/// correction is a pure lift by depth + target (docs/design.md section 3), with
 /// no rotation, whatever solver.
 #[test]
 fn box_resting_face_down_is_lifted_straight_up() {
@@ -426,7 +426,7 @@ fn cross_check_at_extreme_scales() {
 }
 
 /// Scaling every length by s scales the translations by s and leaves the
-/// rotations unchanged (DESIGN.md section 3).
+/// rotations unchanged (docs/design.md section 3).
 #[test]
 fn length_scaling_scales_translations_only() {
     let base = solve_with(

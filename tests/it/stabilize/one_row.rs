@@ -1,4 +1,4 @@
-//! The minimal correction for one contact row in closed form (DESIGN.md
+//! The minimal correction for one contact row in closed form (docs/design.md
 //! section 3), derived here and not taken from the library, and the
 //! comparison of a body's measured motion against it: the stabilizer tests
 //! that check the mass-weighted split (`minimal`, `scenes`).
@@ -67,7 +67,7 @@ pub struct Correction {
     pub dtheta: Vector3<f64>,
 }
 
-/// The minimal correction for one contact row, derived here (DESIGN.md
+/// The minimal correction for one contact row, derived here (docs/design.md
 /// section 3): the row at world point `point` with unit normal `normal` has
 /// `J_i = side_i [n^T, (r_i x n)^T]` with `r_i = point - centre_i`, and
 /// `dq = M^-1 J^T lambda`, `lambda = (target - phi) / (J M^-1 J^T)`.

@@ -15,7 +15,7 @@
 //! every pose as it was; but no case errs: those calls converge
 //! (`overflowing_pair_with_an_overflowing_margin_still_converges`), and no
 //! valid scene and settings were found that make a call fail, so the
-//! error branch is checked but not exercised (README, "Reliability").
+//! error branch is checked but not exercised (docs/reliability.md).
 
 use crate::stabilize::support::solved_bodies;
 use crate::support::proptest_config;

@@ -146,7 +146,7 @@ fn assert_quantiles(name: &str, values: &[f64], bounds: &[(f64, f64)]) {
     }
 }
 
-/// Both the witness face of DESIGN.md section 4 (`refine_face: false`) and
+/// Both the witness face of docs/design.md section 4 (`refine_face: false`) and
 /// the refined face (default): the deepest vertex is the brute-force
 /// minimum, the depth bounds the exact depth (separating axes) and parry's
 /// EPA depth, the push-out separates, the refinement never deepens the
