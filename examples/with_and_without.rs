@@ -21,7 +21,7 @@
 //!   the bridge's default is marked;
 //! - `allowed+friction`: Rapier's allowed penetration left, positions only;
 //! - `positions`: a call after every step with the library's defaults
-//!   (positions only, no friction: the seed's behaviour).
+//!   (positions only, velocities untouched, no friction).
 //!
 //! Per step: the exact deepest penetration of the Rapier world after the
 //! step (and the call), by brute-force separating axes over every pair of
@@ -134,7 +134,7 @@ enum Run {
     /// Rapier's allowed penetration respected, with the colliders'
     /// friction, positions only.
     Allowed,
-    /// Positions only, no friction: the seed's behaviour.
+    /// Positions only, velocities untouched, no friction.
     Positions,
 }
 

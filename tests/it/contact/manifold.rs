@@ -297,7 +297,7 @@ fn near_points(scene: &Scene, near_faces: bool) -> Vec<contact::ContactPoint> {
 /// apart. Their widest separating axis is an edge–edge axis a hair wider
 /// than the face axis. With `near_pair_faces` the manifold is the face's
 /// (the corners of the overlap and the edge–edge point), as a penetrating
-/// pair's; the seed's contacts give the edge–edge point alone, which let
+/// pair's; the contacts without near-pair faces give the edge–edge point alone, which let
 /// the next step tilt one box into the other (two passes of line-search
 /// steps of 1/64 and 1/128 on that stack).
 #[test]

@@ -52,7 +52,7 @@ fn world_with_box_at(y: f32) -> (PhysicsWorld, RigidBodyHandle) {
     (world, body)
 }
 
-/// A positions-only bridge without friction (the seed's behaviour): the
+/// A positions-only bridge without friction (positions only, velocities untouched): the
 /// mode the tests of reading, writing and rounding pin down.
 fn bridge() -> RapierBridge {
     RapierBridge::with_settings(BridgeSettings {

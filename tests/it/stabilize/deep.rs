@@ -125,7 +125,7 @@ fn box_in_an_exactly_fitting_slot_rises_with_the_default_settings() {
     assert!(first.rows_held, "{first:#?}");
 }
 
-/// With the seed's rows (`hold_open_gaps = false`) the exact slot is still
+/// Without the retry on held rows (`hold_open_gaps = false`) the exact slot is still
 /// infeasible and the call returns the input: the flag is what fixes it.
 #[test]
 fn box_in_an_exactly_fitting_slot_is_infeasible_with_the_seeds_rows() {
@@ -134,7 +134,7 @@ fn box_in_an_exactly_fitting_slot_is_infeasible_with_the_seeds_rows() {
         settings.hold_open_gaps = false;
         settings
     };
-    let run = run("exact slot, seed's rows", &box_in_slot(0.0), settings);
+    let run = run("exact slot, no retry", &box_in_slot(0.0), settings);
     assert!(!run.report.status.is_resolved(), "{:?}", run.report.status);
     assert_eq!(run.report.bodies_moved, 0);
 }

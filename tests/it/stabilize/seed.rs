@@ -1,10 +1,11 @@
-//! The seed's algorithm stays available bit for bit: with no friction
-//! (`Settings::friction = 0`, the default) and positions only, the demo
-//! scene ends at exactly the poses it ended at before friction existed
-//! (pose hash recorded on commit 89ab21c, the last commit without it),
-//! given the seed's contacts for near pairs (`near_pair_faces = false`;
-//! the default builds a near pair's manifold on a face, which moves the
-//! demo's answer within the tolerance).
+//! The frictionless, positions-only projection stays available bit for
+//! bit: with no friction (`Settings::friction = 0`, the default) and
+//! positions only, the demo scene ends at exactly the poses it ended at
+//! before friction existed (pose hash recorded on commit 89ab21c, the last
+//! commit without it), given the near pairs' contacts on their widest
+//! separating axis (`near_pair_faces = false`; the default builds a near
+//! pair's manifold on a face, which moves the demo's answer within the
+//! tolerance).
 
 use crate::stabilize::support::pose_hash;
 use constraint_stabilization::testbed::demo::demo_scene;
