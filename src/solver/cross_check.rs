@@ -49,7 +49,7 @@ pub struct CrossCheck {
     pub outcome: CrossCheckOutcome,
     /// The problem had friction cones: both sides solved its pyramid, one
     /// problem with linear rows that both solvers take
-    /// ([`super::solve`]).
+    /// (`super::solve`).
     pub on_pyramid: bool,
 }
 

@@ -72,7 +72,7 @@ impl Lcp {
         &self.m * z + &self.q
     }
 
-    /// Whether `M` is symmetric to [`SYMMETRY_TOL_REL`].
+    /// Whether `M` is symmetric to `SYMMETRY_TOL_REL`.
     pub fn is_symmetric(&self) -> bool {
         let size = self.m.amax();
         (&self.m - self.m.transpose()).amax() <= SYMMETRY_TOL_REL * size

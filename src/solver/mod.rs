@@ -7,10 +7,10 @@
 //! ```
 //!
 //! ([`ProjectionQp`], `M` block diagonal), whose dual is the LCP
-//! `A = J M^-1 J^T`, `b = phi - target` ([`projection_lcp`]), possibly with
+//! `A = J M^-1 J^T`, `b = phi - target` (`projection_lcp`), possibly with
 //! friction cones ([`friction_cone`]; clarabel's primal form solves them,
 //! the others their pyramid). Solvers:
-//! - [`closed_form`]: one row;
+//! - `closed_form`: one row;
 //! - [`clarabel_qp::primal`]: clarabel on the primal QP (sparse);
 //! - [`clarabel_qp::dual`]: clarabel on the dual QP `min 1/2 z^T A z + b^T z, z >= 0`;
 //! - [`lemke`]: Lemke's complementary pivoting (also general LCPs, [`Lcp`]);
@@ -18,7 +18,7 @@
 //!
 //! [`solve_projection`] validates the problem, picks a solver, falls back
 //! on failure, checks every answer with the metrics of [`residuals`] and
-//! can cross-check two solvers ([`cross_check`]).
+//! can cross-check two solvers (`cross_check`).
 
 pub mod clarabel_qp;
 pub(crate) mod closed_form;

@@ -11,7 +11,7 @@
 //! It converges for symmetric positive definite `M` (Cottle, Pang and
 //! Stone 1992, section 5.2), slowly when `M` is ill-conditioned, and may not
 //! converge otherwise; it needs `M_ii > 0`. The iteration runs on the
-//! Jacobi-scaled problem of [`super::scaling`] (the iterates are the same up
+//! Jacobi-scaled problem of `super::scaling` (the iterates are the same up
 //! to scaling; the residual is then relative), and stops when the natural
 //! map falls below the tolerance or at the sweep limit, which is a failure:
 //! a non-converged `z` is never returned.

@@ -6,7 +6,7 @@
 //!   the measure of `tests/data/siconos/README.md`).
 //! - complementarity: `max_i |z_i w_i|`.
 //!
-//! Projection QP (see [`super::projection`]), with `b = phi - target`,
+//! Projection QP (see `super::projection`), with `b = phi - target`,
 //! `w = b + J dq`, `a_i = J_i M^-1 J_i^T` (the diagonal of the LCP matrix) and
 //! the length scale `l = max(||b||_inf, tiny)`. Each metric is dimensionless,
 //! so it is unchanged when lengths or masses are rescaled (`a_i lambda_i` and
@@ -68,7 +68,7 @@
 //! Friction cones enter every measure in the cone's sense (a cone's
 //! infeasibility is `max(0, |w_t| - w_0)`, its multiplier is projected onto
 //! the cone rather than clamped, its gap term is `z^T w`):
-//! [`super::cone_residuals`]. The length scale `l` then includes the cones'
+//! `super::cone_residuals`. The length scale `l` then includes the cones'
 //! `|b_c|`.
 
 use nalgebra::{DMatrix, DVector};
@@ -230,7 +230,7 @@ pub fn length_scale(b: &DVector<f64>) -> f64 {
 
 /// The acceptance measures of `dq` (module docs): feasibility relative to
 /// `l_accept`, the relative duality gap, and its square root; with the
-/// cones' terms ([`super::cone_residuals`]).
+/// cones' terms (`super::cone_residuals`).
 fn acceptance_measures(
     qp: &ProjectionQp,
     metric: &[BlockMetric],

@@ -8,7 +8,7 @@
 //! z^T w = 0` when `A` is symmetric positive semidefinite (`w` is the
 //! multiplier of `z >= 0`). clarabel form: `P = triu(A~)`, `c = b~`,
 //! `-z~ + s = 0`, `s >= 0`, on the Jacobi-scaled problem of
-//! [`crate::solver::scaling`] (unit diagonal, `||b~||_inf = 1`). `P` is
+//! `crate::solver::scaling` (unit diagonal, `||b~||_inf = 1`). `P` is
 //! dense: `n (n + 1) / 2` entries.
 //!
 //! The interior point is polished as in [`super::polish`], densely: with the

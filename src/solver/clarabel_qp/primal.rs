@@ -1,7 +1,7 @@
 //! The primal projection QP for clarabel, in metric-whitened, unit-scaled
 //! variables.
 //!
-//! With `M_k = L_k L_k^T` per body (see [`crate::solver::metric`]) and
+//! With `M_k = L_k L_k^T` per body (see `crate::solver::metric`) and
 //! `y = L^T dq`, the objective is `1/2 |y|^2`. Row `i` becomes
 //! `b_i + G_i y >= 0` with `G_ik = L_k^-1 J_ik^T` and `b = phi - target`.
 //! Each row is divided by `g_i = |G_i|` (so `g_i^2 = A_ii`, the LCP

@@ -1,7 +1,7 @@
 //! Lemke's complementary pivoting method for the LCP
 //! `z >= 0, w = M z + q >= 0, z^T w = 0`, with
 //! - the covering vector `d = 1` on the Jacobi-scaled problem of
-//!   [`super::scaling`] (so every tolerance below is relative to `||M||` and
+//!   `super::scaling` (so every tolerance below is relative to `||M||` and
 //!   `||q||` of the caller's data),
 //! - the lexicographic ratio test of [`ratio`] (no cycling on degenerate
 //!   problems),
