@@ -63,6 +63,7 @@ mod contact;
 pub mod error;
 mod geometry;
 pub mod io;
+pub mod joints;
 mod parallel;
 mod projector;
 #[cfg(feature = "rapier")]
@@ -78,6 +79,7 @@ mod vclip;
 
 pub use body::{Body, BodyDesc, BodyError, MassSpec, Shape, ShapePart};
 pub use error::Error;
+pub use joints::{Joint, JointKind};
 pub use scene::{Scene, SceneError};
 pub use settings::{FrictionModel, Method, Settings, SettingsError};
 pub use stabilizer::{Report, Stabilizer, Status};

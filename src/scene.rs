@@ -18,6 +18,7 @@ use nalgebra::Isometry3;
 use thiserror::Error;
 
 use crate::body::{Body, BodyDesc, BodyError};
+use crate::joints::{Joint, JointError};
 use crate::settings::{SceneSettings, SettingsError};
 
 /// Why a scene could not be built.
@@ -44,6 +45,24 @@ pub enum SceneError {
     /// The settings are invalid.
     #[error("{0}")]
     Settings(#[from] SettingsError),
+    /// A joint is invalid.
+    #[error("joint {index} ({name:?}): {source}")]
+    Joint {
+        /// Index the joint has (or would have had) in the scene.
+        index: usize,
+        /// The joint's name.
+        name: String,
+        /// What is wrong.
+        source: JointError,
+    },
+    /// A joint index is out of range.
+    #[error("no joint {index}: the scene has {len} joints")]
+    NoSuchJoint {
+        /// The index asked for.
+        index: usize,
+        /// Number of joints.
+        len: usize,
+    },
 }
 
 /// A body index and the user pose (translation, `[x, y, z, w]`) it had,
@@ -98,10 +117,12 @@ impl IndexMap {
     }
 }
 
-/// Bodies in a fixed order, and the settings given with them.
+/// Bodies in a fixed order, the joints between them, and the settings
+/// given with them.
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
     bodies: Vec<Body>,
+    joints: Vec<Joint>,
     settings: SceneSettings,
 }
 
@@ -161,7 +182,56 @@ impl Scene {
             old += 1;
             !removed[old - 1]
         });
+        self.joints.retain_mut(|joint| {
+            match (map.new_index(joint.body_a), map.new_index(joint.body_b)) {
+                (Some(a), Some(b)) => {
+                    (joint.body_a, joint.body_b) = (a, b);
+                    true
+                }
+                _ => false,
+            }
+        });
         Ok(map)
+    }
+
+    /// Validates and appends a joint between two of the scene's bodies;
+    /// returns its index. Removing either body removes the joint
+    /// ([`Scene::remove_bodies`]).
+    pub fn add_joint(&mut self, joint: Joint) -> Result<usize, SceneError> {
+        let index = self.joints.len();
+        joint
+            .validate(&self.fixed_flags())
+            .map_err(|source| SceneError::Joint {
+                index,
+                name: joint.name.clone(),
+                source,
+            })?;
+        self.joints.push(joint);
+        Ok(index)
+    }
+
+    /// Removes the joints at `indices` (any order, repeats allowed),
+    /// keeping the order of the others. An index out of range is an error
+    /// and removes nothing.
+    pub fn remove_joints(&mut self, indices: &[usize]) -> Result<(), SceneError> {
+        let len = self.joints.len();
+        let mut removed = vec![false; len];
+        for &index in indices {
+            *removed
+                .get_mut(index)
+                .ok_or(SceneError::NoSuchJoint { index, len })? = true;
+        }
+        let mut old = 0;
+        self.joints.retain(|_| {
+            old += 1;
+            !removed[old - 1]
+        });
+        Ok(())
+    }
+
+    /// The joints, in index order.
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
     }
 
     /// Sets the user poses (shape frame in the world, see

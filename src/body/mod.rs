@@ -412,6 +412,11 @@ impl Body {
         )
     }
 
+    /// The centre of mass in the body's user (shape) frame.
+    pub fn com_offset(&self) -> &Vector3<f64> {
+        &self.origin_offset
+    }
+
     /// The COM pose: maps body-frame points to world, `p_world = R p_body + t_com`.
     pub fn com_pose(&self) -> &Isometry3<f64> {
         &self.com_pose

@@ -18,7 +18,7 @@
 
 use nalgebra::{Point3, Vector3, Vector6};
 
-use crate::rows::{ConstraintRow, RowFriction};
+use crate::rows::{ConstraintRow, RowFriction, RowKind};
 
 /// A body's side of a contact: its index in the configuration and its
 /// centre of mass, or `None` for a fixed body.
@@ -41,6 +41,7 @@ pub fn contact_row(
         blocks.push((index, -jacobian_block(normal, &(p_b - com))));
     }
     ConstraintRow {
+        kind: RowKind::Inequality,
         phi: normal.dot(&(p_a - p_b)),
         blocks,
         friction: None,

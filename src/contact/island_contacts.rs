@@ -275,7 +275,10 @@ impl ConstraintProvider for IslandContacts<'_> {
                 None => FAILED_QUERY_VALUE,
             })
             .collect();
-        Measurement { values }
+        Measurement {
+            values,
+            equalities: Vec::new(),
+        }
     }
 }
 

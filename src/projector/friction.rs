@@ -130,7 +130,7 @@ pub fn pyramid_rows(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rows::RowFriction;
+    use crate::rows::{RowFriction, RowKind};
     use nalgebra::{Vector3, Vector6};
 
     /// One contact of body 0 against a fixed body: normal z, tangents x
@@ -138,6 +138,7 @@ mod tests {
     fn row(mu: f64, depth: f64) -> ConstraintRow {
         let block = |v: Vector3<f64>| vec![(0, Vector6::new(v.x, v.y, v.z, 0.0, 0.0, 0.0))];
         ConstraintRow {
+            kind: RowKind::Inequality,
             phi: -depth,
             blocks: block(Vector3::z()),
             friction: Some(RowFriction {

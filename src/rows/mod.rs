@@ -16,4 +16,4 @@ mod configuration;
 mod provider;
 
 pub use configuration::{BodyInertia, BodyState, Configuration, moved_configuration};
-pub use provider::{ConstraintProvider, ConstraintRow, Measurement, RowFriction};
+pub use provider::{ConstraintProvider, ConstraintRow, Measurement, RowFriction, RowKind};

@@ -1,18 +1,38 @@
 //! The interface between the projection loop and a source of constraints.
 //!
 //! A provider evaluates its unilateral constraints `phi_k(q) >= 0` at a
-//! configuration (negative = penetration, in length units) and linearizes
-//! them: `phi_k(q (+) dq) ≈ phi_k(q) + J_k dq`, where `J_k` has a 6-vector
-//! block `[linear; angular]` per dynamic body it involves (fixed bodies
-//! contribute no block).
+//! configuration (negative = penetration, in length units) and its
+//! equality constraints `e_j(q) = 0` (a joint's locked axes, in length
+//! units), and linearizes them: `phi_k(q (+) dq) ≈ phi_k(q) + J_k dq`,
+//! where `J_k` has a 6-vector block `[linear; angular]` per dynamic body it
+//! involves (fixed bodies contribute no block).
+//!
+//! The merit of a measurement, which the line search must decrease, is
+//! the sum of the squared violations beyond the tolerance `tol`:
+//!
+//! ```text
+//! merit = sum_k min(0, phi_k + tol)^2 + sum_j max(0, |e_j| - tol)^2.
+//! ```
 
 use nalgebra::Vector6;
 
 use super::BodyState;
 
-/// One linearized constraint `phi + J dq >= target`.
+/// Whether a row asks `phi + J dq >= target` or `phi + J dq = 0`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RowKind {
+    /// `phi + J dq >= target` (a contact, a joint limit).
+    #[default]
+    Inequality,
+    /// `phi + J dq = 0` (a joint's locked axis).
+    Equality,
+}
+
+/// One linearized constraint `phi + J dq >= target` (or `= 0`, by `kind`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ConstraintRow {
+    /// Inequality or equality.
+    pub kind: RowKind,
     /// Constraint value at the current configuration (negative = penetration).
     pub phi: f64,
     /// Non-zero blocks of `J`: (body index in the configuration, `[d phi / d x;
@@ -38,10 +58,13 @@ pub struct RowFriction {
 /// The true (not linearized) state of the constraints at a configuration.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Measurement {
-    /// Signed value of each measured constraint, in a fixed order that does
-    /// not depend on the configuration (one entry per body pair for
-    /// contacts): negative = penetration depth.
+    /// Signed value of each measured unilateral constraint, in a fixed
+    /// order that does not depend on the configuration (one entry per body
+    /// pair for contacts): negative = penetration depth.
     pub values: Vec<f64>,
+    /// Value of each equality constraint (0 when it holds), in a fixed
+    /// order, length units.
+    pub equalities: Vec<f64>,
 }
 
 impl Measurement {
@@ -50,12 +73,33 @@ impl Measurement {
         self.values.iter().fold(0.0, |deepest, &v| deepest.max(-v))
     }
 
-    /// Merit: sum of squared penetrations beyond `tolerance`.
+    /// The largest equality error `|e_j|` (0 if none).
+    pub fn largest_equality_error(&self) -> f64 {
+        self.equalities
+            .iter()
+            .fold(0.0, |largest, &e| largest.max(e.abs()))
+    }
+
+    /// The largest violation of any kind: the deepest penetration or the
+    /// largest equality error.
+    pub fn worst_violation(&self) -> f64 {
+        self.deepest_penetration()
+            .max(self.largest_equality_error())
+    }
+
+    /// Merit: sum of squared violations beyond `tolerance` (module docs).
     pub fn merit(&self, tolerance: f64) -> f64 {
-        self.values
+        let unilateral: f64 = self
+            .values
             .iter()
             .map(|&v| (v + tolerance).min(0.0).powi(2))
-            .sum()
+            .sum();
+        let equalities: f64 = self
+            .equalities
+            .iter()
+            .map(|&e| (e.abs() - tolerance).max(0.0).powi(2))
+            .sum();
+        unilateral + equalities
     }
 }
 

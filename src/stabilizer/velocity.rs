@@ -105,7 +105,7 @@ use crate::contact::islands;
 use crate::contact::{BodyGeometry, ContactFriction, Detection, SceneGeometry, contact_rows};
 use crate::projector::friction::pyramid_rows;
 use crate::projector::projection_qp;
-use crate::rows::ConstraintRow;
+use crate::rows::{ConstraintRow, RowKind};
 use crate::scene::Scene;
 use crate::settings::FrictionModel;
 use crate::solver::solve_projection;
@@ -401,6 +401,7 @@ fn append_velocity_cones(rows: &mut Vec<ConstraintRow>, gaps: &mut Vec<f64>, dir
     for (facet, parent) in facets.into_iter().zip(parents) {
         gaps.push(gaps[parent]);
         rows.push(ConstraintRow {
+            kind: RowKind::Inequality,
             phi: 0.0,
             blocks: facet.blocks,
             friction: None,

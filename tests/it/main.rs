@@ -33,6 +33,7 @@ mod contact;
 mod gauss_seidel;
 mod geometry;
 mod io;
+mod joints;
 mod scene;
 mod solver;
 mod stabilize;

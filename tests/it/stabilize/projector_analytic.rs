@@ -9,7 +9,7 @@ use constraint_stabilization::internals::projector::{
     ProjectionStatus, ProjectionSummary, StepOutcome, StepReport, project, projection_step,
 };
 use constraint_stabilization::internals::rows::{
-    BodyInertia, BodyState, ConstraintProvider, ConstraintRow, Measurement,
+    BodyInertia, BodyState, ConstraintProvider, ConstraintRow, Measurement, RowKind,
 };
 use constraint_stabilization::settings::ResolvedLengths;
 use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3, Vector6};
@@ -111,6 +111,7 @@ impl ConstraintProvider for PointsAbovePlane {
             values: (0..self.points.len())
                 .map(|k| self.point_world(k, configuration).z)
                 .collect(),
+            equalities: Vec::new(),
         }
     }
 }
@@ -193,6 +194,7 @@ fn mass_ratio_splits_the_correction() {
         fn measure(&mut self, c: &[BodyState]) -> Measurement {
             Measurement {
                 values: vec![(c[1].position - c[0].position).norm() - 2.0],
+                equalities: Vec::new(),
             }
         }
     }
@@ -222,11 +224,13 @@ fn line_search_stops_an_overshoot_into_a_clear_constraint() {
             let blocks = |sign: f64| vec![(0, Vector6::new(0.0, 0.0, sign * 0.2, 0.0, 0.0, 0.0))];
             vec![
                 ConstraintRow {
+                    kind: RowKind::Inequality,
                     phi: c[0].position.z,
                     blocks: blocks(1.0),
                     friction: None,
                 },
                 ConstraintRow {
+                    kind: RowKind::Inequality,
                     phi: ceiling,
                     blocks: blocks(-1.0),
                     friction: None,
@@ -236,6 +240,7 @@ fn line_search_stops_an_overshoot_into_a_clear_constraint() {
         fn measure(&mut self, c: &[BodyState]) -> Measurement {
             Measurement {
                 values: vec![c[0].position.z, 0.3 - c[0].position.z],
+                equalities: Vec::new(),
             }
         }
     }
@@ -337,6 +342,7 @@ fn point_inside_a_box_leaves_through_the_nearest_face() {
         fn measure(&mut self, c: &[BodyState]) -> Measurement {
             Measurement {
                 values: vec![Self::nearest_face(&c[0].position).0],
+                equalities: Vec::new(),
             }
         }
     }

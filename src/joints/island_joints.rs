@@ -1,0 +1,163 @@
+//! The joints of one island as the projection sees them: each end either a
+//! body of the island's configuration (a slot) or a body held where it is
+//! (fixed, or outside the configuration), its constraints, and their rows
+//! and values at any configuration of the island.
+
+use nalgebra::{Isometry3, Vector3};
+
+use super::constraints::{AnchorFrames, JointConstraint};
+use super::model::Joint;
+use crate::rows::{BodyState, ConstraintRow, RowKind};
+
+/// One end of a joint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum End {
+    /// Body `slot` of the configuration.
+    Moving(usize),
+    /// A body held at this centre-of-mass pose.
+    Held(Isometry3<f64>),
+}
+
+/// One joint of the island.
+#[derive(Debug, Clone, PartialEq)]
+struct IslandJoint {
+    joint: Joint,
+    ends: [End; 2],
+    offsets: [Vector3<f64>; 2],
+    constraints: Vec<JointConstraint>,
+}
+
+/// The joints of one island (module docs).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct IslandJoints {
+    joints: Vec<IslandJoint>,
+    /// Scene indices of the joints, in order.
+    indices: Vec<usize>,
+    /// The length that turns angles into lengths.
+    scale: f64,
+    /// A limit's rows are linearized when its value is below this.
+    margin: f64,
+}
+
+/// What [`IslandJoints::new`] needs to know of a joint's body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointBody {
+    /// Slot in the island's configuration, if the body moves.
+    pub slot: Option<usize>,
+    /// Centre-of-mass pose (used when the body does not move).
+    pub com_pose: Isometry3<f64>,
+    /// Centre of mass in the body's user frame.
+    pub com_offset: Vector3<f64>,
+}
+
+impl IslandJoints {
+    /// The joints `(scene index, joint, [body a, body b])` of an island;
+    /// angles are measured in lengths by `scale` and limits give rows when
+    /// their value is below `margin`.
+    pub fn new(
+        joints: impl IntoIterator<Item = (usize, Joint, [JointBody; 2])>,
+        scale: f64,
+        margin: f64,
+    ) -> Self {
+        let mut out = IslandJoints {
+            scale,
+            margin,
+            ..IslandJoints::default()
+        };
+        for (index, joint, bodies) in joints {
+            let end = |b: &JointBody| match b.slot {
+                Some(slot) => End::Moving(slot),
+                None => End::Held(b.com_pose),
+            };
+            out.indices.push(index);
+            out.joints.push(IslandJoint {
+                constraints: JointConstraint::of(&joint),
+                joint,
+                ends: [end(&bodies[0]), end(&bodies[1])],
+                offsets: [bodies[0].com_offset, bodies[1].com_offset],
+            });
+        }
+        out
+    }
+
+    /// Whether the island has no joint.
+    pub fn is_empty(&self) -> bool {
+        self.joints.is_empty()
+    }
+
+    /// Scene indices of the joints.
+    pub fn indices(&self) -> &[usize] {
+        &self.indices
+    }
+
+    /// Anchor frames of joint `j` at `configuration`.
+    fn frames(&self, j: usize, configuration: &[BodyState]) -> AnchorFrames {
+        let joint = &self.joints[j];
+        let pose = |end: &End| match *end {
+            End::Moving(slot) => configuration[slot].isometry(),
+            End::Held(pose) => pose,
+        };
+        AnchorFrames::at(
+            &joint.joint,
+            &pose(&joint.ends[0]),
+            &joint.offsets[0],
+            &pose(&joint.ends[1]),
+            &joint.offsets[1],
+        )
+    }
+
+    /// The rows at `configuration`: every equality, and every limit whose
+    /// value is below the margin.
+    pub fn rows(&self, configuration: &[BodyState]) -> Vec<ConstraintRow> {
+        let mut rows = Vec::new();
+        for (j, joint) in self.joints.iter().enumerate() {
+            let frames = self.frames(j, configuration);
+            for constraint in &joint.constraints {
+                let linearized = constraint.linearize(&frames, self.scale);
+                let equality = constraint.is_equality();
+                if !equality && linearized.value >= self.margin {
+                    continue;
+                }
+                let mut blocks = Vec::with_capacity(2);
+                for (end, grad) in joint
+                    .ends
+                    .iter()
+                    .zip([linearized.grad_a, linearized.grad_b])
+                {
+                    if let End::Moving(slot) = *end {
+                        blocks.push((slot, grad));
+                    }
+                }
+                rows.push(ConstraintRow {
+                    kind: if equality {
+                        RowKind::Equality
+                    } else {
+                        RowKind::Inequality
+                    },
+                    phi: linearized.value,
+                    blocks,
+                    friction: None,
+                });
+            }
+        }
+        rows
+    }
+
+    /// The exact values at `configuration`: the equalities' and the
+    /// limits', each in a fixed order.
+    pub fn measure(&self, configuration: &[BodyState]) -> (Vec<f64>, Vec<f64>) {
+        let mut equalities = Vec::new();
+        let mut limits = Vec::new();
+        for (j, joint) in self.joints.iter().enumerate() {
+            let frames = self.frames(j, configuration);
+            for constraint in &joint.constraints {
+                let value = constraint.value(&frames, self.scale);
+                match constraint.is_equality() {
+                    true => equalities.push(value),
+                    false => limits.push(value),
+                }
+            }
+        }
+        (equalities, limits)
+    }
+}
