@@ -13,6 +13,7 @@
 //! Helpers used by one test area only live in that area (`tests/it/AREA`),
 //! helpers of several test areas in `tests/it/support`.
 
+pub mod joints;
 pub mod random;
 pub mod sat;
 pub mod scene;

@@ -32,6 +32,9 @@ pub struct Island {
     pub fixed_bodies: Vec<usize>,
     /// Indices into the input pair list of the pairs of this island, ascending.
     pub pairs: Vec<usize>,
+    /// Indices into the input joint list of the joints of this island,
+    /// ascending ([`islands_with_joints`]; empty from [`islands`]).
+    pub joints: Vec<usize>,
 }
 
 /// Why islands could not be formed.
@@ -136,6 +139,27 @@ pub fn islands(fixed: &[bool], pairs: &[BodyPair]) -> Result<Vec<Island>, Island
     Ok(result)
 }
 
+/// Islands of the contact `pairs` and the bodies of `joints`: a joint
+/// couples its bodies like a pair does (a joint to a fixed body joins the
+/// dynamic body's island, as a pair with it). Each island's `pairs` index
+/// `pairs` and its `joints` index `joints`, both ascending.
+pub fn islands_with_joints(
+    fixed: &[bool],
+    pairs: &[BodyPair],
+    joints: &[BodyPair],
+) -> Result<Vec<Island>, IslandError> {
+    let all: Vec<BodyPair> = pairs.iter().chain(joints).copied().collect();
+    let mut result = islands(fixed, &all)?;
+    for island in &mut result {
+        let split = island.pairs.partition_point(|&k| k < pairs.len());
+        island.joints = island.pairs.split_off(split);
+        for k in &mut island.joints {
+            *k -= pairs.len();
+        }
+    }
+    Ok(result)
+}
+
 /// One empty island per component that has a dynamic body in some pair,
 /// with its bodies; islands are allocated in increasing order of body
 /// index, so they come out sorted by their smallest body. Also returns the
@@ -160,6 +184,7 @@ fn collect_bodies(
                 bodies: Vec::new(),
                 fixed_bodies: Vec::new(),
                 pairs: Vec::new(),
+                joints: Vec::new(),
             });
         }
         result[slot_of_root[root]].bodies.push(body);

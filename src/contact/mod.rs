@@ -55,7 +55,7 @@ use crate::settings::Settings;
 use crate::vclip::{FeaturePair, Outcome, VClip, VClipError, VClipResult};
 pub use contact_row::{ContactSide, contact_row, contact_row_with_friction, tangent_basis};
 pub use detection::{Detection, DetectionError, DetectionState, PairPenetration, detect};
-pub use island::{Island, IslandError, islands};
+pub use island::{Island, IslandError, islands, islands_with_joints};
 pub use island_contacts::{IslandContacts, SceneGeometry};
 pub use manifold::{ContactPoint, Manifold};
 pub use memo::{PosedQuery, QueryMemo};

@@ -10,7 +10,7 @@
 //! joints of one island as the projection sees them.
 
 pub mod constraints;
-mod island_joints;
+pub mod island_joints;
 pub mod model;
 mod summary;
 

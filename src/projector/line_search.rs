@@ -9,9 +9,12 @@
 //! ```
 //!
 //! (a clear constraint is not pushed in by more than a fraction `rho` of the
-//! deepest penetration `d` before the step: no overshoot into neighbours)
+//! worst violation `d` before the step, the deepest penetration or the
+//! largest equality error: no overshoot into neighbours; an equality within
+//! the tolerance is not pushed off by more either)
 //!
-//! where `merit = sum_k min(0, phi_k + tol)^2`. For the linearization,
+//! where `merit = sum_k min(0, phi_k + tol)^2 + sum_j max(0, |e_j| - tol)^2`
+//! (`e_j` the equality constraints, [`crate::rows::Measurement::merit`]). For the linearization,
 //! `phi_k + alpha J_k dq` shrinks every penetration by at least a factor
 //! `(1 - alpha)`, so the linear model predicts `merit(alpha) <= (1 - alpha)^2
 //! merit(0)`; `sigma` asks for a small fraction of that on the true geometry.
@@ -57,7 +60,7 @@ pub fn line_search<P: ConstraintProvider + ?Sized>(
 ) -> LineSearchOutcome {
     let merit_before = before.merit(tolerance);
     let allowed_new_depth =
-        tolerance.max(settings.new_penetration_fraction * before.deepest_penetration());
+        tolerance.max(settings.new_penetration_fraction * before.worst_violation());
     let mut alpha = 1.0;
     let mut trials = 0;
     while alpha >= settings.min_step {
@@ -86,8 +89,9 @@ pub fn line_search<P: ConstraintProvider + ?Sized>(
 }
 
 /// Whether a constraint that was clear (within the tolerance) before is
-/// penetrating deeper than `allowed_depth` after. Measurements of different
-/// lengths cannot be compared and count as a violation.
+/// penetrating deeper than `allowed_depth` after, or an equality that held
+/// within the tolerance is off by more than `allowed_depth`. Measurements
+/// of different lengths cannot be compared and count as a violation.
 fn starts_penetrating(
     before: &Measurement,
     after: &Measurement,
@@ -95,9 +99,15 @@ fn starts_penetrating(
     allowed_depth: f64,
 ) -> bool {
     before.values.len() != after.values.len()
+        || before.equalities.len() != after.equalities.len()
         || before
             .values
             .iter()
             .zip(&after.values)
             .any(|(&b, &a)| b >= -tolerance && a < -allowed_depth)
+        || before
+            .equalities
+            .iter()
+            .zip(&after.equalities)
+            .any(|(&b, &a)| b.abs() <= tolerance && a.abs() > allowed_depth)
 }

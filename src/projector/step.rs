@@ -19,7 +19,9 @@ use super::line_search::{LineSearchOutcome, line_search};
 use super::trust_region::TrustRegion;
 use crate::settings::{FrictionModel, ResolvedLengths, Settings};
 
-use crate::rows::{BodyInertia, BodyState, ConstraintProvider, ConstraintRow, Measurement};
+use crate::rows::{
+    BodyInertia, BodyState, ConstraintProvider, ConstraintRow, Measurement, RowKind,
+};
 use crate::solver::friction_cone::CONE_DIM;
 use crate::solver::{
     BodyMetric, JacobianRow, ProjectionQp, ProjectionSolution, SolverError, solve_projection,
@@ -57,6 +59,10 @@ pub struct StepReport {
     pub depth_before: f64,
     /// Deepest penetration after the step (equal to before if not moved).
     pub depth_after: f64,
+    /// Largest equality error (a joint's) before the step.
+    pub equality_error_before: f64,
+    /// Largest equality error after the step (equal to before if not moved).
+    pub equality_error_after: f64,
     /// Mass-weighted length of the applied correction,
     /// `alpha trust_scale sqrt(dq^T M dq)`.
     pub displacement: f64,
@@ -115,9 +121,9 @@ pub struct PlannedStep {
 /// What [`plan_step`] found.
 #[derive(Debug, Clone)]
 pub enum Plan {
-    /// No penetration beyond the tolerance (the deepest one measured):
-    /// nothing to do.
-    Satisfied(f64),
+    /// No penetration or equality error beyond the tolerance: nothing to
+    /// do. Holds the measurement.
+    Satisfied(Measurement),
     /// A correction to search along.
     Step(Box<PlannedStep>),
 }
@@ -135,17 +141,19 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
     hold_rows: bool,
 ) -> Result<Plan, SolverError> {
     let before = provider.measure(configuration);
-    let depth_before = before.deepest_penetration();
-    if depth_before <= lengths.tolerance {
-        return Ok(Plan::Satisfied(depth_before));
+    let worst_before = before.worst_violation();
+    if worst_before <= lengths.tolerance {
+        return Ok(Plan::Satisfied(before));
     }
     let solve_start = Instant::now();
     let rows = provider.linearize(configuration);
     log::debug!(
-        "  linearized: {} rows ({} with friction), deepest penetration {:.3e}",
+        "  linearized: {} rows ({} equalities, {} with friction), deepest penetration {:.3e}, largest equality error {:.3e}",
         rows.len(),
+        rows.iter().filter(|row| row.kind == RowKind::Equality).count(),
         rows.iter().filter(|row| row.friction.is_some()).count(),
-        depth_before
+        before.deepest_penetration(),
+        before.largest_equality_error()
     );
     let held = hold_rows
         .then(|| held_rows(&rows, lengths.tolerance, lengths.target_margin))
@@ -159,7 +167,7 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
         settings.friction_model,
     );
     let solution = solve_projection(&qp, &settings.solver)?;
-    let trust_scale = TrustRegion::of(settings).scale(&solution.dq, inertias, depth_before);
+    let trust_scale = TrustRegion::of(settings).scale(&solution.dq, inertias, worst_before);
     let dq = &solution.dq * trust_scale;
     Ok(Plan::Step(Box::new(PlannedStep {
         before,
@@ -174,8 +182,10 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
 }
 
 impl StepReport {
-    /// The report of a step that found nothing to do at depth `depth`.
-    pub fn satisfied(depth: f64) -> Self {
+    /// The report of a step that found nothing to do at `measurement`.
+    pub fn satisfied(measurement: &Measurement) -> Self {
+        let depth = measurement.deepest_penetration();
+        let equality_error = measurement.largest_equality_error();
         StepReport {
             outcome: StepOutcome::AlreadySatisfied,
             constraints: 0,
@@ -185,6 +195,8 @@ impl StepReport {
             line_search_trials: 0,
             depth_before: depth,
             depth_after: depth,
+            equality_error_before: equality_error,
+            equality_error_after: equality_error,
             displacement: 0.0,
             solve_seconds: 0.0,
             line_search_seconds: 0.0,
@@ -216,7 +228,7 @@ pub fn take_step<P: ConstraintProvider + ?Sized>(
         constraints,
         trust_scale,
         solve_seconds,
-        ..StepReport::satisfied(before.deepest_penetration())
+        ..StepReport::satisfied(&before)
     };
     let line_search_start = Instant::now();
     let search = line_search(
@@ -238,6 +250,7 @@ pub fn take_step<P: ConstraintProvider + ?Sized>(
             report.alpha = Some(alpha);
             report.line_search_trials = trials;
             report.depth_after = measurement.deepest_penetration();
+            report.equality_error_after = measurement.largest_equality_error();
             report.displacement = alpha * trust_scale * solution.residuals.displacement;
             *configuration = moved;
         }
@@ -281,7 +294,7 @@ pub fn projection_step<P: ConstraintProvider + ?Sized>(
             lengths,
             hold_rows,
         )? {
-            Plan::Satisfied(depth) => StepReport::satisfied(depth),
+            Plan::Satisfied(measurement) => StepReport::satisfied(&measurement),
             Plan::Step(plan) => take_step(provider, configuration, *plan, settings, lengths),
         },
     )
@@ -332,7 +345,9 @@ pub fn held_rows(
     tolerance: f64,
     target: f64,
 ) -> Option<Vec<ConstraintRow>> {
-    let holds = |row: &ConstraintRow| row.phi >= -tolerance && row.phi < target;
+    let holds = |row: &ConstraintRow| {
+        row.kind == RowKind::Inequality && row.phi >= -tolerance && row.phi < target
+    };
     rows.iter().any(holds).then(|| {
         rows.iter()
             .map(|row| {
@@ -347,9 +362,12 @@ pub fn held_rows(
 }
 
 /// The projection QP of `rows` at `configuration`: the rows with target
-/// `target_margin`, then the friction pyramid of the rows with friction
-/// (target 0; [`super::friction`]) or their cones; and for each of its
-/// multipliers the index of its contact row in `rows`.
+/// `target_margin` (equality rows, which come first, with target 0), then
+/// the friction pyramid of the rows with friction (target 0;
+/// [`super::friction`]) or their cones; and for each of its multipliers
+/// the index of its row in `rows`. Equality rows after an inequality row
+/// are a provider's error: they are moved first, keeping their order, and
+/// the parents follow.
 pub fn projection_qp(
     configuration: &[BodyState],
     inertias: &[BodyInertia],
@@ -366,21 +384,32 @@ pub fn projection_qp(
             inertia_world: inertia.inertia_world(&state.rotation),
         })
         .collect();
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    order.sort_by_key(|&i| rows[i].kind != RowKind::Equality);
+    let num_equalities = rows
+        .iter()
+        .filter(|row| row.kind == RowKind::Equality)
+        .count();
     let (cones, cone_parents) = friction_cones(rows, target_margin);
+    let target = |row: &ConstraintRow| match row.kind {
+        RowKind::Equality => 0.0,
+        RowKind::Inequality => target_margin,
+    };
     let qp = ProjectionQp {
         bodies,
-        rows: rows
+        rows: order
             .iter()
-            .map(|row| JacobianRow {
-                blocks: row.blocks.clone(),
+            .map(|&i| JacobianRow {
+                blocks: rows[i].blocks.clone(),
             })
             .collect(),
-        phi: rows.iter().map(|row| row.phi).collect(),
-        target: vec![target_margin; rows.len()],
+        phi: order.iter().map(|&i| rows[i].phi).collect(),
+        target: order.iter().map(|&i| target(&rows[i])).collect(),
+        num_equalities,
         cones,
         cone_facets: friction_directions,
     };
-    let mut parents: Vec<usize> = (0..rows.len()).collect();
+    let mut parents = order;
     match friction_model {
         FrictionModel::Cone => {
             parents.extend(cone_parents.iter().flat_map(|&p| [p; CONE_DIM]));

@@ -44,6 +44,8 @@
 //! every pose is as it was before the call.
 
 pub(crate) mod gauss_seidel;
+mod island_constraints;
+mod joint_state;
 mod region;
 mod removal;
 mod report;
@@ -57,20 +59,22 @@ use std::time::Instant;
 use nalgebra::{Isometry3, Vector3};
 
 pub use report::{
-    IslandLeft, IslandOutcome, IslandReport, PairPenetration, PassReport, Report, StageTimes,
-    Status,
+    IslandLeft, IslandOutcome, IslandReport, JointReport, PairPenetration, PassReport, Report,
+    StageTimes, Status,
 };
 pub use velocity::{BodyVelocity, VelocityFriction, VelocityReport};
 
 use crate::Error;
 use crate::broad_phase::IncrementalBroadPhase;
 use crate::contact::SceneParts;
-use crate::contact::islands;
+use crate::contact::islands_with_joints;
+use crate::joints::JointErrors;
 use crate::contact::{Detection, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect};
 use crate::parallel;
 use crate::scene::Scene;
 use crate::settings::{Method, ResolvedLengths, Settings};
 use crate::vclip::VClip;
+use joint_state::{joint_errors, joint_pairs, joint_reports, largest_joint_error};
 use solve_island::{IslandSolution, PassInput, solve_island};
 
 /// Removes interpenetration from scenes; owns its settings and the V-Clip
@@ -172,12 +176,15 @@ impl Stabilizer {
             .collect();
         let com_before: Vec<Isometry3<f64>> =
             scene.bodies().iter().map(|b| *b.com_pose()).collect();
-        let result = self.run(scene, start, observer);
+        let joints_before = joint_errors(scene)?;
+        let result = self
+            .run(scene, start, observer)
+            .and_then(|report| Ok((report, joint_errors(scene)?)));
         if result.is_err() {
             restore(scene, &before);
         }
-        let mut report = result?;
-        if worse_than_input(&report) {
+        let (mut report, mut joints_after) = result?;
+        if worse_than_input(&report, &joints_before, &joints_after) {
             log::warn!(
                 "stabilize: the result was worse than the input (depth {:.3e} -> {:.3e}); input poses restored",
                 report.depth_before,
@@ -187,20 +194,27 @@ impl Stabilizer {
             report.restored_input = true;
             report.depth_after = report.depth_before;
             report.penetrations_after = report.penetrations_before.clone();
+            joints_after = joints_before.clone();
         }
+        report.joint_error_before = largest_joint_error(&joints_before, report.scale);
+        report.joint_error_after = largest_joint_error(&joints_after, report.scale);
+        report.joints = joint_reports(scene, &joints_before, &joints_after);
         let (displacement, moved) = scene_displacement(scene, &com_before);
         report.displacement = displacement;
         report.bodies_moved = moved;
         report.times.total = start.elapsed().as_secs_f64();
         log::info!(
-            "stabilize: {} bodies, {} ({} passes, {} islands solved, {} left), depth {:.3e} -> {:.3e} (tol {:.1e}), {} moved, {:.3} ms",
+            "stabilize: {} bodies, {} joints, {} ({} passes, {} islands solved, {} left), depth {:.3e} -> {:.3e}, joint error {:.3e} -> {:.3e} (tol {:.1e}), {} moved, {:.3} ms",
             scene.len(),
+            scene.joints().len(),
             report.status.name(),
             report.passes,
             report.islands_solved(),
             report.islands_left.len(),
             report.depth_before,
             report.depth_after,
+            report.joint_error_before,
+            report.joint_error_after,
             report.tolerance,
             report.bodies_moved,
             report.times.total * 1e3
@@ -306,9 +320,11 @@ impl Stabilizer {
             };
             let detection = detect(scene, geometry, state, &vclip, &lengths)?;
             report.record_detection(&detection);
+            let joints = joint_errors(scene)?;
             let mut pass = pass_report(&detection, lengths.tolerance);
+            pass.joint_error = largest_joint_error(&joints, lengths.scale);
             let finished = Status::after_detection(
-                detection.deepest,
+                detection.deepest.max(pass.joint_error),
                 lengths.tolerance,
                 report.passes,
                 self.settings.max_passes,
@@ -316,8 +332,9 @@ impl Stabilizer {
             );
             if let Some(status) = finished {
                 log::debug!(
-                    "stop: deepest penetration {:.3e}, tolerance {:.1e}: {}",
+                    "stop: deepest penetration {:.3e}, largest joint error {:.3e}, tolerance {:.1e}: {}",
                     detection.deepest,
+                    pass.joint_error,
                     lengths.tolerance,
                     status.name()
                 );
@@ -334,6 +351,7 @@ impl Stabilizer {
                 scene,
                 geometry,
                 &detection,
+                &joints,
                 &call_settings,
                 &lengths,
                 &mut pass,
@@ -409,15 +427,24 @@ impl Stabilizer {
         scene: &Scene,
         geometry: SceneGeometry,
         detection: &Detection,
+        joints: &[JointErrors],
         settings: &Settings,
         lengths: &ResolvedLengths,
         pass: &mut PassReport,
     ) -> Result<Vec<IslandSolution>, Error> {
-        let all_islands = islands(&scene.fixed_flags(), &detection.active_bodies)?;
+        let all_islands = islands_with_joints(
+            &scene.fixed_flags(),
+            &detection.active_bodies,
+            &joint_pairs(scene),
+        )?;
         pass.islands = all_islands.len();
+        let joint_violated = |j: &usize| joints[*j].largest(lengths.scale) > lengths.tolerance;
         let penetrating: Vec<_> = all_islands
             .into_iter()
-            .filter(|island| detection.island_penetrates(island, lengths.tolerance))
+            .filter(|island| {
+                detection.island_penetrates(island, lengths.tolerance)
+                    || island.joints.iter().any(joint_violated)
+            })
             .collect();
         let input = PassInput {
             scene,
@@ -438,18 +465,32 @@ impl Stabilizer {
 }
 
 /// Whether the call's last detection is worse than its first: a deeper
-/// exact penetration, or a larger merit.
-fn worse_than_input(report: &Report) -> bool {
-    let merit = |penetrations: &[PairPenetration]| Report::merit(penetrations, report.tolerance);
+/// exact penetration, a joint error that rose beyond the tolerance, or a
+/// larger merit (penetrations' and joints' together).
+fn worse_than_input(report: &Report, joints_before: &[JointErrors], joints_after: &[JointErrors]) -> bool {
+    let tolerance = report.tolerance;
+    let joint_merit = |errors: &[JointErrors]| -> f64 {
+        errors
+            .iter()
+            .map(|e| (e.largest(report.scale) - tolerance).max(0.0).powi(2))
+            .sum()
+    };
+    let merit = |penetrations: &[PairPenetration], joints: &[JointErrors]| {
+        Report::merit(penetrations, tolerance) + joint_merit(joints)
+    };
+    let joint_before = largest_joint_error(joints_before, report.scale);
+    let joint_after = largest_joint_error(joints_after, report.scale);
     report.depth_after > report.depth_before
-        || merit(&report.penetrations_after) > merit(&report.penetrations_before)
+        || joint_after > joint_before.max(tolerance)
+        || merit(&report.penetrations_after, joints_after)
+            > merit(&report.penetrations_before, joints_before)
 }
 
 /// The debug line of a pass.
 fn log_pass(number: usize, pass: &PassReport, left: &[IslandLeft], start: Instant) {
     log::debug!(
         "pass {number} done: {} candidates ({} queried), {} active, {} penetrating, {} islands, \
-         {} solved ({} left), deepest {:.3e}, {:.3} ms so far",
+         {} solved ({} left), deepest {:.3e}, joint error {:.3e}, {:.3} ms so far",
         pass.candidate_pairs,
         pass.queried_pairs,
         pass.active_pairs,
@@ -458,6 +499,7 @@ fn log_pass(number: usize, pass: &PassReport, left: &[IslandLeft], start: Instan
         pass.solved.len(),
         left.len(),
         pass.deepest,
+        pass.joint_error,
         start.elapsed().as_secs_f64() * 1e3
     );
 }
@@ -471,6 +513,7 @@ pub(crate) fn pass_report(detection: &Detection, tolerance: f64) -> PassReport {
         active_pairs: detection.active_pairs.len(),
         islands: 0,
         deepest: detection.deepest,
+        joint_error: 0.0,
         solved: Vec::new(),
     }
 }

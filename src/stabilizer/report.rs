@@ -3,6 +3,7 @@
 
 use crate::Error;
 use crate::contact::Detection;
+use crate::joints::JointErrors;
 pub use crate::contact::PairPenetration;
 use crate::projector::StepOutcome;
 use crate::settings::ResolvedLengths;
@@ -132,11 +133,32 @@ pub struct IslandLeft {
     pub outcome: IslandOutcome,
 }
 
+/// One joint's errors before and after a call.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointReport {
+    /// Index of the joint in the scene.
+    pub index: usize,
+    /// Its name.
+    pub name: String,
+    /// Its type ([`crate::JointKind::name`]).
+    pub kind: &'static str,
+    /// Body `a` (scene index).
+    pub body_a: usize,
+    /// Body `b` (scene index).
+    pub body_b: usize,
+    /// Errors at the poses before the call.
+    pub before: JointErrors,
+    /// Errors at the poses after the call.
+    pub after: JointErrors,
+}
+
 /// One island solved in one pass.
 #[derive(Debug, Clone)]
 pub struct IslandReport {
     /// Dynamic bodies (scene indices, ascending).
     pub bodies: Vec<usize>,
+    /// Joints of the island (scene indices, ascending).
+    pub joints: Vec<usize>,
     /// Body pairs of the island (penetrating or within the contact margin).
     pub pairs: usize,
     /// Bodies moved by the step: the region that still penetrated, grown
@@ -175,6 +197,12 @@ pub struct IslandReport {
     pub depth_before: f64,
     /// See `depth_before`.
     pub depth_after: f64,
+    /// Largest joint error of the island before the step (length units,
+    /// angles times the scene's scale; joint limits count with the
+    /// penetrations).
+    pub joint_error_before: f64,
+    /// See `joint_error_before`.
+    pub joint_error_after: f64,
     /// Mass-weighted length of the applied correction.
     pub displacement: f64,
 }
@@ -196,6 +224,9 @@ pub struct PassReport {
     pub islands: usize,
     /// Deepest penetration found by this pass's detection.
     pub deepest: f64,
+    /// Largest joint error at this pass's poses (length units, angles
+    /// times the scene's scale).
+    pub joint_error: f64,
     /// The islands solved in this pass (those with a penetration deeper than
     /// the tolerance), in ascending order of their smallest body.
     pub solved: Vec<IslandReport>,
@@ -246,6 +277,13 @@ pub struct Report {
     /// The pairs still penetrating deeper than the tolerance at the last
     /// detection of the call.
     pub penetrations_after: Vec<PairPenetration>,
+    /// Largest joint error before the call (length units, angles times
+    /// the scene's scale `L`, limits' excess included).
+    pub joint_error_before: f64,
+    /// Largest joint error after the call (as `joint_error_before`).
+    pub joint_error_after: f64,
+    /// Every joint's errors before and after the call, in joint order.
+    pub joints: Vec<JointReport>,
     /// Mass-weighted displacement of the whole scene, `sqrt(sum_i m_i
     /// |dx_i|^2 + dtheta_i^T I_i dtheta_i)` between the poses before and
     /// after (`dtheta_i` the rotation vector of `R_after R_before^T`).
@@ -262,11 +300,11 @@ pub struct Report {
     /// it was before the call; `depth_after` and `penetrations_after` are
     /// then the input's.
     pub restored_input: bool,
-    /// Wall time per stage.
     /// Narrow-phase queries (V-Clip and, when penetrating, the exact
     /// depth) run by the call: detections and line-search trials. A pair is
     /// queried once per configuration of its two bodies.
     pub pair_queries: usize,
+    /// Wall time per stage.
     pub times: StageTimes,
 }
 
@@ -284,6 +322,9 @@ impl Report {
             depth_after: 0.0,
             penetrations_before: Vec::new(),
             penetrations_after: Vec::new(),
+            joint_error_before: 0.0,
+            joint_error_after: 0.0,
+            joints: Vec::new(),
             displacement: 0.0,
             bodies_moved: 0,
             islands_left: Vec::new(),

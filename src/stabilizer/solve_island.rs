@@ -19,6 +19,8 @@ use crate::rows::{BodyInertia, BodyState};
 use crate::scene::Scene;
 use crate::solver::SolverSettings;
 
+use super::island_constraints::IslandConstraints;
+use super::joint_state::island_joints;
 use super::region::{Region, pushed_bodies};
 use super::report::{IslandOutcome, IslandReport};
 use crate::settings::{ResolvedLengths, Settings};
@@ -106,6 +108,7 @@ impl IslandSolution {
         IslandSolution {
             report: IslandReport {
                 bodies: island.bodies.clone(),
+                joints: island.joints.clone(),
                 pairs: island.pairs.len(),
                 region_bodies: 0,
                 region_rounds: 0,
@@ -121,6 +124,8 @@ impl IslandSolution {
                 line_search_trials: 0,
                 depth_before: depth,
                 depth_after: depth,
+                joint_error_before: 0.0,
+                joint_error_after: 0.0,
                 displacement: 0.0,
             },
             states: Vec::new(),
@@ -134,10 +139,10 @@ impl IslandSolution {
     }
 }
 
-/// One round of an island's step: the region's contacts, its configuration
-/// at the pass's poses and its plan.
+/// One round of an island's step: the region's contacts and joints, its
+/// configuration at the pass's poses and its plan.
 struct Round<'a> {
-    contacts: IslandContacts<'a>,
+    constraints: IslandConstraints<'a>,
     configuration: Vec<BodyState>,
     plan: Result<Plan, Error>,
 }
@@ -176,7 +181,14 @@ fn plan_region<'a>(
         .collect();
     let has_friction = friction.iter().any(|&mu| mu > 0.0);
     let (configuration, inertias) = island_state(input.scene, &bodies)?;
-    let mut contacts = IslandContacts::new(
+    let joints = island_joints(
+        input.scene,
+        &island.joints,
+        &bodies,
+        input.lengths.scale,
+        input.lengths.contact_margin,
+    )?;
+    let contacts = IslandContacts::new(
         input.geometry,
         bodies,
         pairs,
@@ -186,13 +198,14 @@ fn plan_region<'a>(
         input.settings,
         input.lengths.contact_margin,
     );
+    let mut constraints = IslandConstraints::new(contacts, joints);
     // A region short of the whole island has one solver and no fallback:
     // its failure only means that it must grow. A whole island with
     // friction tries the fallbacks but stops at a certificate of
     // infeasibility (a friction pyramid that leaves wedged bodies no way
     // out): the island is then solved again without friction
     // (`solve_island_or_fail`).
-    let whole = contacts_cover_island(island, contacts.bodies());
+    let whole = contacts_cover_island(island, constraints.contacts.bodies());
     let trial_settings;
     let settings = if whole && !has_friction {
         input.settings
@@ -208,7 +221,7 @@ fn plan_region<'a>(
         &trial_settings
     };
     let plan = plan_step(
-        &mut contacts,
+        &mut constraints,
         &configuration,
         &inertias,
         settings,
@@ -217,7 +230,7 @@ fn plan_region<'a>(
     )
     .map_err(Error::from);
     Ok(Round {
-        contacts,
+        constraints,
         configuration,
         plan,
     })
@@ -242,9 +255,10 @@ fn contacts_cover_island(island: &Island, bodies: &[usize]) -> bool {
 }
 
 /// The region of the first round: the penetrating pairs' bodies, or the
-/// whole island when the settings ask for it.
+/// whole island when the settings ask for it or the island has joints (a
+/// joint's rows move both its bodies, held or not).
 fn first_region(input: PassInput, island: &Island) -> Region {
-    if input.settings.solve_whole_islands {
+    if input.settings.solve_whole_islands || !island.joints.is_empty() {
         return Region::whole(&island.bodies);
     }
     let island_pairs: Vec<BodyPair> = island
@@ -280,7 +294,7 @@ fn plan_island<'a>(
             _ if region.is_whole() => return Ok((round, rounds, solve_seconds)),
             Ok(Plan::Satisfied(_)) => return Ok((round, rounds, solve_seconds)),
             Ok(Plan::Step(step)) => {
-                let pushed = pushed_by(input, &region, &round.contacts, step);
+                let pushed = pushed_by(input, &region, &round.constraints.contacts, step);
                 if pushed.is_empty() {
                     return Ok((round, rounds, solve_seconds));
                 }
@@ -290,7 +304,7 @@ fn plan_island<'a>(
                 log::debug!(
                     "island (first body {}): region of {} bodies not solved ({error}); growing",
                     island.bodies[0],
-                    round.contacts.bodies().len()
+                    round.constraints.contacts.bodies().len()
                 );
                 Vec::new()
             }
@@ -298,7 +312,7 @@ fn plan_island<'a>(
         log::debug!(
             "island (first body {}): region of {} bodies pushes {} held bodies; growing",
             island.bodies[0],
-            round.contacts.bodies().len(),
+            round.constraints.contacts.bodies().len(),
             pushed.len()
         );
         region.grow(&pushed);
@@ -383,14 +397,14 @@ fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolut
 fn solve_island_once(input: PassInput, island: &Island) -> Result<IslandSolution, Error> {
     let (round, rounds, solve_seconds) = plan_island(input, island)?;
     let Round {
-        mut contacts,
+        mut constraints,
         mut configuration,
         plan,
     } = round;
     let step = match plan? {
-        Plan::Satisfied(depth) => StepReport::satisfied(depth),
+        Plan::Satisfied(measurement) => StepReport::satisfied(&measurement),
         Plan::Step(step) => take_step(
-            &mut contacts,
+            &mut constraints,
             &mut configuration,
             *step,
             input.settings,
@@ -401,7 +415,7 @@ fn solve_island_once(input: PassInput, island: &Island) -> Result<IslandSolution
         island,
         input.scene,
         rounds,
-        contacts,
+        constraints.contacts,
         configuration,
         step,
         solve_seconds,
@@ -430,22 +444,26 @@ fn finish(
     };
     let solution = step.solution.as_ref();
     log::debug!(
-        "island {}: {} bodies, moved {} of them ({} rounds), {} pairs, {} rows, {:?}, alpha {:?}, depth {:.3e} -> {:.3e}",
+        "island {}: {} bodies, moved {} of them ({} rounds), {} pairs, joints {:?}, {} rows, {:?}, alpha {:?}, depth {:.3e} -> {:.3e}, joint error {:.3e} -> {:.3e}",
         island_label(scene, &island.bodies),
         island.bodies.len(),
         bodies.len(),
         rounds,
         contacts.pairs().len(),
+        island.joints,
         step.constraints,
         solution.map(|s| s.solver),
         step.alpha,
         step.depth_before,
-        step.depth_after
+        step.depth_after,
+        step.equality_error_before,
+        step.equality_error_after
     );
     let query_seconds = contacts.query_seconds();
     IslandSolution {
         report: IslandReport {
             bodies: island.bodies.clone(),
+            joints: island.joints.clone(),
             pairs: contacts.pairs().len(),
             region_bodies: bodies.len(),
             region_rounds: rounds,
@@ -461,6 +479,8 @@ fn finish(
             line_search_trials: step.line_search_trials,
             depth_before: step.depth_before,
             depth_after: step.depth_after,
+            joint_error_before: step.equality_error_before,
+            joint_error_after: step.equality_error_after,
             displacement: step.displacement,
         },
         states,

@@ -45,6 +45,7 @@ fn islands_by_bfs(fixed: &[bool], pairs: &[BodyPair]) -> Vec<Island> {
             bodies,
             fixed_bodies: vec![],
             pairs: vec![],
+            joints: vec![],
         });
     }
     for (k, p) in pairs.iter().enumerate() {
@@ -119,11 +120,13 @@ fn fixed_body_does_not_connect_two_dynamic_bodies() {
                 bodies: vec![1],
                 fixed_bodies: vec![0],
                 pairs: vec![0],
+                joints: vec![],
             },
             Island {
                 bodies: vec![2, 3],
                 fixed_bodies: vec![0],
                 pairs: vec![1, 2],
+                joints: vec![],
             },
         ]
     );
