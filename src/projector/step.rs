@@ -379,6 +379,7 @@ pub fn projection_qp(
         target: vec![target_margin; rows.len()],
         cones,
         cone_facets: friction_directions,
+        num_equalities: 0,
     };
     let mut parents: Vec<usize> = (0..rows.len()).collect();
     match friction_model {
