@@ -408,6 +408,7 @@ pub fn projection_qp(
         num_equalities,
         cones,
         cone_facets: friction_directions,
+        num_equalities: 0,
     };
     let mut parents = order;
     match friction_model {

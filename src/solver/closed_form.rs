@@ -5,6 +5,10 @@
 //! unique solution `lambda = max(0, -b / a)`, and `dq = M^-1 J^T lambda`:
 //! the constraint is met with equality along the metric gradient, or is
 //! already met and nothing moves.
+//!
+//! An equality row (`num_equalities = 1`) has a free multiplier: the mixed
+//! LCP `a lambda + b = 0` has the unique solution `lambda = -b / a` of
+//! either sign (`b = 0` with `a = 0`: `lambda = 0`).
 
 use nalgebra::DVector;
 
@@ -16,8 +20,8 @@ use super::residuals::row_diagonal;
 
 /// Solves a one-row projection QP. Fails with
 /// [`FailureReason::NotApplicable`] for any other row count and with
-/// [`FailureReason::Infeasible`] when the row is violated and has a zero
-/// Jacobian (nothing can move it).
+/// [`FailureReason::Infeasible`] when the row is violated (for an equality
+/// row: `b != 0`) and has a zero Jacobian (nothing can move it).
 pub fn solve_single_row(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
@@ -27,7 +31,8 @@ pub fn solve_single_row(
     }
     let a = row_diagonal(qp, metric)[0];
     let b = qp.phi[0] - qp.target[0];
-    let lambda_0 = if b >= 0.0 {
+    let equality = qp.is_equality(0);
+    let lambda_0 = if b == 0.0 || (b > 0.0 && !equality) {
         0.0
     } else if a > 0.0 {
         -b / a

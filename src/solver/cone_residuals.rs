@@ -99,11 +99,17 @@ pub fn cones_at(
         .collect()
 }
 
-/// The multipliers projected onto their cones: rows' clamped at 0, cones'
-/// projected onto `K`.
+/// The multipliers projected onto their cones: inequality rows' clamped
+/// at 0, equality rows' left as they are (free), cones' projected onto `K`.
 pub fn projected_multipliers(qp: &ProjectionQp, lambda: &DVector<f64>) -> DVector<f64> {
     let n = qp.num_rows();
-    let mut out = lambda.map(|x| x.max(0.0));
+    let mut out = DVector::from_iterator(
+        lambda.len(),
+        lambda
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| if qp.is_equality(i) { x } else { x.max(0.0) }),
+    );
     for c in 0..qp.cones.len() {
         let start = n + CONE_DIM * c;
         if out.len() >= start + CONE_DIM {

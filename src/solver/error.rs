@@ -70,12 +70,22 @@ pub enum SolverError {
         /// The repeated body index.
         body: usize,
     },
-    /// A violated row (`phi < target`) whose Jacobian is zero: no
-    /// correction can satisfy it (every body it names is fixed).
+    /// A violated row (`phi < target`, or for an equality row
+    /// `phi != target` beyond the acceptance tolerance) whose Jacobian is
+    /// zero: no correction can satisfy it (every body it names is fixed).
     #[error("row {row} is violated and no body can move it (zero Jacobian)")]
     InfeasibleRow {
         /// Row index.
         row: usize,
+    },
+    /// `num_equalities` (of a [`super::ProjectionQp`], or the free
+    /// variables of a mixed [`super::Lcp`]) exceeds the number of rows.
+    #[error("{num_equalities} equality rows, but only {rows} rows")]
+    TooManyEqualities {
+        /// The number of equality rows (free variables) given.
+        num_equalities: usize,
+        /// The number of rows.
+        rows: usize,
     },
     /// A friction cone with a negative coefficient, or tangents whose
     /// blocks are not over the normal's bodies in its order.

@@ -1,8 +1,18 @@
-//! A dense linear complementarity problem.
+//! A dense linear complementarity problem, possibly mixed.
 //!
 //! ```text
 //! find z  with  z >= 0,  w = M z + q >= 0,  z^T w = 0.
 //! ```
+//!
+//! A *mixed* LCP ([`Lcp::mixed`]) has `free` leading variables `z_E`
+//! (`E = 0..free`) without a sign, whose rows hold with equality:
+//!
+//! ```text
+//! w_E = 0 (z_E free),   z_I >= 0, w_I >= 0, z_I^T w_I = 0   (I = free..n).
+//! ```
+//!
+//! It is the dual of a projection QP with equality rows
+//! (`super::projection`); `free = 0` is the plain LCP.
 //!
 //! `M` is any real square matrix (Lemke's method handles the nonsymmetric
 //! problems of the Siconos test set); the QP solvers apply only when `M` is
@@ -24,11 +34,13 @@ pub const SYMMETRY_TOL_REL: f64 = 1e-12;
 /// relative; anything far below is genuinely indefinite.
 pub const PSD_TOL_REL: f64 = 1e-10;
 
-/// A validated dense LCP `(M, q)`: square, finite.
+/// A validated dense LCP `(M, q)`: square, finite; with `free` leading
+/// free variables (module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lcp {
     m: DMatrix<f64>,
     q: DVector<f64>,
+    free: usize,
 }
 
 impl Lcp {
@@ -49,7 +61,26 @@ impl Lcp {
         }
         check_finite("M", m.as_slice())?;
         check_finite("q", q.as_slice())?;
-        Ok(Self { m, q })
+        Ok(Self { m, q, free: 0 })
+    }
+
+    /// The mixed LCP whose first `free` variables are free and whose first
+    /// `free` rows hold with equality (module docs); checked as
+    /// [`Lcp::new`], and `free <= n`.
+    pub fn mixed(m: DMatrix<f64>, q: DVector<f64>, free: usize) -> Result<Self, SolverError> {
+        let lcp = Self::new(m, q)?;
+        if free > lcp.n() {
+            return Err(SolverError::TooManyEqualities {
+                num_equalities: free,
+                rows: lcp.n(),
+            });
+        }
+        Ok(Self { free, ..lcp })
+    }
+
+    /// The number of leading free variables (0 for a plain LCP).
+    pub fn free(&self) -> usize {
+        self.free
     }
 
     /// The matrix `M`.

@@ -16,7 +16,7 @@ pub enum SolverKind {
     /// Every constraint already holds: `dq = 0`, `lambda = 0` (only under
     /// [`super::SolverChoice::Auto`]).
     Trivial,
-    /// One row: `lambda = max(0, -b/a)`.
+    /// One row: `lambda = max(0, -b/a)` (`-b/a` for an equality row).
     ClosedForm,
     /// clarabel on the primal QP (variables `dq`).
     Clarabel,
@@ -33,7 +33,7 @@ pub enum SolverKind {
 pub struct Candidate {
     /// The correction `dq` (six entries per body).
     pub dq: DVector<f64>,
-    /// The multipliers `lambda` (one per row).
+    /// The multipliers `lambda` (one per row; free for equality rows).
     pub lambda: DVector<f64>,
     /// Interior-point iterations, pivots or sweeps.
     pub iterations: usize,
@@ -69,15 +69,17 @@ pub enum FailureReason {
 impl FailureReason {
     /// Whether the failure is a certificate that the problem has no
     /// solution: a violated row with a zero Jacobian, clarabel's primal
-    /// infeasibility certificate, or Lemke's ray termination (for a
+    /// infeasibility certificate, Lemke's ray termination (for a
     /// positive semidefinite matrix, copositive-plus, a ray means that the
-    /// LCP is infeasible).
+    /// LCP is infeasible), or equality rows that Lemke's elimination found
+    /// inconsistent.
     pub fn certifies_infeasibility(&self) -> bool {
         matches!(
             self,
             Self::Infeasible
                 | Self::Clarabel(ClarabelFailure::PrimalInfeasible)
                 | Self::Lemke(LemkeStatus::Ray)
+                | Self::Lemke(LemkeStatus::InconsistentEqualities { .. })
         )
     }
 }

@@ -8,6 +8,14 @@
 //! z_i <- max(0, z_i - (q_i + M_i z) / M_ii)
 //! ```
 //!
+//! The free variables of a mixed LCP (`super::lcp`: the bilateral rows of
+//! joints) are not clamped: `z_i <- z_i - (q_i + M_i z) / M_ii`, a plain
+//! Gauss-Seidel step on `w_i = 0`; their residual is `|w_i|`
+//! ([`natural_map_abs_mixed`]). Gauss-Seidel converges on a consistent
+//! positive semidefinite system with a positive diagonal, also a singular
+//! one (redundant rows of a closed loop); on an inconsistent one (no `z_E`
+//! makes `w_E = 0`) it stops at the sweep limit.
+//!
 //! It converges for symmetric positive definite `M` (Cottle, Pang and
 //! Stone 1992, section 5.2), slowly when `M` is ill-conditioned, and may not
 //! converge otherwise; it needs `M_ii > 0`. The iteration runs on the
@@ -20,7 +28,8 @@ use nalgebra::{DMatrix, DVector};
 
 use super::lcp::Lcp;
 use super::residuals::{
-    lcp_natural_map, natural_map_abs, natural_map_certified, natural_map_relative,
+    lcp_natural_map_mixed, natural_map_abs_mixed, natural_map_certified_mixed,
+    natural_map_relative_mixed,
 };
 use super::scaling::LcpScaling;
 
@@ -77,7 +86,7 @@ pub enum PgsStatus {
 /// A converged PGS solution.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PgsSolution {
-    /// `z >= 0`.
+    /// `z`: `z_I >= 0`, the free `z_E` of either sign.
     pub z: DVector<f64>,
     /// `w = M z + q`, on the original data.
     pub w: DVector<f64>,
@@ -99,27 +108,28 @@ pub fn solve(lcp: &Lcp, settings: &PgsSettings) -> Result<PgsSolution, PgsStatus
     let m = scaling.scale_m(lcp.m());
     let m_t = m.transpose();
     let q = scaling.scale_q(lcp.q());
+    let free = lcp.free();
     let mut z = DVector::zeros(q.len());
     let mut residual = f64::INFINITY;
     for sweep in 1..=settings.max_sweeps {
-        gauss_seidel_sweep(&m_t, &q, &mut z);
+        gauss_seidel_sweep(&m_t, &q, free, &mut z);
         let w = m_t.tr_mul(&z) + &q;
-        residual = natural_map_abs(&z, &w);
+        residual = natural_map_abs_mixed(&z, &w, free);
         if !residual.is_finite() {
             return Err(PgsStatus::Diverged { sweeps: sweep });
         }
         // The cheap test first; the certified one (rounding of w included)
         // only when it passes.
         if residual <= settings.tol_residual
-            && natural_map_certified(&m, &q, &z) <= settings.tol_residual
-            && natural_map_relative(lcp.m(), lcp.q(), &scaling.unscale_z(&z))
+            && natural_map_certified_mixed(&m, &q, &z, free) <= settings.tol_residual
+            && natural_map_relative_mixed(lcp.m(), lcp.q(), &scaling.unscale_z(&z), free)
                 <= settings.tol_residual_unscaled
         {
             log::trace!("pgs: converged after {sweep} sweeps, residual {residual:.2e}");
             let z_orig = scaling.unscale_z(&z);
             let w_orig = lcp.w(&z_orig);
             return Ok(PgsSolution {
-                residual: lcp_natural_map(&z_orig, &w_orig, lcp.q()),
+                residual: lcp_natural_map_mixed(&z_orig, &w_orig, lcp.q(), free),
                 z: z_orig,
                 w: w_orig,
                 sweeps: sweep,
@@ -135,10 +145,12 @@ pub fn solve(lcp: &Lcp, settings: &PgsSettings) -> Result<PgsSolution, PgsStatus
 }
 
 /// One in-place sweep; `m_t` is `M~^T`, whose column `i` is row `i` of `M~`.
-fn gauss_seidel_sweep(m_t: &DMatrix<f64>, q: &DVector<f64>, z: &mut DVector<f64>) {
+/// The first `free` unknowns are not clamped (module docs).
+fn gauss_seidel_sweep(m_t: &DMatrix<f64>, q: &DVector<f64>, free: usize, z: &mut DVector<f64>) {
     for i in 0..q.len() {
         let row = m_t.column(i);
         let w_i = row.dot(z) + q[i];
-        z[i] = (z[i] - w_i / row[i]).max(0.0);
+        let step = z[i] - w_i / row[i];
+        z[i] = if i < free { step } else { step.max(0.0) };
     }
 }

@@ -12,14 +12,24 @@
 //! and the problem is
 //!
 //! ```text
-//! minimize 1/2 dq^T M dq   subject to   phi_i + J_i dq >= target_i   for every row i.
+//! minimize 1/2 dq^T M dq   subject to   phi_i + J_i dq  = target_i   for i <  num_equalities (E)
+//!                                         phi_i + J_i dq >= target_i   for i >= num_equalities (I)
 //! ```
 //!
-//! `phi_i` is the signed gap (negative = penetration), `target_i >= 0` a small
-//! margin. Its dual is the LCP `A = J M^-1 J^T`, `b = phi - target`:
-//! `lambda >= 0, w = A lambda + b >= 0, lambda^T w = 0`, with
-//! `dq = M^-1 J^T lambda` (see [`super::projection_lcp`]). `dq` is unique
-//! because `M` is positive definite; `lambda` is not when rows are redundant.
+//! For a contact row `phi_i` is the signed gap (negative = penetration),
+//! `target_i >= 0` a small margin. The first
+//! [`ProjectionQp::num_equalities`] rows are bilateral (joints): their
+//! multipliers have either sign. The dual is the mixed LCP
+//! `A = J M^-1 J^T`, `b = phi - target`:
+//!
+//! ```text
+//! w = A lambda + b,   w_E = 0 (lambda_E free),   lambda_I >= 0, w_I >= 0, lambda_I^T w_I = 0
+//! ```
+//!
+//! with `dq = M^-1 J^T lambda` (see [`super::projection_lcp`]). `dq` is
+//! unique because `M` is positive definite; `lambda` is not when rows are
+//! redundant (a closed loop of joints lists dependent equality rows).
+//! Equality rows never carry friction cones.
 //!
 //! A problem may also carry friction cones ([`FrictionCone`], three-dimensional
 //! second-order cones `w_c = (b_c + J_n dq, mu J_t1 dq, mu J_t2 dq) in K`).
@@ -60,7 +70,8 @@ pub struct JacobianRow {
 pub struct ProjectionQp {
     /// The dynamic bodies; `dq` has `6 * bodies.len()` entries.
     pub bodies: Vec<BodyMetric>,
-    /// Constraint rows `J_i`.
+    /// Constraint rows `J_i`: the first [`Self::num_equalities`] are
+    /// equalities, the rest inequalities (module docs).
     pub rows: Vec<JacobianRow>,
     /// Constraint values `phi_i` at the current configuration (length units;
     /// negative = penetration).
@@ -73,12 +84,22 @@ pub struct ProjectionQp {
     /// solvers of linear rows ([`ProjectionQp::pyramid`]); unused without
     /// cones.
     pub cone_facets: usize,
+    /// The first `num_equalities` rows are equalities
+    /// `phi_i + J_i dq = target_i` (bilateral rows of joints, free
+    /// multipliers); the rest are inequalities `>=`. At most `rows.len()`;
+    /// default 0 (inequalities only).
+    pub num_equalities: usize,
 }
 
 impl ProjectionQp {
     /// Number of constraint rows.
     pub fn num_rows(&self) -> usize {
         self.rows.len()
+    }
+
+    /// Whether row `i` is an equality row (`i < num_equalities`).
+    pub fn is_equality(&self, i: usize) -> bool {
+        i < self.num_equalities
     }
 
     /// Number of multipliers: one per row, three per cone.
@@ -141,7 +162,8 @@ impl ProjectionQp {
     }
 
     /// The problem with every cone replaced by its [`Self::cone_facets`]
-    /// facets (appended after the rows, cone by cone, with target 0), and
+    /// facets (appended after the rows, cone by cone, with target 0; the
+    /// equality rows stay first), and
     /// for each of its rows the index of the row or cone it comes from
     /// (cone `c` as `num_rows + c`).
     pub fn pyramid(&self) -> (ProjectionQp, Vec<usize>) {
@@ -170,6 +192,12 @@ impl ProjectionQp {
         check_len("target", n, self.target.len())?;
         check_finite("phi", &self.phi)?;
         check_finite("target", &self.target)?;
+        if self.num_equalities > n {
+            return Err(SolverError::TooManyEqualities {
+                num_equalities: self.num_equalities,
+                rows: n,
+            });
+        }
         for (i, row) in self.rows.iter().enumerate() {
             self.validate_row(i, row)?;
         }

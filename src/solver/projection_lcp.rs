@@ -4,6 +4,9 @@
 //! A = J M^-1 J^T,   b = phi - target,   dq = M^-1 J^T lambda
 //! ```
 //!
+//! (a mixed LCP when the problem has equality rows: their multipliers are
+//! free, `super::lcp`).
+//!
 //! `M` is block diagonal, so `A_ij = sum_k J_ik M_k^-1 J_jk^T` over the bodies
 //! `k` that rows `i` and `j` share. The sum runs body by body over the rows
 //! incident to that body: `O(sum_k deg_k^2)` 6-vector dot products, where
@@ -45,9 +48,10 @@ pub fn lcp_matrix(qp: &ProjectionQp, metric: &[BlockMetric]) -> DMatrix<f64> {
     a
 }
 
-/// The dual LCP `(A, b)` of a validated projection QP.
+/// The dual LCP `(A, b)` of a validated projection QP: mixed, with one
+/// free variable per equality row (`super::lcp`).
 pub fn projection_to_lcp(qp: &ProjectionQp, metric: &[BlockMetric]) -> Result<Lcp, SolverError> {
-    Lcp::new(lcp_matrix(qp, metric), qp.b())
+    Lcp::mixed(lcp_matrix(qp, metric), qp.b(), qp.num_equalities)
 }
 
 /// `dq = M^-1 J^T lambda`.

@@ -65,6 +65,24 @@
 //!   optimality measure one of about `sqrt(n u)` (1e-7 at 500 rows): the
 //!   tolerance on it cannot be much below 1e-6.
 //!
+//! **Equality rows** (the first [`ProjectionQp::num_equalities`], joints):
+//! a row that must hold with equality is violated both ways, so its
+//! infeasibility (in the feasibility measure, the primal infeasibility and
+//! the natural map) is `|w_i| = |phi_i + J_i dq - target_i|`; its multiplier
+//! is free: no sign, no complementarity (its complementarity term is 0 and
+//! it is not clamped in `lambda^+`). The duality gap still certifies `dq`:
+//! for `lambda_I >= 0` and any `lambda_E`, `D(lambda) = min_dq 1/2 dq^T M dq
+//! - lambda^T (b + J dq)` is a lower bound of `P*` (at a feasible `dq`,
+//! `lambda^T w = lambda_I^T w_I >= 0` since `w_E = 0`), and the identity
+//! above gives `gap = 1/2 ||dq - v||_M^2 + lambda_I^T w_I + lambda_E^T w_E`.
+//! A slightly infeasible `dq` is the feasible point of the problem whose
+//! equality rows are moved to `b_E - w_E` (so that `w_E = 0`) and whose
+//! inequality rows are relaxed to `w_I^+`; on it the equality terms vanish
+//! and `gap = 1/2 ||dq - v||_M^2 + lambda_I^+ . w_I^+`, the relaxation
+//! again bounded by the feasibility measure. The single-row bound of the
+//! energy scale counts an equality row as violated whatever the sign of
+//! `b_i`: `b_i^2 / (2 a_i)`.
+//!
 //! Friction cones enter every measure in the cone's sense (a cone's
 //! infeasibility is `max(0, |w_t| - w_0)`, its multiplier is projected onto
 //! the cone rather than clamped, its gap term is `z^T w`):
@@ -84,8 +102,19 @@ use super::projection::ProjectionQp;
 /// general LCP's solution by Lemke and clarabel (`lemke::solve`,
 /// `clarabel_qp::dual::solve_lcp`).
 pub fn natural_map_relative(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> f64 {
+    natural_map_relative_mixed(m, q, z, 0)
+}
+
+/// [`natural_map_relative`] of a mixed LCP whose first `free` variables
+/// are free ([`natural_map_abs_mixed`]).
+pub fn natural_map_relative_mixed(
+    m: &DMatrix<f64>,
+    q: &DVector<f64>,
+    z: &DVector<f64>,
+    free: usize,
+) -> f64 {
     let w = m * z + q;
-    let natural = natural_map_abs(z, &w);
+    let natural = natural_map_abs_mixed(z, &w, free);
     let size = q.amax().max(m.amax() * z.amax());
     if size > 0.0 { natural / size } else { natural }
 }
@@ -93,15 +122,39 @@ pub fn natural_map_relative(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>
 /// `||min(z, w)||_inf / max(1, ||q||_inf)`: the measure of the Siconos
 /// LCP files (`tests/data/siconos/README.md`).
 pub fn lcp_natural_map(z: &DVector<f64>, w: &DVector<f64>, q: &DVector<f64>) -> f64 {
-    natural_map_abs(z, w) / q.amax().max(1.0)
+    lcp_natural_map_mixed(z, w, q, 0)
+}
+
+/// [`lcp_natural_map`] of a mixed LCP ([`natural_map_abs_mixed`]).
+pub fn lcp_natural_map_mixed(
+    z: &DVector<f64>,
+    w: &DVector<f64>,
+    q: &DVector<f64>,
+    free: usize,
+) -> f64 {
+    natural_map_abs_mixed(z, w, free) / q.amax().max(1.0)
 }
 
 /// `||min(z, w)||_inf`, unnormalized.
 pub fn natural_map_abs(z: &DVector<f64>, w: &DVector<f64>) -> f64 {
+    natural_map_abs_mixed(z, w, 0)
+}
+
+/// The natural map of a mixed LCP (`super::lcp`), unnormalized: `|w_i|`
+/// for the first `free` entries (a free variable's row must vanish; the
+/// natural map of `z_i` free is `z_i - (z_i - w_i) = w_i`), `|min(z_i, w_i)|`
+/// for the others.
+pub fn natural_map_abs_mixed(z: &DVector<f64>, w: &DVector<f64>, free: usize) -> f64 {
     z.iter()
         .zip(w.iter())
-        .map(|(a, b)| a.min(*b).abs())
+        .enumerate()
+        .map(|(i, (a, b))| natural_map_entry(*a, *b, i < free))
         .fold(0.0, f64::max)
+}
+
+/// `|w|` for a free variable, `|min(z, w)|` otherwise.
+fn natural_map_entry(z: f64, w: f64, free: bool) -> f64 {
+    if free { w.abs() } else { z.min(w).abs() }
 }
 
 /// `||min(z, w)||_inf` with `w = M z + q` computed here, plus the rounding
@@ -117,11 +170,21 @@ pub fn natural_map_abs(z: &DVector<f64>, w: &DVector<f64>) -> f64 {
 /// regularized LCP `M + eps I` with no solution for `eps = 0` has a `z` of
 /// size `1/eps` whose computed `w` can look complementary.
 pub fn natural_map_certified(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> f64 {
+    natural_map_certified_mixed(m, q, z, 0)
+}
+
+/// [`natural_map_certified`] of a mixed LCP ([`natural_map_abs_mixed`]).
+pub fn natural_map_certified_mixed(
+    m: &DMatrix<f64>,
+    q: &DVector<f64>,
+    z: &DVector<f64>,
+    free: usize,
+) -> f64 {
     let w = m * z + q;
     let abs_w = m.abs() * z.abs() + q.abs();
     let gamma = (q.len() as f64).sqrt().max(1.0) * f64::EPSILON;
     (0..z.len())
-        .map(|i| z[i].min(w[i]).abs() + gamma * abs_w[i])
+        .map(|i| natural_map_entry(z[i], w[i], i < free) + gamma * abs_w[i])
         .fold(0.0, f64::max)
 }
 
@@ -222,6 +285,20 @@ pub fn row_diagonal(qp: &ProjectionQp, metric: &[BlockMetric]) -> Vec<f64> {
         .collect()
 }
 
+/// How far row `i` with value `w_i` is from holding: `|w_i|` for an
+/// equality row, `max(0, -w_i)` for an inequality row (module docs).
+pub fn row_violation(equality: bool, w_i: f64) -> f64 {
+    if equality { w_i.abs() } else { (-w_i).max(0.0) }
+}
+
+/// The acceptance length `L = max(||b||_inf, |b| of the cones)` of a
+/// problem (module docs).
+pub fn acceptance_length(qp: &ProjectionQp) -> f64 {
+    qp.cones
+        .iter()
+        .fold(length_scale(&qp.b()), |l, cone| l.max(cone.b().abs()))
+}
+
 /// Length scale `l` of the residuals: `||b||_inf`, or the smallest positive
 /// f64 when `b = 0` (then every residual numerator is zero at a solution).
 pub fn length_scale(b: &DVector<f64>) -> f64 {
@@ -245,23 +322,31 @@ fn acceptance_measures(
     let feasibility = cones
         .iter()
         .map(ConeAtCandidate::infeasibility)
-        .chain(w.iter().map(|wi| -wi))
+        .chain(
+            w.iter()
+                .enumerate()
+                .map(|(i, wi)| row_violation(qp.is_equality(i), *wi)),
+        )
         .fold(0.0, f64::max)
         / l_accept;
     let lambda_plus = projected_multipliers(qp, lambda);
     let v = m_inv(metric, &qp.apply_jt(&lambda_plus));
     let stationarity_energy = 0.5 * m_inner(metric, &(dq - &v), &(dq - &v)).max(0.0);
+    // Equality rows: w_E moved to 0 in the relaxed problem (module docs).
     let complementarity_energy: f64 = lambda_plus
         .iter()
         .zip(w.iter())
-        .map(|(l, wi)| l * wi.max(0.0))
+        .enumerate()
+        .filter(|(i, _)| !qp.is_equality(*i))
+        .map(|(_, (l, wi))| l * wi.max(0.0))
         .sum::<f64>()
         + cones.iter().map(ConeAtCandidate::gap).sum::<f64>();
     let gap = stationarity_energy + complementarity_energy;
-    // The cost of a single violated row (or cone's normal row) alone.
+    // The cost of a single violated row (or cone's normal row) alone; an
+    // equality row is violated whatever the sign of b_i.
     let single_row_bound = (0..b.len())
         .filter(|&i| a[i] > 0.0)
-        .map(|i| (b[i], a[i]))
+        .map(|i| (-row_violation(qp.is_equality(i), b[i]), a[i]))
         .chain(cones.iter().map(|cone| (cone.b, cone.a)))
         .map(|(b, a)| b.min(0.0).powi(2) / (2.0 * a))
         .fold(0.0, f64::max);
@@ -298,9 +383,7 @@ pub fn projection_residuals(
     let a = row_diagonal(qp, metric);
     let a_fallback = a.iter().copied().fold(0.0, f64::max);
     let cones = cones_at(qp, metric, dq, lambda, a_fallback);
-    let l = cones
-        .iter()
-        .fold(length_scale(&b), |l, cone| l.max(cone.b.abs()));
+    let l = acceptance_length(qp);
     let force: Vec<f64> = (0..w.len())
         .map(|i| if a[i] > 0.0 { a[i] } else { a_fallback } * lambda[i])
         .collect();
@@ -313,9 +396,12 @@ pub fn projection_residuals(
     let mut complementarity: f64 = 0.0;
     let mut primal_infeasibility: f64 = 0.0;
     for i in 0..w.len() {
-        natural_map = natural_map.max(force[i].min(w[i]).abs() / l);
-        complementarity = complementarity.max((force[i] * w[i]).abs() / (l * f));
-        primal_infeasibility = primal_infeasibility.max((-w[i]).max(0.0) / l);
+        let equality = qp.is_equality(i);
+        natural_map = natural_map.max(natural_map_entry(force[i], w[i], equality) / l);
+        if !equality {
+            complementarity = complementarity.max((force[i] * w[i]).abs() / (l * f));
+        }
+        primal_infeasibility = primal_infeasibility.max(row_violation(equality, w[i]) / l);
     }
     for cone in &cones {
         natural_map = natural_map.max(cone.natural_map() / l);

@@ -38,6 +38,16 @@
 //! problem with cones compares clarabel and Lemke on the pyramid, one
 //! problem for both ([`CrossCheck::on_pyramid`]).
 //!
+//! **Equality rows** ([`ProjectionQp::num_equalities`], joints) change
+//! neither the order nor the choice: every solver takes them (clarabel's
+//! primal form as a zero cone, the LCP solvers as free multipliers of a
+//! mixed LCP, Lemke after eliminating them, the closed form with a
+//! multiplier of either sign), and the debug log names their number. The
+//! problem is trivial only when every equality row already holds within the
+//! acceptance feasibility measure (`|phi_i - target_i| <= tol_residual L`);
+//! a zero equality row that does not is rejected as
+//! [`SolverError::InfeasibleRow`].
+//!
 //! Every candidate, from any solver, passes the same check before it is
 //! returned: [`ProjectionResiduals::acceptance`] at most
 //! [`SolverSettings::tol_residual`], i.e. the linearized rows hold to that
@@ -63,7 +73,9 @@ use super::outcome::{Candidate, FailureReason, Fallback, SolverKind};
 use super::pgs::{self, PgsSettings};
 use super::projection::{JacobianRow, ProjectionQp};
 use super::projection_lcp::{dq_from_lambda, projection_to_lcp};
-use super::residuals::{ProjectionResiduals, projection_residuals};
+use super::residuals::{
+    ProjectionResiduals, acceptance_length, projection_residuals, row_violation,
+};
 
 /// Which solver to use for a projection QP.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -214,7 +226,7 @@ pub fn solve_projection(
     settings: &SolverSettings,
 ) -> Result<ProjectionSolution, SolverError> {
     let metric = qp.validate()?;
-    check_zero_rows(qp)?;
+    check_zero_rows(qp, settings.tol_residual)?;
     let pyramid_qp = (!qp.cones.is_empty()).then(|| qp.pyramid().0);
     let pyramid = pyramid_qp.as_ref().map(|pyramid_qp| Problem {
         qp: pyramid_qp,
@@ -233,8 +245,9 @@ pub fn solve_projection(
     let mut fallbacks = Vec::new();
     let order = solver_order(qp, settings);
     log::debug!(
-        "solver for {} rows and {} cones: {:?} ({}), then {:?}",
+        "solver for {} rows ({} of them equalities) and {} cones: {:?} ({}), then {:?}",
         qp.num_rows(),
+        qp.num_equalities,
         qp.cones.len(),
         order[0],
         choice_reason(qp, settings),
@@ -275,11 +288,19 @@ pub fn solve_projection(
 
 /// A violated row with no nonzero Jacobian cannot be satisfied; nor can a
 /// violated cone whose normal row no body moves (its `w_0` stays below 0).
-/// A cone is reported as row `num_rows + c`.
-fn check_zero_rows(qp: &ProjectionQp) -> Result<(), SolverError> {
+/// A cone is reported as row `num_rows + c`. An equality row with a zero
+/// Jacobian is violated when `|phi - target|` exceeds what the acceptance
+/// check lets pass, `tol_residual L` (module docs).
+fn check_zero_rows(qp: &ProjectionQp, tol_residual: f64) -> Result<(), SolverError> {
     let zero = |j: &JacobianRow| j.blocks.iter().all(|(_, g)| g.iter().all(|&x| x == 0.0));
+    let equality_slack = tol_residual * acceptance_length(qp);
     for (row, j) in qp.rows.iter().enumerate() {
-        if zero(j) && qp.phi[row] < qp.target[row] {
+        let violated = if qp.is_equality(row) {
+            (qp.phi[row] - qp.target[row]).abs() > equality_slack
+        } else {
+            qp.phi[row] < qp.target[row]
+        };
+        if zero(j) && violated {
             return Err(SolverError::InfeasibleRow { row });
         }
     }
@@ -293,9 +314,20 @@ fn check_zero_rows(qp: &ProjectionQp) -> Result<(), SolverError> {
     Ok(())
 }
 
-/// Whether `dq = 0` satisfies every row and cone.
-fn nothing_violated(qp: &ProjectionQp) -> bool {
-    qp.phi.iter().zip(&qp.target).all(|(p, t)| p >= t) && qp.cones.iter().all(|c| c.b() >= 0.0)
+/// Whether `dq = 0` satisfies every row and cone: every inequality row
+/// and cone exactly, every equality row within the acceptance feasibility
+/// measure, `|b_i| <= tol_residual L` (module docs).
+fn nothing_violated(qp: &ProjectionQp, tol_residual: f64) -> bool {
+    let equality_slack = tol_residual * acceptance_length(qp);
+    let rows_hold = qp.b().iter().enumerate().all(|(i, &b)| {
+        let violation = row_violation(qp.is_equality(i), b);
+        if qp.is_equality(i) {
+            violation <= equality_slack
+        } else {
+            violation == 0.0
+        }
+    });
+    rows_hold && qp.cones.iter().all(|c| c.b() >= 0.0)
 }
 
 /// The solvers to try, in order.
@@ -325,6 +357,9 @@ fn choice_reason(qp: &ProjectionQp, settings: &SolverSettings) -> String {
     let n = qp.num_rows();
     match (settings.choice, auto_choice(qp, settings)) {
         (SolverChoice::Auto, SolverKind::Trivial) => "auto: no row violated".into(),
+        (SolverChoice::Auto, SolverKind::ClosedForm) if qp.num_equalities > 0 => {
+            "auto: one (equality) row".into()
+        }
         (SolverChoice::Auto, SolverKind::ClosedForm) => "auto: one row".into(),
         (SolverChoice::Auto, SolverKind::Clarabel) if !qp.cones.is_empty() => {
             "auto: friction cones, which only clarabel solves".into()
@@ -343,7 +378,7 @@ fn choice_reason(qp: &ProjectionQp, settings: &SolverSettings) -> String {
 
 fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
     let n = qp.num_rows();
-    if nothing_violated(qp) {
+    if nothing_violated(qp, settings.tol_residual) {
         SolverKind::Trivial
     } else if !qp.cones.is_empty() {
         SolverKind::Clarabel

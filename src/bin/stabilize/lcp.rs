@@ -114,6 +114,7 @@ fn solve_lemke(lcp: &Lcp) -> Outcome {
                 LemkeStatus::Ray => "ray_termination",
                 LemkeStatus::PivotLimit => "pivot_limit",
                 LemkeStatus::Inaccurate { .. } => "inaccurate",
+                LemkeStatus::InconsistentEqualities { .. } => "inconsistent_equalities",
             };
             Outcome {
                 result: Err(status.into()),

@@ -11,11 +11,19 @@
 //! `crate::solver::scaling` (unit diagonal, `||b~||_inf = 1`). `P` is
 //! dense: `n (n + 1) / 2` entries.
 //!
+//! A mixed LCP (`crate::solver::lcp`, the dual of a projection with
+//! equality rows) has free leading variables `z_E`: they get no cone row,
+//! so the KKT conditions are `w_E = 0` (`z_E` free) and the LCP on the
+//! rest. With inconsistent equalities (`b_E` outside the range of `A_EE`)
+//! the objective is unbounded below along the null space of `A_EE`, which
+//! clarabel reports as dual infeasible.
+//!
 //! The interior point is polished as in [`super::polish`], densely: with the
 //! active set `S = {i : z~_i > w~_i}`, solve `M~_SS z~_S = -q~_S` by
 //! iterative refinement on `M~_SS + delta I` (a proximal iteration that
 //! stays near the interior point's `z~_S` when `M~_SS` is singular); the
-//! polished point is kept when its natural map is smaller.
+//! free variables are always in `S` and never clamped. The polished point
+//! is kept when its natural map is smaller.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -26,13 +34,13 @@ use super::polish::{
 use super::{ClarabelPoint, ClarabelSettings, csc_from_triplets, run};
 use crate::solver::lcp::Lcp;
 use crate::solver::outcome::FailureReason;
-use crate::solver::residuals::{natural_map_abs, natural_map_relative};
+use crate::solver::residuals::{natural_map_abs_mixed, natural_map_relative_mixed};
 use crate::solver::scaling::LcpScaling;
 
 /// A solution of the LCP from clarabel on its dual QP.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DualSolution {
-    /// `z`.
+    /// `z` (`z_I >= 0`; the free `z_E` of a mixed LCP of either sign).
     pub z: DVector<f64>,
     /// `w = M z + q`, recomputed from `z` on the original data.
     pub w: DVector<f64>,
@@ -58,7 +66,7 @@ pub fn solve_lcp(lcp: &Lcp, settings: &ClarabelSettings) -> Result<DualSolution,
         return Err(FailureReason::NotApplicable);
     }
     let solution = solve_lcp_unchecked(lcp, settings)?;
-    let residual = natural_map_relative(lcp.m(), lcp.q(), &solution.z);
+    let residual = natural_map_relative_mixed(lcp.m(), lcp.q(), &solution.z, lcp.free());
     if residual > TOL_NATURAL_MAP_RELATIVE {
         return Err(FailureReason::ResidualTooLarge {
             residual,
@@ -75,7 +83,13 @@ pub fn solve_lcp_unchecked(
     settings: &ClarabelSettings,
 ) -> Result<DualSolution, FailureReason> {
     let n = lcp.n();
-    if lcp.q().iter().all(|&x| x >= 0.0) {
+    let free = lcp.free();
+    let zero_solves = lcp
+        .q()
+        .iter()
+        .enumerate()
+        .all(|(i, &x)| if i < free { x == 0.0 } else { x >= 0.0 });
+    if zero_solves {
         return Ok(DualSolution {
             z: DVector::zeros(n),
             w: lcp.q().clone(),
@@ -93,13 +107,20 @@ pub fn solve_lcp_unchecked(
         }
     }
     let p = csc_from_triplets(n, n, p_triplets);
-    let a = csc_from_triplets(n, n, (0..n).map(|i| (i, i, -1.0)).collect());
-    let point: ClarabelPoint =
-        run(&p, q.as_slice(), &a, &vec![0.0; n], settings).map_err(FailureReason::Clarabel)?;
-    let raw = DVector::from_vec(point.x).map(|v| v.max(0.0));
-    let raw_residual = natural_map_abs(&raw, &(&m * &raw + &q));
-    let z_scaled = match polish_dense(&m, &q, &raw) {
-        Some(p) if natural_map_abs(&p, &(&m * &p + &q)) < raw_residual => p,
+    // `-z_i + s = 0, s >= 0` for the complementary variables only.
+    let bounded = n - free;
+    let a = csc_from_triplets(
+        bounded,
+        n,
+        (0..bounded).map(|r| (r, free + r, -1.0)).collect(),
+    );
+    let point: ClarabelPoint = run(&p, q.as_slice(), &a, &vec![0.0; bounded], settings)
+        .map_err(FailureReason::Clarabel)?;
+    let raw = clamp_bounded(DVector::from_vec(point.x), free);
+    let residual = |z: &DVector<f64>| natural_map_abs_mixed(z, &(&m * z + &q), free);
+    let raw_residual = residual(&raw);
+    let z_scaled = match polish_dense(&m, &q, &raw, free) {
+        Some(p) if residual(&p) < raw_residual => p,
         _ => raw,
     };
     let z = scaling.unscale_z(&z_scaled);
@@ -111,18 +132,32 @@ pub fn solve_lcp_unchecked(
     })
 }
 
-/// Dense active-set polish of `z` for the scaled LCP `(m, q)`, with the
-/// primal-dual active-set corrections of [`super::polish`].
-fn polish_dense(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> Option<DVector<f64>> {
+/// `z` with its complementary entries (after the first `free`) clamped at 0.
+fn clamp_bounded(mut z: DVector<f64>, free: usize) -> DVector<f64> {
+    z.iter_mut().skip(free).for_each(|v| *v = v.max(0.0));
+    z
+}
+
+/// Dense active-set polish of `z` for the scaled LCP `(m, q)` whose first
+/// `free` variables are free (always active), with the primal-dual
+/// active-set corrections of [`super::polish`].
+fn polish_dense(
+    m: &DMatrix<f64>,
+    q: &DVector<f64>,
+    z: &DVector<f64>,
+    free: usize,
+) -> Option<DVector<f64>> {
     let w = m * z + q;
-    let mut active: Vec<usize> = (0..z.len()).filter(|&i| z[i] > w[i]).collect();
+    let mut active: Vec<usize> = (0..z.len()).filter(|&i| i < free || z[i] > w[i]).collect();
     let mut z = z.clone();
     for _ in 0..=POLISH_MAX_ACTIVE_SET_UPDATES {
         z = solve_active_dense(m, q, &active, &z)?;
         let w = m * &z + q;
         let next: Vec<usize> = (0..z.len())
             .filter(|&i| {
-                if active.contains(&i) {
+                if i < free {
+                    true
+                } else if active.contains(&i) {
                     z[i] >= -POLISH_ACTIVE_SET_BAND
                 } else {
                     w[i] < -POLISH_ACTIVE_SET_BAND
@@ -134,7 +169,7 @@ fn polish_dense(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> Option<
         }
         active = next;
     }
-    Some(z.map(|v| v.max(0.0)))
+    Some(clamp_bounded(z, free))
 }
 
 /// `M_SS z_S = -q_S` by refinement on `M_SS + delta I` from `z`; zero

@@ -3,8 +3,9 @@
 //!
 //! clarabel solves `min 1/2 x^T P x + c^T x  s.t.  A x + s = b, s in K` and
 //! returns the primal `x`, the slack `s` and the dual `z in K*`. Both forms
-//! here use the nonnegative cone `K = R^m_+`, the primal form with
-//! three-dimensional second-order cones after it for friction cones:
+//! here use the nonnegative cone `K = R^m_+`, the primal form with a zero
+//! cone `{0}` before it for equality rows and three-dimensional
+//! second-order cones after it for friction cones:
 //! - [`primal`]: `x` is the (rescaled) correction `dq`, one cone row per
 //!   constraint and three per friction cone ([`cone`]); `lambda` is read
 //!   from the dual `z`.
@@ -147,27 +148,60 @@ pub(crate) fn run(
     b: &[f64],
     settings: &ClarabelSettings,
 ) -> Result<ClarabelPoint, ClarabelFailure> {
-    run_with_cones(p, c, a, b, b.len(), 0, settings)
+    run_with_cones(p, c, a, b, ConeLayout::nonnegative(b.len()), settings)
 }
 
-/// One clarabel solve of `min 1/2 x^T P x + c^T x, A x + s = b`, where the
-/// first `nonnegative` entries of `s` are `>= 0` and the next
-/// `3 * second_order` form three-dimensional second-order cones
-/// `s_0 >= |(s_1, s_2)|`.
+/// How the entries of `s` in `A x + s = b` are constrained, in order: the
+/// first `zero` are `= 0` (equality rows), the next `nonnegative` are
+/// `>= 0`, the next `3 * second_order` form three-dimensional second-order
+/// cones `s_0 >= |(s_1, s_2)|`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct ConeLayout {
+    /// Entries in clarabel's `ZeroConeT`.
+    pub zero: usize,
+    /// Entries in the `NonnegativeConeT`.
+    pub nonnegative: usize,
+    /// Number of `SecondOrderConeT(3)`.
+    pub second_order: usize,
+}
+
+impl ConeLayout {
+    /// Nonnegative entries only.
+    pub(crate) fn nonnegative(nonnegative: usize) -> Self {
+        Self {
+            zero: 0,
+            nonnegative,
+            second_order: 0,
+        }
+    }
+
+    /// clarabel's cones, empty blocks left out (a nonnegative cone of
+    /// size 0 stands for a problem without any row, as before equality
+    /// rows existed).
+    fn cones(&self) -> Vec<SupportedConeT<f64>> {
+        let mut cones = Vec::with_capacity(2 + self.second_order);
+        if self.zero > 0 {
+            cones.push(SupportedConeT::ZeroConeT(self.zero));
+        }
+        if self.nonnegative > 0 || (self.second_order == 0 && self.zero == 0) {
+            cones.push(SupportedConeT::NonnegativeConeT(self.nonnegative));
+        }
+        cones.extend((0..self.second_order).map(|_| SupportedConeT::SecondOrderConeT(3)));
+        cones
+    }
+}
+
+/// One clarabel solve of `min 1/2 x^T P x + c^T x, A x + s = b` with `s`
+/// in the cones of `layout`.
 pub(crate) fn run_with_cones(
     p: &CscMatrix<f64>,
     c: &[f64],
     a: &CscMatrix<f64>,
     b: &[f64],
-    nonnegative: usize,
-    second_order: usize,
+    layout: ConeLayout,
     settings: &ClarabelSettings,
 ) -> Result<ClarabelPoint, ClarabelFailure> {
-    let mut cones = Vec::with_capacity(1 + second_order);
-    if nonnegative > 0 || second_order == 0 {
-        cones.push(SupportedConeT::NonnegativeConeT(nonnegative));
-    }
-    cones.extend((0..second_order).map(|_| SupportedConeT::SecondOrderConeT(3)));
+    let cones = layout.cones();
     let mut solver = DefaultSolver::new(p, c, a, b, &cones, settings.to_clarabel())
         .map_err(|e| ClarabelFailure::Setup(e.to_string()))?;
     solver.solve();

@@ -17,6 +17,9 @@
 //! make the system singular; the refinement is then a proximal iteration
 //! that keeps `z_S` near the interior point's (positive) multipliers.
 //!
+//! Equality rows (the first [`WhitenedQp::equalities`]) are always in `S`
+//! and their multipliers are never clamped.
+//!
 //! A loose interior point can misjudge a row or two. The guess is then
 //! corrected by primal-dual active-set steps (Hintermueller, Ito and
 //! Kunisch 2002): drop the rows of `S` whose multiplier came out negative,
@@ -44,10 +47,13 @@ pub const POLISH_MAX_ACTIVE_SET_UPDATES: usize = 5;
 /// `-band` joins it (unit-scaled data).
 pub const POLISH_ACTIVE_SET_BAND: f64 = 1e-13;
 
-/// A unit-scaled QP `min 1/2 |y|^2, G y + b >= 0` with sparse rows.
+/// A unit-scaled QP `min 1/2 |y|^2, G y + b >= 0` with sparse rows, the
+/// first `equalities` of them `G y + b = 0`.
 pub struct WhitenedQp<'a> {
     /// Number of variables.
     pub n: usize,
+    /// The first `equalities` rows are equalities.
+    pub equalities: usize,
     /// Rows `G_i` as `(variable, value)` lists.
     pub rows: &'a [Vec<(usize, f64)>],
     /// `b`.
@@ -61,7 +67,9 @@ pub fn polish(
     z: &[f64],
     slack: &[f64],
 ) -> Option<(Vec<f64>, Vec<f64>)> {
-    let mut active: Vec<usize> = (0..qp.rows.len()).filter(|&i| z[i] > slack[i]).collect();
+    let mut active: Vec<usize> = (0..qp.rows.len())
+        .filter(|&i| i < qp.equalities || z[i] > slack[i])
+        .collect();
     let (mut y, mut z) = (y.to_vec(), z.to_vec());
     for _ in 0..=POLISH_MAX_ACTIVE_SET_UPDATES {
         (y, z) = solve_active(qp, &active, &y, &z)?;
@@ -71,7 +79,9 @@ pub fn polish(
         }
         active = next;
     }
-    z.iter_mut().for_each(|v| *v = v.max(0.0));
+    z.iter_mut()
+        .skip(qp.equalities)
+        .for_each(|v| *v = v.max(0.0));
     Some((y, z))
 }
 
@@ -81,7 +91,9 @@ fn corrected_active_set(qp: &WhitenedQp, active: &[usize], y: &[f64], z: &[f64])
     active.iter().for_each(|&i| in_set[i] = true);
     (0..qp.rows.len())
         .filter(|&i| {
-            if in_set[i] {
+            if i < qp.equalities {
+                true
+            } else if in_set[i] {
                 z[i] >= -POLISH_ACTIVE_SET_BAND
             } else {
                 let value: f64 = qp.b[i] + qp.rows[i].iter().map(|&(j, v)| v * y[j]).sum::<f64>();

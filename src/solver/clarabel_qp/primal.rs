@@ -37,6 +37,12 @@
 //! caller accepts on), is returned: a polish that makes the answer worse is
 //! never kept.
 //!
+//! Equality rows (the first [`ProjectionQp::num_equalities`]) are
+//! whitened and scaled the same way and go first, in clarabel's
+//! `ZeroConeT` (`sigma_i = 0`, `z^_i` free); they count in `s` whatever the
+//! sign of `b_i` (`|b_i| / g_i`), and the polish keeps them always active
+//! with free multipliers.
+//!
 //! Friction cones ([`super::cone`]) follow the rows, three entries of
 //! `sigma` each in a `SecondOrderConeT(3)`, whitened and scaled the same
 //! way with one common factor per cone. A problem with cones is not
@@ -48,18 +54,20 @@ use nalgebra::{DVector, Vector6};
 
 use super::cone::{WhiteCone, blocks_norm, scaled_entries, whiten_cone, whitened_blocks};
 use super::polish::{WhitenedQp, polish};
-use super::{ClarabelSettings, csc_from_triplets, run_with_cones};
+use super::{ClarabelSettings, ConeLayout, csc_from_triplets, run_with_cones};
 use crate::solver::friction_cone::CONE_DIM;
 use crate::solver::metric::BlockMetric;
 use crate::solver::outcome::{Candidate, FailureReason};
 use crate::solver::projection::ProjectionQp;
-use crate::solver::residuals::{ProjectionResiduals, projection_residuals};
+use crate::solver::residuals::{ProjectionResiduals, projection_residuals, row_violation};
 
 /// The whitened, normalized problem: rows `G^_i` over the variables, the
 /// right-hand sides, the friction cones ([`super::cone`]) and the maps back.
 struct Whitened {
     /// Indices of the rows kept (`g_i > 0`).
     active: Vec<usize>,
+    /// How many of the kept rows are equality rows (they come first).
+    equalities: usize,
     /// Row norms `g_i` of the kept rows.
     norms: Vec<f64>,
     /// `G^_i` of the kept rows, as `(variable, value)`.
@@ -76,6 +84,7 @@ fn whiten(qp: &ProjectionQp, metric: &[BlockMetric]) -> Whitened {
     let b = qp.b();
     let mut w = Whitened {
         active: Vec::new(),
+        equalities: 0,
         norms: Vec::new(),
         rows: Vec::new(),
         rhs: Vec::new(),
@@ -90,7 +99,9 @@ fn whiten(qp: &ProjectionQp, metric: &[BlockMetric]) -> Whitened {
             w.active.push(i);
             w.norms.push(g);
             w.rows.push(scaled_entries(&blocks, g));
-            w.s = w.s.max(-b[i] / g);
+            let equality = qp.is_equality(i);
+            w.equalities += usize::from(equality);
+            w.s = w.s.max(row_violation(equality, b[i]) / g);
             any_scale = any_scale.max(b[i].abs() / g);
         }
     }
@@ -157,8 +168,11 @@ pub fn solve(
         &vec![0.0; n],
         &a,
         &rhs,
-        white.rows.len(),
-        white.cones.len(),
+        ConeLayout {
+            zero: white.equalities,
+            nonnegative: white.rows.len() - white.equalities,
+            second_order: white.cones.len(),
+        },
         settings,
     )
     .map_err(FailureReason::Clarabel)?;
@@ -170,6 +184,7 @@ pub fn solve(
     }
     let whitened = WhitenedQp {
         n,
+        equalities: white.equalities,
         rows: &white.rows,
         b: &white.rhs,
     };

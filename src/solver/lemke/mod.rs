@@ -21,7 +21,13 @@
 //! When the symmetric part of `M` is positive semidefinite, `M` is
 //! copositive-plus and ray termination of the plain run proves that the LCP
 //! has no solution (Cottle, Pang and Stone 1992, theorem 4.4.13).
+//!
+//! A mixed LCP (free leading variables, `crate::solver::lcp`: the dual of
+//! a projection with equality rows) is first reduced to a plain LCP by a
+//! Schur complement with a pseudo-inverse of the free block ([`mixed`]);
+//! inconsistent equalities end as [`LemkeStatus::InconsistentEqualities`].
 
+pub mod mixed;
 pub mod path;
 pub mod ratio;
 pub mod tableau;
@@ -99,6 +105,13 @@ pub enum LemkeStatus {
         /// Scaled natural-map residual.
         residual: f64,
     },
+    /// A mixed LCP whose free rows cannot all hold: `b_E` is not in the
+    /// range of `M_EE` ([`mixed`]); for a projection, equality rows that
+    /// contradict each other.
+    InconsistentEqualities {
+        /// The part of `b_E` outside the range, relative to `|q|_inf`.
+        residual: f64,
+    },
 }
 
 /// One run (plain or regularized).
@@ -116,7 +129,7 @@ pub struct LemkeAttempt {
 /// A checked solution.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LemkeSolution {
-    /// `z >= 0`.
+    /// `z`: `z >= 0`, except the free leading variables of a mixed LCP.
     pub z: DVector<f64>,
     /// `w = M z + q`, recomputed on the original data.
     pub w: DVector<f64>,
@@ -153,8 +166,18 @@ struct Scaled<'a> {
     original_q: &'a DVector<f64>,
 }
 
-/// Solves the LCP with Lemke's method (see the module docs).
+/// Solves the LCP with Lemke's method, a mixed one by elimination first
+/// (see the module docs).
 pub fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution, LemkeFailure> {
+    if lcp.free() > 0 {
+        mixed::solve(lcp, settings)
+    } else {
+        solve_plain(lcp, settings)
+    }
+}
+
+/// Lemke's method on an LCP without free variables.
+fn solve_plain(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution, LemkeFailure> {
     let scaling = LcpScaling::jacobi(lcp.m(), lcp.q());
     let scaled = Scaled {
         m: scaling.scale_m(lcp.m()),
