@@ -71,10 +71,17 @@ pub fn revolute_chain(links: usize, half_length: f64, end_mass: f64, origin: [f6
     let mut scene = Scene::new();
     let at = |x: f64| [origin[0] + x, origin[1], origin[2]];
     let anchor = scene
-        .add_body(cuboid("anchor", [w, w, w], at(-w), IDENTITY_XYZW, MassSpec::Fixed))
+        .add_body(cuboid(
+            "anchor",
+            [w, w, w],
+            at(-w),
+            IDENTITY_XYZW,
+            MassSpec::Fixed,
+        ))
         .expect("valid anchor");
     // Hinge about z: the joint frame's x axis along world z.
-    let hinge = nalgebra::UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -std::f64::consts::FRAC_PI_2);
+    let hinge =
+        nalgebra::UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -std::f64::consts::FRAC_PI_2);
     let mut previous = anchor;
     let mut previous_end = Vector3::new(w, 0.0, 0.0);
     for i in 0..links {

@@ -150,7 +150,9 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
     log::debug!(
         "  linearized: {} rows ({} equalities, {} with friction), deepest penetration {:.3e}, largest equality error {:.3e}",
         rows.len(),
-        rows.iter().filter(|row| row.kind == RowKind::Equality).count(),
+        rows.iter()
+            .filter(|row| row.kind == RowKind::Equality)
+            .count(),
         rows.iter().filter(|row| row.friction.is_some()).count(),
         before.deepest_penetration(),
         before.largest_equality_error()
@@ -408,7 +410,6 @@ pub fn projection_qp(
         num_equalities,
         cones,
         cone_facets: friction_directions,
-        num_equalities: 0,
     };
     let mut parents = order;
     match friction_model {

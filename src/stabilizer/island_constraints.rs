@@ -18,25 +18,12 @@ pub struct IslandConstraints<'a> {
     pub contacts: IslandContacts<'a>,
     /// The joints.
     pub joints: IslandJoints,
-    /// Number of joint rows (equalities and limits) of the last
-    /// linearization, which come before the contact rows.
-    joint_rows: usize,
 }
 
 impl<'a> IslandConstraints<'a> {
     /// The provider of `contacts` and `joints`.
     pub fn new(contacts: IslandContacts<'a>, joints: IslandJoints) -> Self {
-        IslandConstraints {
-            contacts,
-            joints,
-            joint_rows: 0,
-        }
-    }
-
-    /// Number of joint rows of the last linearization (they precede the
-    /// contact rows).
-    pub fn joint_rows(&self) -> usize {
-        self.joint_rows
+        IslandConstraints { contacts, joints }
     }
 }
 
@@ -45,7 +32,6 @@ impl ConstraintProvider for IslandConstraints<'_> {
         let mut rows = self.joints.rows(configuration);
         // Equalities first (a stable sort keeps each block's order).
         rows.sort_by_key(|row| row.kind != RowKind::Equality);
-        self.joint_rows = rows.len();
         rows.extend(self.contacts.linearize(configuration));
         rows
     }

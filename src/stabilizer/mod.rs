@@ -68,8 +68,8 @@ use crate::Error;
 use crate::broad_phase::IncrementalBroadPhase;
 use crate::contact::SceneParts;
 use crate::contact::islands_with_joints;
-use crate::joints::JointErrors;
 use crate::contact::{Detection, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect};
+use crate::joints::JointErrors;
 use crate::parallel;
 use crate::scene::Scene;
 use crate::settings::{Method, ResolvedLengths, Settings};
@@ -467,7 +467,11 @@ impl Stabilizer {
 /// Whether the call's last detection is worse than its first: a deeper
 /// exact penetration, a joint error that rose beyond the tolerance, or a
 /// larger merit (penetrations' and joints' together).
-fn worse_than_input(report: &Report, joints_before: &[JointErrors], joints_after: &[JointErrors]) -> bool {
+fn worse_than_input(
+    report: &Report,
+    joints_before: &[JointErrors],
+    joints_after: &[JointErrors],
+) -> bool {
     let tolerance = report.tolerance;
     let joint_merit = |errors: &[JointErrors]| -> f64 {
         errors

@@ -3,8 +3,8 @@
 
 use crate::Error;
 use crate::contact::Detection;
-use crate::joints::JointErrors;
 pub use crate::contact::PairPenetration;
+use crate::joints::JointErrors;
 use crate::projector::StepOutcome;
 use crate::settings::ResolvedLengths;
 use crate::solver::{CrossCheck, Fallback, SolverKind};

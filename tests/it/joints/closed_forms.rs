@@ -14,7 +14,13 @@ use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 /// far below the tolerance (1e-6 of the scene's scale), above rounding.
 const CLOSED_FORM: f64 = 1e-7;
 
-fn cube(name: &str, half: f64, at: [f64; 3], rotation: [f64; 4], mass: MassSpec) -> constraint_stabilization::BodyDesc {
+fn cube(
+    name: &str,
+    half: f64,
+    at: [f64; 3],
+    rotation: [f64; 4],
+    mass: MassSpec,
+) -> constraint_stabilization::BodyDesc {
     cuboid(name, [half; 3], at, rotation, mass)
 }
 
@@ -38,10 +44,22 @@ fn a_ball_joint_pulled_apart_closes_in_the_ratio_of_the_masses_without_turning()
     let (m_a, m_b, d) = (1.0, 3.0, 0.04);
     let mut scene = Scene::new();
     scene
-        .add_body(cube("a", 0.25, [0.0, 0.0, 0.0], IDENTITY_XYZW, MassSpec::Mass(m_a)))
+        .add_body(cube(
+            "a",
+            0.25,
+            [0.0, 0.0, 0.0],
+            IDENTITY_XYZW,
+            MassSpec::Mass(m_a),
+        ))
         .unwrap();
     scene
-        .add_body(cube("b", 0.25, [1.0 + d, 0.0, 0.0], IDENTITY_XYZW, MassSpec::Mass(m_b)))
+        .add_body(cube(
+            "b",
+            0.25,
+            [1.0 + d, 0.0, 0.0],
+            IDENTITY_XYZW,
+            MassSpec::Mass(m_b),
+        ))
         .unwrap();
     scene
         .add_joint(Joint {
@@ -56,10 +74,19 @@ fn a_ball_joint_pulled_apart_closes_in_the_ratio_of_the_masses_without_turning()
     let report = stabilize(&mut scene);
     let moved_a = translation(&scene, 0).x;
     let moved_b = translation(&scene, 1).x - (1.0 + d);
-    assert!((moved_a - d * m_b / (m_a + m_b)).abs() <= CLOSED_FORM * d, "{moved_a}");
-    assert!((moved_b + d * m_a / (m_a + m_b)).abs() <= CLOSED_FORM * d, "{moved_b}");
+    assert!(
+        (moved_a - d * m_b / (m_a + m_b)).abs() <= CLOSED_FORM * d,
+        "{moved_a}"
+    );
+    assert!(
+        (moved_b + d * m_a / (m_a + m_b)).abs() <= CLOSED_FORM * d,
+        "{moved_b}"
+    );
     for body in 0..2 {
-        assert!(rotation(&scene, body).angle() <= CLOSED_FORM, "body {body} turned");
+        assert!(
+            rotation(&scene, body).angle() <= CLOSED_FORM,
+            "body {body} turned"
+        );
         assert!(translation(&scene, body).yz().norm() <= CLOSED_FORM * d);
     }
     let errors = oracle_joint_errors(&scene, &scene.joints()[0]);
@@ -75,10 +102,22 @@ fn a_misaligned_hinge_is_realigned_with_the_mass_weighted_split_of_the_turn() {
     let turned = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), theta);
     let mut scene = Scene::new();
     scene
-        .add_body(cube("a", 0.25, [0.0, 0.0, 0.0], IDENTITY_XYZW, MassSpec::Mass(m_a)))
+        .add_body(cube(
+            "a",
+            0.25,
+            [0.0, 0.0, 0.0],
+            IDENTITY_XYZW,
+            MassSpec::Mass(m_a),
+        ))
         .unwrap();
     scene
-        .add_body(cube("b", 0.25, [1.0, 0.0, 0.0], xyzw(&turned), MassSpec::Mass(m_b)))
+        .add_body(cube(
+            "b",
+            0.25,
+            [1.0, 0.0, 0.0],
+            xyzw(&turned),
+            MassSpec::Mass(m_b),
+        ))
         .unwrap();
     // Only the rotations locked (a generic joint whose free axis is x),
     // with the anchors at the centres of mass: turning a body does not
@@ -104,8 +143,14 @@ fn a_misaligned_hinge_is_realigned_with_the_mass_weighted_split_of_the_turn() {
     let turn_b = (rotation(&scene, 1) * turned.inverse()).scaled_axis();
     let expected_a = theta * m_b / (m_a + m_b);
     let expected_b = -theta * m_a / (m_a + m_b);
-    assert!((turn_a.z - expected_a).abs() <= CLOSED_FORM * theta, "{turn_a}");
-    assert!((turn_b.z - expected_b).abs() <= CLOSED_FORM * theta, "{turn_b}");
+    assert!(
+        (turn_a.z - expected_a).abs() <= CLOSED_FORM * theta,
+        "{turn_a}"
+    );
+    assert!(
+        (turn_b.z - expected_b).abs() <= CLOSED_FORM * theta,
+        "{turn_b}"
+    );
     assert!(turn_a.xy().norm() + turn_b.xy().norm() <= CLOSED_FORM * theta);
     for body in 0..2 {
         let start = [0.0, 1.0][body];
@@ -118,7 +163,13 @@ fn a_misaligned_hinge_is_realigned_with_the_mass_weighted_split_of_the_turn() {
 fn a_pendulum_link_off_its_fixed_pivot_returns_to_it() {
     let mut scene = Scene::new();
     scene
-        .add_body(cube("pivot", 0.05, [0.0, 2.0, 0.0], IDENTITY_XYZW, MassSpec::Fixed))
+        .add_body(cube(
+            "pivot",
+            0.05,
+            [0.0, 2.0, 0.0],
+            IDENTITY_XYZW,
+            MassSpec::Fixed,
+        ))
         .unwrap();
     let tilt = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.3);
     scene
@@ -153,11 +204,23 @@ fn a_hinge_angle_beyond_its_limit_returns_exactly_to_the_limit() {
     let limit = 0.5;
     let mut scene = Scene::new();
     scene
-        .add_body(cube("frame", 0.1, [0.0, 0.0, 0.0], IDENTITY_XYZW, MassSpec::Fixed))
+        .add_body(cube(
+            "frame",
+            0.1,
+            [0.0, 0.0, 0.0],
+            IDENTITY_XYZW,
+            MassSpec::Fixed,
+        ))
         .unwrap();
     let opened = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.7);
     scene
-        .add_body(cuboid("door", [0.05, 0.5, 0.3], [1.0, 0.0, 0.0], xyzw(&opened), MassSpec::Mass(4.0)))
+        .add_body(cuboid(
+            "door",
+            [0.05, 0.5, 0.3],
+            [1.0, 0.0, 0.0],
+            xyzw(&opened),
+            MassSpec::Mass(4.0),
+        ))
         .unwrap();
     // Hinge about x through the door's centre, held by the fixed frame.
     scene
