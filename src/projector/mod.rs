@@ -27,6 +27,7 @@
 //! its trust region ([`TrustRegion`]). The loop is independent of the geometry: contacts from
 //! V-Clip are one provider; analytic providers test it alone.
 
+mod consistent_equalities;
 pub mod friction;
 mod line_search;
 mod step;

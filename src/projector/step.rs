@@ -14,6 +14,7 @@ use std::time::Instant;
 
 use nalgebra::DVector;
 
+use super::consistent_equalities::consistent_equalities;
 use super::friction::friction_cones;
 use super::line_search::{LineSearchOutcome, line_search};
 use super::trust_region::TrustRegion;
@@ -168,7 +169,19 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
         settings.friction_directions,
         settings.friction_model,
     );
-    let solution = solve_projection(&qp, &settings.solver)?;
+    let (qp, solution) = match solve_projection(&qp, &settings.solver) {
+        Ok(solution) => (qp, solution),
+        Err(error) => match consistent_equalities(&qp)? {
+            Some((consistent, removed)) => {
+                log::debug!(
+                    "  not solved ({error}); equality rows made consistent (a change of {removed:.3e} that no first-order motion reaches) and solved again"
+                );
+                let solution = solve_projection(&consistent, &settings.solver)?;
+                (consistent, solution)
+            }
+            None => return Err(error),
+        },
+    };
     let trust_scale = TrustRegion::of(settings).scale(&solution.dq, inertias, worst_before);
     let dq = &solution.dq * trust_scale;
     Ok(Plan::Step(Box::new(PlannedStep {
