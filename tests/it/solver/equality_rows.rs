@@ -83,12 +83,10 @@ fn assert_solves(
         assert_eq!(sol.solver, kind_of(choice), "{context}");
     }
     let w = constraint_values(qp, &sol.dq);
-    let length = qp
-        .phi
-        .iter()
-        .zip(&qp.target)
-        .map(|(p, t)| (p - t).abs())
-        .fold(f64::MIN_POSITIVE, f64::max);
+    // ||phi - target||_inf: the values at dq = 0.
+    let length = constraint_values(qp, &DVector::zeros(sol.dq.len()))
+        .amax()
+        .max(f64::MIN_POSITIVE);
     for i in 0..qp.num_equalities {
         assert!(
             w[i].abs() <= EQUALITY_HOLDS_TOL * length,
@@ -405,18 +403,24 @@ fn zero_equality_row_with_nonzero_b_is_infeasible() {
     }
 }
 
+/// One row on the x translation of [`unit_body`] with value `phi` and
+/// target 0, with `num_equalities` as given.
+fn one_x_row(phi: f64, num_equalities: usize) -> ProjectionQp {
+    ProjectionQp {
+        bodies: vec![unit_body()],
+        rows: vec![row(&[(0, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0])])],
+        phi: vec![phi],
+        target: vec![0.0],
+        num_equalities,
+        ..ProjectionQp::default()
+    }
+}
+
 /// `num_equalities` above the number of rows is rejected before any
 /// solver runs; so is a mixed LCP with more free variables than rows.
 #[test]
 fn too_many_equalities_is_rejected() {
-    let qp = ProjectionQp {
-        bodies: vec![unit_body()],
-        rows: vec![row(&[(0, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0])])],
-        phi: vec![0.0],
-        target: vec![0.0],
-        num_equalities: 2,
-        ..ProjectionQp::default()
-    };
+    let qp = one_x_row(0.0, 2);
     let expected = SolverError::TooManyEqualities {
         num_equalities: 2,
         rows: 1,
@@ -500,14 +504,7 @@ fn pyramid_keeps_equality_rows_first() {
 /// overshoot.
 #[test]
 fn acceptance_counts_equality_rows_both_ways() {
-    let qp = ProjectionQp {
-        bodies: vec![unit_body()],
-        rows: vec![row(&[(0, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0])])],
-        phi: vec![0.02],
-        target: vec![0.0],
-        num_equalities: 1,
-        ..ProjectionQp::default()
-    };
+    let qp = one_x_row(0.02, 1);
     let metric = qp.validate().unwrap();
     // Mass 2: dq_x = -0.02 with lambda = M dq_x = -0.04.
     let dq = DVector::from_row_slice(&[-0.02, 0.0, 0.0, 0.0, 0.0, 0.0]);
