@@ -181,7 +181,8 @@ pub struct ProjectionResiduals {
     pub natural_map: f64,
     /// Scale-relative complementarity.
     pub complementarity: f64,
-    /// Scale-relative violation of `phi + J dq >= target`.
+    /// Scale-relative violation of `phi + J dq >= target` (`= target` for
+    /// equality rows: `|w_i|`).
     pub primal_infeasibility: f64,
     /// Relative disagreement of `dq` with `M^-1 J^T lambda`.
     pub stationarity: f64,
@@ -189,8 +190,9 @@ pub struct ProjectionResiduals {
     pub objective: f64,
     /// `sqrt(dq^T M dq)` (sqrt(mass) x length).
     pub displacement: f64,
-    /// `max_i max(0, -w_i) / L`, `L = ||b||_inf`: the
-    /// violation of the linearized rows relative to the acceptance length.
+    /// `max_i max(0, -w_i) / L` (`|w_i|` for equality rows),
+    /// `L = ||b||_inf`: the violation of the linearized rows relative to
+    /// the acceptance length.
     pub feasibility: f64,
     /// Duality gap `1/2 ||dq - v||_M^2 + lambda^+ . w^+` relative to the
     /// energy scale `E` (module docs).
