@@ -12,8 +12,9 @@ use constraint_stabilization::solver::lemke::{self, LemkeSettings, LemkeStatus};
 use constraint_stabilization::solver::pgs::{PgsSettings, PgsStatus};
 use constraint_stabilization::solver::residuals::projection_residuals;
 use constraint_stabilization::solver::{
-    BodyMetric, FailureReason, FrictionCone, JacobianRow, Lcp, ProjectionQp, ProjectionSolution,
-    SolverChoice, SolverError, SolverKind, SolverSettings, solve_projection,
+    BodyMetric, CrossCheckOutcome, FailureReason, FrictionCone, JacobianRow, Lcp, ProjectionQp,
+    ProjectionSolution, SolverChoice, SolverError, SolverKind, SolverSettings,
+    cross_check_projection, solve_projection,
 };
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 use rand::{Rng, SeedableRng};
@@ -518,4 +519,22 @@ fn acceptance_counts_equality_rows_both_ways() {
         (overshoot.feasibility - 0.5).abs() <= CLOSED_FORM_TOL,
         "{overshoot:?}"
     );
+}
+
+/// The cross-check (clarabel against Lemke) of problems with equality
+/// rows compares their `dq`, which agree to the exact solvers' tolerance.
+#[test]
+fn cross_check_compares_dq_with_equality_rows() {
+    for seed in 0..RANDOM_PROBLEMS {
+        let qp = random_mixed(200 + seed, 2, 5);
+        let (solution, check) = cross_check_projection(&qp, &SolverSettings::default()).unwrap();
+        assert_eq!(solution.solver, SolverKind::Clarabel);
+        assert_eq!(check.reference, SolverKind::Lemke);
+        match check.outcome {
+            CrossCheckOutcome::Compared { differences, .. } => {
+                assert!(differences.dq_rel <= DQ_TOL, "seed {seed}: {differences:?}");
+            }
+            other => panic!("seed {seed}: {other:?}"),
+        }
+    }
 }
