@@ -6,14 +6,18 @@
 //! minimize 1/2 dq^T M dq   subject to   phi + J dq >= target
 //! ```
 //!
-//! ([`ProjectionQp`], `M` block diagonal), whose dual is the LCP
-//! `A = J M^-1 J^T`, `b = phi - target` (`projection_lcp`), possibly with
+//! ([`ProjectionQp`], `M` block diagonal), whose first
+//! [`ProjectionQp::num_equalities`] rows may be equalities (joints), and
+//! whose dual is the LCP `A = J M^-1 J^T`, `b = phi - target`
+//! (`projection_lcp`; a mixed LCP with free multipliers for the equality
+//! rows, [`Lcp::mixed`]), possibly with
 //! friction cones ([`friction_cone`]; clarabel's primal form solves them,
 //! the others their pyramid). Solvers:
 //! - `closed_form`: one row;
 //! - [`clarabel_qp::primal`]: clarabel on the primal QP (sparse);
 //! - [`clarabel_qp::dual`]: clarabel on the dual QP `min 1/2 z^T A z + b^T z, z >= 0`;
-//! - [`lemke`]: Lemke's complementary pivoting (also general LCPs, [`Lcp`]);
+//! - [`lemke`]: Lemke's complementary pivoting (also general LCPs, [`Lcp`];
+//!   equality rows eliminated first, [`lemke::mixed`]);
 //! - [`pgs`]: projected Gauss-Seidel, the game-engine baseline.
 //!
 //! [`solve_projection`] validates the problem, picks a solver, falls back

@@ -13,7 +13,8 @@ use super::pgs::PgsStatus;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub enum SolverKind {
-    /// Every constraint already holds: `dq = 0`, `lambda = 0` (only under
+    /// Every constraint already holds (equality rows within the acceptance
+    /// feasibility measure): `dq = 0`, `lambda = 0` (only under
     /// [`super::SolverChoice::Auto`]).
     Trivial,
     /// One row: `lambda = max(0, -b/a)` (`-b/a` for an equality row).

@@ -11,7 +11,7 @@
 //! The free variables of a mixed LCP (`super::lcp`: the bilateral rows of
 //! joints) are not clamped: `z_i <- z_i - (q_i + M_i z) / M_ii`, a plain
 //! Gauss-Seidel step on `w_i = 0`; their residual is `|w_i|`
-//! ([`natural_map_abs_mixed`]). Gauss-Seidel converges on a consistent
+//! ([`natural_map_abs`]). Gauss-Seidel converges on a consistent
 //! positive semidefinite system with a positive diagonal, also a singular
 //! one (redundant rows of a closed loop); on an inconsistent one (no `z_E`
 //! makes `w_E = 0`) it stops at the sweep limit.
@@ -28,8 +28,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::lcp::Lcp;
 use super::residuals::{
-    lcp_natural_map_mixed, natural_map_abs_mixed, natural_map_certified_mixed,
-    natural_map_relative_mixed,
+    lcp_natural_map, natural_map_abs, natural_map_certified, natural_map_relative,
 };
 use super::scaling::LcpScaling;
 
@@ -114,22 +113,22 @@ pub fn solve(lcp: &Lcp, settings: &PgsSettings) -> Result<PgsSolution, PgsStatus
     for sweep in 1..=settings.max_sweeps {
         gauss_seidel_sweep(&m_t, &q, free, &mut z);
         let w = m_t.tr_mul(&z) + &q;
-        residual = natural_map_abs_mixed(&z, &w, free);
+        residual = natural_map_abs(&z, &w, free);
         if !residual.is_finite() {
             return Err(PgsStatus::Diverged { sweeps: sweep });
         }
         // The cheap test first; the certified one (rounding of w included)
         // only when it passes.
         if residual <= settings.tol_residual
-            && natural_map_certified_mixed(&m, &q, &z, free) <= settings.tol_residual
-            && natural_map_relative_mixed(lcp.m(), lcp.q(), &scaling.unscale_z(&z), free)
+            && natural_map_certified(&m, &q, &z, free) <= settings.tol_residual
+            && natural_map_relative(lcp.m(), lcp.q(), &scaling.unscale_z(&z), free)
                 <= settings.tol_residual_unscaled
         {
             log::trace!("pgs: converged after {sweep} sweeps, residual {residual:.2e}");
             let z_orig = scaling.unscale_z(&z);
             let w_orig = lcp.w(&z_orig);
             return Ok(PgsSolution {
-                residual: lcp_natural_map_mixed(&z_orig, &w_orig, lcp.q(), free),
+                residual: lcp_natural_map(&z_orig, &w_orig, lcp.q(), free),
                 z: z_orig,
                 w: w_orig,
                 sweeps: sweep,

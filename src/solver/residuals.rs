@@ -100,51 +100,32 @@ use super::projection::ProjectionQp;
 /// natural map relative to the size of the data at `z`, invariant under
 /// scaling `M`, `q` (and so `z`) by positive factors. The acceptance of a
 /// general LCP's solution by Lemke and clarabel (`lemke::solve`,
-/// `clarabel_qp::dual::solve_lcp`).
-pub fn natural_map_relative(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> f64 {
-    natural_map_relative_mixed(m, q, z, 0)
-}
-
-/// [`natural_map_relative`] of a mixed LCP whose first `free` variables
-/// are free ([`natural_map_abs_mixed`]).
-pub fn natural_map_relative_mixed(
+/// `clarabel_qp::dual::solve_lcp`). The first `free` variables are free
+/// (a mixed LCP, [`natural_map_abs`]; 0 for a plain LCP).
+pub fn natural_map_relative(
     m: &DMatrix<f64>,
     q: &DVector<f64>,
     z: &DVector<f64>,
     free: usize,
 ) -> f64 {
     let w = m * z + q;
-    let natural = natural_map_abs_mixed(z, &w, free);
+    let natural = natural_map_abs(z, &w, free);
     let size = q.amax().max(m.amax() * z.amax());
     if size > 0.0 { natural / size } else { natural }
 }
 
 /// `||min(z, w)||_inf / max(1, ||q||_inf)`: the measure of the Siconos
-/// LCP files (`tests/data/siconos/README.md`).
-pub fn lcp_natural_map(z: &DVector<f64>, w: &DVector<f64>, q: &DVector<f64>) -> f64 {
-    lcp_natural_map_mixed(z, w, q, 0)
+/// LCP files (`tests/data/siconos/README.md`); the first `free` variables
+/// free ([`natural_map_abs`]).
+pub fn lcp_natural_map(z: &DVector<f64>, w: &DVector<f64>, q: &DVector<f64>, free: usize) -> f64 {
+    natural_map_abs(z, w, free) / q.amax().max(1.0)
 }
 
-/// [`lcp_natural_map`] of a mixed LCP ([`natural_map_abs_mixed`]).
-pub fn lcp_natural_map_mixed(
-    z: &DVector<f64>,
-    w: &DVector<f64>,
-    q: &DVector<f64>,
-    free: usize,
-) -> f64 {
-    natural_map_abs_mixed(z, w, free) / q.amax().max(1.0)
-}
-
-/// `||min(z, w)||_inf`, unnormalized.
-pub fn natural_map_abs(z: &DVector<f64>, w: &DVector<f64>) -> f64 {
-    natural_map_abs_mixed(z, w, 0)
-}
-
-/// The natural map of a mixed LCP (`super::lcp`), unnormalized: `|w_i|`
-/// for the first `free` entries (a free variable's row must vanish; the
-/// natural map of `z_i` free is `z_i - (z_i - w_i) = w_i`), `|min(z_i, w_i)|`
-/// for the others.
-pub fn natural_map_abs_mixed(z: &DVector<f64>, w: &DVector<f64>, free: usize) -> f64 {
+/// `||min(z, w)||_inf`, unnormalized, for an LCP whose first `free`
+/// variables are free (a mixed LCP, `super::lcp`; 0 for a plain one):
+/// their entries are `|w_i|` (a free variable's row must vanish; the
+/// natural map of a free `z_i` is `z_i - (z_i - w_i) = w_i`).
+pub fn natural_map_abs(z: &DVector<f64>, w: &DVector<f64>, free: usize) -> f64 {
     z.iter()
         .zip(w.iter())
         .enumerate()
@@ -168,13 +149,9 @@ fn natural_map_entry(z: f64, w: f64, free: bool) -> f64 {
 /// the error of a dot product of length `n`, Higham 2002, section 3.1).
 /// A `z` so large that its `w` is lost to cancellation cannot pass: a
 /// regularized LCP `M + eps I` with no solution for `eps = 0` has a `z` of
-/// size `1/eps` whose computed `w` can look complementary.
-pub fn natural_map_certified(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>) -> f64 {
-    natural_map_certified_mixed(m, q, z, 0)
-}
-
-/// [`natural_map_certified`] of a mixed LCP ([`natural_map_abs_mixed`]).
-pub fn natural_map_certified_mixed(
+/// size `1/eps` whose computed `w` can look complementary. The first
+/// `free` variables are free ([`natural_map_abs`]).
+pub fn natural_map_certified(
     m: &DMatrix<f64>,
     q: &DVector<f64>,
     z: &DVector<f64>,
@@ -204,7 +181,8 @@ pub struct ProjectionResiduals {
     pub natural_map: f64,
     /// Scale-relative complementarity.
     pub complementarity: f64,
-    /// Scale-relative violation of `phi + J dq >= target`.
+    /// Scale-relative violation of `phi + J dq >= target` (`= target` for
+    /// equality rows: `|w_i|`).
     pub primal_infeasibility: f64,
     /// Relative disagreement of `dq` with `M^-1 J^T lambda`.
     pub stationarity: f64,
@@ -212,8 +190,9 @@ pub struct ProjectionResiduals {
     pub objective: f64,
     /// `sqrt(dq^T M dq)` (sqrt(mass) x length).
     pub displacement: f64,
-    /// `max_i max(0, -w_i) / L`, `L = ||b||_inf`: the
-    /// violation of the linearized rows relative to the acceptance length.
+    /// `max_i max(0, -w_i) / L` (`|w_i|` for equality rows),
+    /// `L = ||b||_inf`: the violation of the linearized rows relative to
+    /// the acceptance length.
     pub feasibility: f64,
     /// Duality gap `1/2 ||dq - v||_M^2 + lambda^+ . w^+` relative to the
     /// energy scale `E` (module docs).

@@ -187,7 +187,8 @@ impl Default for SolverSettings {
 pub struct ProjectionSolution {
     /// The correction, six entries per body: `[dx; dtheta]`, world frame.
     pub dq: DVector<f64>,
-    /// Multipliers, one per row (not unique with redundant rows).
+    /// Multipliers, one per row (not unique with redundant rows; of either
+    /// sign for equality rows).
     pub lambda: DVector<f64>,
     /// The solver that produced it.
     pub solver: SolverKind,

@@ -189,7 +189,7 @@ fn report(lcp: &Lcp, solver: LcpSolver, outcome: Outcome, time_s: f64) -> ExitCo
     let (status, z, w, residual) = match outcome.result {
         Ok(z) => {
             let w = lcp.w(&z);
-            let residual = lcp_natural_map(&z, &w, lcp.q());
+            let residual = lcp_natural_map(&z, &w, lcp.q(), lcp.free());
             let status = if residual <= LCP_FILE_TOL {
                 "solved".to_string()
             } else {

@@ -34,7 +34,7 @@ use super::polish::{
 use super::{ClarabelPoint, ClarabelSettings, csc_from_triplets, run};
 use crate::solver::lcp::Lcp;
 use crate::solver::outcome::FailureReason;
-use crate::solver::residuals::{natural_map_abs_mixed, natural_map_relative_mixed};
+use crate::solver::residuals::{natural_map_abs, natural_map_relative};
 use crate::solver::scaling::LcpScaling;
 
 /// A solution of the LCP from clarabel on its dual QP.
@@ -66,7 +66,7 @@ pub fn solve_lcp(lcp: &Lcp, settings: &ClarabelSettings) -> Result<DualSolution,
         return Err(FailureReason::NotApplicable);
     }
     let solution = solve_lcp_unchecked(lcp, settings)?;
-    let residual = natural_map_relative_mixed(lcp.m(), lcp.q(), &solution.z, lcp.free());
+    let residual = natural_map_relative(lcp.m(), lcp.q(), &solution.z, lcp.free());
     if residual > TOL_NATURAL_MAP_RELATIVE {
         return Err(FailureReason::ResidualTooLarge {
             residual,
@@ -117,7 +117,7 @@ pub fn solve_lcp_unchecked(
     let point: ClarabelPoint = run(&p, q.as_slice(), &a, &vec![0.0; bounded], settings)
         .map_err(FailureReason::Clarabel)?;
     let raw = clamp_bounded(DVector::from_vec(point.x), free);
-    let residual = |z: &DVector<f64>| natural_map_abs_mixed(z, &(&m * z + &q), free);
+    let residual = |z: &DVector<f64>| natural_map_abs(z, &(&m * z + &q), free);
     let raw_residual = residual(&raw);
     let z_scaled = match polish_dense(&m, &q, &raw, free) {
         Some(p) if residual(&p) < raw_residual => p,

@@ -53,7 +53,7 @@ use nalgebra::{DMatrix, DVector, SVD};
 
 use super::{LemkeFailure, LemkeSettings, LemkeSolution, LemkeStatus, solve_plain};
 use crate::solver::lcp::Lcp;
-use crate::solver::residuals::{lcp_natural_map_mixed, natural_map_relative_mixed};
+use crate::solver::residuals::{lcp_natural_map, natural_map_relative};
 use crate::solver::scaling::LcpScaling;
 
 /// Singular values of the Jacobi-scaled `A_EE` (unit diagonal) below this
@@ -104,7 +104,7 @@ pub(super) fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution
     let mut z = DVector::zeros(n);
     z.rows_mut(0, e).copy_from(&z_e);
     z.rows_mut(e, ni).copy_from(&inner.z);
-    let relative = natural_map_relative_mixed(m, q, &z, e);
+    let relative = natural_map_relative(m, q, &z, e);
     if relative.is_nan() || relative > settings.tol_residual_unscaled {
         return Err(LemkeFailure {
             status: inaccurate(relative),
@@ -114,7 +114,7 @@ pub(super) fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution
     }
     let w = lcp.w(&z);
     Ok(LemkeSolution {
-        residual: lcp_natural_map_mixed(&z, &w, q, e),
+        residual: lcp_natural_map(&z, &w, q, e),
         z,
         w,
         ..inner

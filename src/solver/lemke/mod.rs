@@ -265,7 +265,7 @@ fn attempt(
 /// solution `z_scaled`.
 fn unscaled_residual(scaled: &Scaled, z_scaled: &DVector<f64>) -> f64 {
     let z = scaled.scaling.unscale_z(z_scaled);
-    natural_map_relative(scaled.original_m, scaled.original_q, &z)
+    natural_map_relative(scaled.original_m, scaled.original_q, &z, 0)
 }
 
 /// The better of the tableau's `z` and the LU re-solve of the final basis
@@ -279,7 +279,7 @@ fn best_candidate(scaled: &Scaled, path: &path::Path) -> (DVector<f64>, f64) {
         .into_iter()
         .map(|z| {
             let z = z.map(|x| x.max(0.0));
-            let r = natural_map_certified(&scaled.m, &scaled.q, &z);
+            let r = natural_map_certified(&scaled.m, &scaled.q, &z, 0);
             (z, r)
         })
         .min_by(|a, b| a.1.total_cmp(&b.1))
@@ -292,10 +292,10 @@ fn finish(
     z_scaled: DVector<f64>,
     attempts: Vec<LemkeAttempt>,
 ) -> LemkeSolution {
-    let residual_scaled = natural_map_certified(&scaled.m, &scaled.q, &z_scaled);
+    let residual_scaled = natural_map_certified(&scaled.m, &scaled.q, &z_scaled, 0);
     let z = scaled.scaling.unscale_z(&z_scaled);
     let w = lcp.w(&z);
-    let residual = lcp_natural_map(&z, &w, lcp.q());
+    let residual = lcp_natural_map(&z, &w, lcp.q(), 0);
     let pivots = attempts.iter().map(|a| a.pivots).sum();
     let regularization = attempts
         .last()

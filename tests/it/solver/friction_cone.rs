@@ -64,6 +64,7 @@ fn pushed_into_the_ground(mu: f64, alpha: f64, beta: f64, depth: f64) -> Project
             target: 0.0,
         }],
         cone_facets: 4,
+        num_equalities: 0,
     }
 }
 

@@ -1,7 +1,9 @@
-//! The solvers: the projection QP end to end, its acceptance, the friction
-//! cone, Lemke, PGS, and the Siconos LCP test problems.
+//! The solvers: the projection QP end to end, its acceptance, equality
+//! rows, the friction cone, Lemke, PGS, and the Siconos LCP test problems.
 
 mod acceptance;
+mod active_set_oracle;
+mod equality_rows;
 mod friction_cone;
 mod lcp_siconos;
 mod lemke;
