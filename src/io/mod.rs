@@ -4,6 +4,8 @@
 
 pub mod lcp_file;
 #[cfg(feature = "serde")]
+mod object_reader;
+#[cfg(feature = "serde")]
 pub mod scene_file;
 #[cfg(feature = "serde")]
 pub mod scene_joints;

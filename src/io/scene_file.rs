@@ -60,6 +60,7 @@ use serde::Serialize;
 use serde_json::{Map, Value};
 use thiserror::Error;
 
+use super::object_reader::{Entry, ObjectReader};
 pub use super::scene_joints::MAX_JOINTS;
 use super::scene_joints::{self, FrameProblem, JointOut};
 use crate::body::{Body, BodyDesc, BodyError, MAX_COMPOUND_PARTS, MassSpec, Shape, ShapePart};
@@ -387,28 +388,9 @@ pub(super) fn unknown_field<'a>(
 }
 
 /// A body's fields, read one by one so that errors name the field.
-struct BodyReader<'a> {
-    index: usize,
-    name: Option<String>,
-    object: &'a Map<String, Value>,
-}
+type BodyReader<'a> = ObjectReader<'a>;
 
 impl BodyReader<'_> {
-    fn error(&self, field: &str, problem: FieldProblem) -> SceneFileError {
-        SceneFileError::Body {
-            index: self.index,
-            name: self.name.clone(),
-            field: field.into(),
-            problem,
-        }
-    }
-
-    fn required(&self, field: &str) -> Result<&Value, SceneFileError> {
-        self.object
-            .get(field)
-            .ok_or_else(|| self.error(field, FieldProblem::Missing))
-    }
-
     fn number(&self, field: &str) -> Result<Option<f64>, SceneFileError> {
         match self.object.get(field) {
             None => Ok(None),
@@ -440,27 +422,11 @@ pub(super) fn numbers_of<const N: usize>(value: &Value) -> Option<[f64; N]> {
 
 /// A body's description and its own friction coefficient, if given.
 fn parse_body(index: usize, value: &Value) -> Result<(BodyDesc, Option<f64>), SceneFileError> {
-    let Some(object) = value.as_object() else {
-        return Err(SceneFileError::Body {
-            index,
-            name: None,
-            field: "(body)".into(),
-            problem: FieldProblem::WrongType("an object"),
-        });
-    };
-    let name = object.get("name").and_then(Value::as_str).map(String::from);
-    let reader = BodyReader {
-        index,
-        name: name.clone(),
-        object,
-    };
-    if let Some(field) = unknown_field(object, &BODY_FIELDS) {
+    let reader = ObjectReader::new(Entry::Body, index, value)?;
+    if let Some(field) = unknown_field(reader.object, &BODY_FIELDS) {
         return Err(reader.error(field, FieldProblem::Unknown));
     }
-    let name = match (reader.required("name")?, name) {
-        (_, Some(name)) => name,
-        _ => return Err(reader.error("name", FieldProblem::WrongType("a string"))),
-    };
+    let name = reader.name()?;
     let shape = parse_shape(&reader)?;
     let translation = reader.numbers::<3>(
         "translation",

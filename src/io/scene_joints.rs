@@ -57,6 +57,7 @@ use serde::Serialize;
 use serde_json::{Map, Value};
 use thiserror::Error;
 
+use super::object_reader::{Entry, ObjectReader};
 use super::scene_file::{FieldProblem, SceneFileError, numbers_of, unknown_field};
 use crate::body::{UNIT_QUATERNION_ROUNDING, UNIT_QUATERNION_TOLERANCE};
 use crate::joints::{Joint, JointAxes, JointError, JointKind, JointLimits, Limit};
@@ -250,30 +251,11 @@ impl<'a> BodyNames<'a> {
 }
 
 /// A joint's fields, read one by one so that errors name the field.
-struct JointReader<'a> {
-    index: usize,
-    name: Option<String>,
-    object: &'a Map<String, Value>,
-}
+type JointReader<'a> = ObjectReader<'a>;
 
 impl JointReader<'_> {
-    fn error(&self, field: &str, problem: FieldProblem) -> SceneFileError {
-        SceneFileError::Joint {
-            index: self.index,
-            name: self.name.clone(),
-            field: field.into(),
-            problem,
-        }
-    }
-
-    fn required(&self, field: &str) -> Result<&Value, SceneFileError> {
-        self.object
-            .get(field)
-            .ok_or_else(|| self.error(field, FieldProblem::Missing))
-    }
-
     /// `field` as `N` numbers, if present.
-    fn numbers<const N: usize>(
+    fn numbers_if_given<const N: usize>(
         &self,
         field: &str,
         expected: &'static str,
@@ -304,27 +286,11 @@ impl JointReader<'_> {
 }
 
 fn parse_joint(index: usize, value: &Value, bodies: &BodyNames) -> Result<Joint, SceneFileError> {
-    let Some(object) = value.as_object() else {
-        return Err(SceneFileError::Joint {
-            index,
-            name: None,
-            field: "(joint)".into(),
-            problem: FieldProblem::WrongType("an object"),
-        });
-    };
-    let name = object.get("name").and_then(Value::as_str).map(String::from);
-    let reader = JointReader {
-        index,
-        name: name.clone(),
-        object,
-    };
-    if let Some(field) = unknown_field(object, &JOINT_FIELDS) {
+    let reader = ObjectReader::new(Entry::Joint, index, value)?;
+    if let Some(field) = unknown_field(reader.object, &JOINT_FIELDS) {
         return Err(reader.error(field, FieldProblem::Unknown));
     }
-    let name = match (reader.required("name")?, name) {
-        (_, Some(name)) => name,
-        _ => return Err(reader.error("name", FieldProblem::WrongType("a string"))),
-    };
+    let name = reader.name()?;
     let type_name = reader.required("type")?.as_str();
     let Some(type_name) = type_name.and_then(|t| TYPES.into_iter().find(|&k| k == t)) else {
         let expected = "one of \"fixed\", \"spherical\", \"revolute\", \"prismatic\", \"generic\"";
@@ -461,9 +427,10 @@ fn parse_frame(reader: &JointReader<'_>, side: &str) -> Result<Isometry3<f64>, S
         )
     })?;
     let vector = "an array of 3 numbers";
-    let rotation = reader.numbers::<4>(&field("rotation"), "an array of 4 numbers [x, y, z, w]")?;
-    let axis = reader.numbers::<3>(&field("axis"), vector)?;
-    let reference = reader.numbers::<3>(&field("reference"), vector)?;
+    let rotation =
+        reader.numbers_if_given::<4>(&field("rotation"), "an array of 4 numbers [x, y, z, w]")?;
+    let axis = reader.numbers_if_given::<3>(&field("axis"), vector)?;
+    let reference = reader.numbers_if_given::<3>(&field("reference"), vector)?;
     let frame_error =
         |name: &str, problem| reader.error(&field(name), FieldProblem::DegenerateFrame(problem));
     let rotation = match (rotation, axis.is_some() || reference.is_some()) {
