@@ -65,7 +65,10 @@ use crate::scene::{Scene, SceneError};
 
 /// Most joints a scene file may hold: 200,000 (as many as
 /// [`super::scene_file::MAX_BODIES`]: a chain has one joint per body).
-/// Checked before any body or joint is built.
+/// Checked before any body or joint is built. A joint takes about 500 to
+/// 700 bytes as [`super::scene_file::scene_to_string`] writes it, so a
+/// file with both limits reached (about 200 MB) is beyond
+/// [`super::scene_file::MAX_SCENE_FILE_BYTES`]; about 100,000 of each fit.
 pub const MAX_JOINTS: usize = 200_000;
 
 /// A `reference_*` whose angle to its axis has a sine below this is
@@ -507,8 +510,11 @@ fn axes_rotation(
     let matrix = Matrix3::from_columns(&[*x, y, z]);
     let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(matrix));
     // Renormalized so that the written quaternion reads back bit for bit
-    // (its norm is then 1 up to rounding).
-    Ok(UnitQuaternion::new_normalize(rotation.into_inner()))
+    // (its norm is then 1 up to rounding); scalar part made nonnegative
+    // (the same rotation), so the file shows the shorter form.
+    let q = rotation.into_inner();
+    let q = if q.w < 0.0 { -q } else { q };
+    Ok(UnitQuaternion::new_normalize(q))
 }
 
 /// A joint as written.
