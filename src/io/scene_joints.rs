@@ -172,8 +172,9 @@ pub(super) fn add_joints(scene: &mut Scene, items: &[Value]) -> Result<(), Scene
 /// field the problem is in.
 fn invalid(index: usize, joint: &Joint, source: JointError) -> SceneFileError {
     let field = match &source {
-        JointError::NoSuchBody { .. } | JointError::SameBody { .. } => "bodies".to_string(),
-        JointError::BothFixed { .. } => "bodies".to_string(),
+        JointError::NoSuchBody { .. }
+        | JointError::SameBody { .. }
+        | JointError::BothFixed { .. } => "bodies".to_string(),
         JointError::InvalidFrame { which } => format!("rotation_{which}"),
         JointError::InvalidLimit { axis, .. } | JointError::LimitOnLockedAxis { axis, .. } => {
             match joint.kind {
