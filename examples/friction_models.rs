@@ -63,6 +63,8 @@ fn recorded_stack(steps: usize) -> Result<Vec<Input>, Box<dyn std::error::Error>
         bridge.stabilize(
             &mut world.bodies,
             &world.colliders,
+            &world.impulse_joints,
+            &world.multibody_joints,
             &world.integration_parameters,
         )?;
     }

@@ -270,6 +270,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Some(_) => Some(bridge.stabilize(
                 &mut world.bodies,
                 &world.colliders,
+                &world.impulse_joints,
+                &world.multibody_joints,
                 &world.integration_parameters,
             )?),
             None => None,

@@ -311,6 +311,8 @@ fn simulate(
             let result = bridge.stabilize(
                 &mut world.bodies,
                 &world.colliders,
+                &world.impulse_joints,
+                &world.multibody_joints,
                 &world.integration_parameters,
             );
             call_failed = match result {

@@ -210,6 +210,25 @@ impl Scene {
         Ok(index)
     }
 
+    /// Validates and appends several joints, all or nothing: on the first
+    /// invalid one (the error names its would-be index) no joint is added.
+    /// The bodies' fixed flags are computed once, so adding many joints
+    /// takes time linear in bodies plus joints (one [`Scene::add_joint`]
+    /// per joint takes their product).
+    pub fn add_joints(&mut self, joints: Vec<Joint>) -> Result<(), SceneError> {
+        let fixed = self.fixed_flags();
+        let first = self.joints.len();
+        for (offset, joint) in joints.iter().enumerate() {
+            joint.validate(&fixed).map_err(|source| SceneError::Joint {
+                index: first + offset,
+                name: joint.name.clone(),
+                source,
+            })?;
+        }
+        self.joints.extend(joints);
+        Ok(())
+    }
+
     /// Removes the joints at `indices` (any order, repeats allowed),
     /// keeping the order of the others. An index out of range is an error
     /// and removes nothing.

@@ -19,6 +19,12 @@
 //!   one rigid body of several convex parts, each placed in the body's
 //!   shape frame (a part's shape is a cuboid or a hull; at most
 //!   [`MAX_COMPOUND_PARTS`] parts).
+//! - `joints` is optional: an array of joints between the bodies, each
+//!   with `name`, `type`, `bodies` (by unique name or index), `anchor_a`,
+//!   `anchor_b`, an orientation per side (`rotation_a` or `axis_a` /
+//!   `reference_a`), and `limits` or `locked` / `axis_limits` by type; at
+//!   most [`MAX_JOINTS`]. The format and its checks are in
+//!   [`super::scene_joints`].
 //! - `settings` is optional, and so is each of its fields: `tolerance`,
 //!   `contact_margin`, `target_margin`, `max_passes`, `solver`
 //!   (`auto|clarabel|lemke|pgs`), `cross_check`, `method`
@@ -54,7 +60,11 @@ use serde::Serialize;
 use serde_json::{Map, Value};
 use thiserror::Error;
 
+use super::object_reader::{Entry, ObjectReader};
+pub use super::scene_joints::MAX_JOINTS;
+use super::scene_joints::{self, FrameProblem, JointOut};
 use crate::body::{Body, BodyDesc, BodyError, MAX_COMPOUND_PARTS, MassSpec, Shape, ShapePart};
+use crate::joints::JointError;
 use crate::scene::Scene;
 use crate::settings::FrictionModel;
 use crate::settings::{Method, SceneSettings, SettingsError};
@@ -70,7 +80,7 @@ const BODY_FIELDS: [&str; 8] = [
     "density",
     "friction",
 ];
-const TOP_FIELDS: [&str; 3] = ["bodies", "settings", "report"];
+const TOP_FIELDS: [&str; 4] = ["bodies", "joints", "settings", "report"];
 const SETTINGS_FIELDS: [&str; 8] = [
     "tolerance",
     "contact_margin",
@@ -103,12 +113,36 @@ pub enum FieldProblem {
     /// A settings value is invalid.
     #[error("{0}")]
     InvalidSetting(SettingsError),
+    /// A joint's value is of the right type but invalid.
+    #[error("{0}")]
+    InvalidJoint(JointError),
+    /// A joint's anchor frame orientation cannot be built.
+    #[error("{0}")]
+    DegenerateFrame(FrameProblem),
+    /// A joint names a body that does not exist (a name, or an index out of
+    /// range).
+    #[error("no body {0}")]
+    UnknownBody(String),
+    /// A joint names a body by a name that several bodies have.
+    #[error("{count} bodies are named {name:?}: give the index")]
+    AmbiguousBody {
+        /// The name.
+        name: String,
+        /// How many bodies have it.
+        count: usize,
+    },
+    /// A joint's `locked` or `axis_limits` names no axis.
+    #[error("unknown axis {0:?} (x, y, z, angular_x, angular_y, angular_z)")]
+    UnknownAxis(String),
+    /// The field belongs to other joint types.
+    #[error("not a field of a {0} joint")]
+    NotForType(&'static str),
     /// An array has more entries than the format allows.
     #[error("{count} entries: at most {limit} are read")]
     TooMany {
         /// Entries given.
         count: usize,
-        /// The limit ([`MAX_BODIES`], [`MAX_HULL_POINTS`]).
+        /// The limit ([`MAX_BODIES`], [`MAX_HULL_POINTS`], [`MAX_JOINTS`]).
         limit: usize,
     },
 }
@@ -172,6 +206,21 @@ pub enum SceneFileError {
         /// The body's name, if it has a string `name`.
         name: Option<String>,
         /// The field, e.g. `rotation` or `shape.cuboid`.
+        field: String,
+        /// What is wrong.
+        problem: FieldProblem,
+    },
+    /// A field of a joint is wrong.
+    #[error(
+        "joint {index} ({}), field `{field}`: {problem}",
+        .name.as_deref().map_or("unnamed".to_string(), |n| format!("{n:?}"))
+    )]
+    Joint {
+        /// Position of the joint in `joints`.
+        index: usize,
+        /// The joint's name, if it has a string `name`.
+        name: Option<String>,
+        /// The field, e.g. `bodies[1]` or `axis_limits.angular_y`.
         field: String,
         /// What is wrong.
         problem: FieldProblem,
@@ -270,6 +319,7 @@ pub fn parse_scene(text: &str) -> Result<Scene, SceneFileError> {
         Some(_) => return Err(top_level("bodies", FieldProblem::WrongType("an array"))),
         None => return Err(top_level("bodies", FieldProblem::Missing)),
     };
+    let joints = scene_joints::joints_array(top)?;
     settings
         .validate()
         .map_err(|source| settings_error(source.field(), FieldProblem::InvalidSetting(source)))?;
@@ -287,6 +337,7 @@ pub fn parse_scene(text: &str) -> Result<Scene, SceneFileError> {
         body.set_friction(friction).map_err(invalid)?;
         scene.push_body(body);
     }
+    scene_joints::add_joints(&mut scene, joints)?;
     // The settings were validated above, so this cannot fail.
     let _ = scene.set_settings(settings);
     Ok(scene)
@@ -306,10 +357,11 @@ pub fn write_scene(
 
 /// The scene as pretty-printed JSON: the bodies in order with their names,
 /// shapes and mass specifications as given and their current user poses,
-/// the settings that are set, and `report` if given.
+/// the joints (if any), the settings that are set, and `report` if given.
 pub fn scene_to_string(scene: &Scene, report: Option<&Value>) -> String {
     let file = SceneOut {
         bodies: scene.bodies().iter().map(BodyOut::of).collect(),
+        joints: scene_joints::joints_out(scene),
         settings: (!scene.settings().is_empty()).then(|| SettingsOut::of(scene.settings())),
         report,
     };
@@ -325,7 +377,10 @@ fn top_level(field: &str, problem: FieldProblem) -> SceneFileError {
     }
 }
 
-fn unknown_field<'a>(object: &'a Map<String, Value>, allowed: &[&str]) -> Option<&'a str> {
+pub(super) fn unknown_field<'a>(
+    object: &'a Map<String, Value>,
+    allowed: &[&str],
+) -> Option<&'a str> {
     object
         .keys()
         .map(String::as_str)
@@ -333,28 +388,9 @@ fn unknown_field<'a>(object: &'a Map<String, Value>, allowed: &[&str]) -> Option
 }
 
 /// A body's fields, read one by one so that errors name the field.
-struct BodyReader<'a> {
-    index: usize,
-    name: Option<String>,
-    object: &'a Map<String, Value>,
-}
+type BodyReader<'a> = ObjectReader<'a>;
 
 impl BodyReader<'_> {
-    fn error(&self, field: &str, problem: FieldProblem) -> SceneFileError {
-        SceneFileError::Body {
-            index: self.index,
-            name: self.name.clone(),
-            field: field.into(),
-            problem,
-        }
-    }
-
-    fn required(&self, field: &str) -> Result<&Value, SceneFileError> {
-        self.object
-            .get(field)
-            .ok_or_else(|| self.error(field, FieldProblem::Missing))
-    }
-
     fn number(&self, field: &str) -> Result<Option<f64>, SceneFileError> {
         match self.object.get(field) {
             None => Ok(None),
@@ -375,7 +411,7 @@ impl BodyReader<'_> {
     }
 }
 
-fn numbers_of<const N: usize>(value: &Value) -> Option<[f64; N]> {
+pub(super) fn numbers_of<const N: usize>(value: &Value) -> Option<[f64; N]> {
     let array = value.as_array().filter(|a| a.len() == N)?;
     let mut out = [0.0; N];
     for (slot, item) in out.iter_mut().zip(array) {
@@ -386,27 +422,11 @@ fn numbers_of<const N: usize>(value: &Value) -> Option<[f64; N]> {
 
 /// A body's description and its own friction coefficient, if given.
 fn parse_body(index: usize, value: &Value) -> Result<(BodyDesc, Option<f64>), SceneFileError> {
-    let Some(object) = value.as_object() else {
-        return Err(SceneFileError::Body {
-            index,
-            name: None,
-            field: "(body)".into(),
-            problem: FieldProblem::WrongType("an object"),
-        });
-    };
-    let name = object.get("name").and_then(Value::as_str).map(String::from);
-    let reader = BodyReader {
-        index,
-        name: name.clone(),
-        object,
-    };
-    if let Some(field) = unknown_field(object, &BODY_FIELDS) {
+    let reader = ObjectReader::new(Entry::Body, index, value)?;
+    if let Some(field) = unknown_field(reader.object, &BODY_FIELDS) {
         return Err(reader.error(field, FieldProblem::Unknown));
     }
-    let name = match (reader.required("name")?, name) {
-        (_, Some(name)) => name,
-        _ => return Err(reader.error("name", FieldProblem::WrongType("a string"))),
-    };
+    let name = reader.name()?;
     let shape = parse_shape(&reader)?;
     let translation = reader.numbers::<3>(
         "translation",
@@ -672,6 +692,8 @@ fn settings_error(field: &str, problem: FieldProblem) -> SceneFileError {
 #[derive(Serialize)]
 struct SceneOut<'a> {
     bodies: Vec<BodyOut<'a>>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    joints: Vec<JointOut<'a>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     settings: Option<SettingsOut>,
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -279,7 +279,7 @@ fn check_frame(frame: &Isometry3<f64>, which: &'static str) -> Result<(), JointE
 
 fn check_limits(locked: &JointAxes, limits: &JointLimits) -> Result<(), JointError> {
     let single_free = locked.single_free_angular();
-    for k in 0..3 {
+    for (k, axis_name) in AXIS_NAMES.iter().enumerate() {
         for (kind, limit, is_locked, usable) in [
             ("linear", limits.linear[k], locked.linear[k], true),
             (
@@ -290,7 +290,7 @@ fn check_limits(locked: &JointAxes, limits: &JointLimits) -> Result<(), JointErr
             ),
         ] {
             let Some([min, max]) = limit else { continue };
-            let axis = format!("{kind} {}", AXIS_NAMES[k]);
+            let axis = format!("{kind} {axis_name}");
             if !(min.is_finite() && max.is_finite() && min <= max) {
                 return Err(JointError::InvalidLimit { axis, min, max });
             }

@@ -80,8 +80,12 @@ pub fn line_search<P: ConstraintProvider + ?Sized>(
                 measurement,
             };
         }
+        let pushed = first_pushed(before, &measurement, tolerance, allowed_new_depth);
         log::debug!(
-            "  line search: alpha {alpha} rejected, merit {merit_before:.3e} -> {merit:.3e}"
+            "  line search: alpha {alpha} rejected, merit {merit_before:.3e} -> {merit:.3e}{}",
+            pushed.map_or(String::new(), |(kind, k, b, a)| format!(
+                ", {kind} {k} pushed from {b:.3e} to {a:.3e}"
+            ))
         );
         alpha *= settings.shrink;
     }
@@ -105,9 +109,20 @@ fn starts_penetrating(
             .iter()
             .zip(&after.values)
             .any(|(&b, &a)| b >= -tolerance && a < -allowed_depth)
-        || before
-            .equalities
-            .iter()
-            .zip(&after.equalities)
-            .any(|(&b, &a)| b.abs() <= tolerance && a.abs() > allowed_depth)
+}
+
+/// The first constraint that [`starts_penetrating`] finds pushed: its
+/// kind, index, value before and after (for the log).
+fn first_pushed(
+    before: &Measurement,
+    after: &Measurement,
+    tolerance: f64,
+    allowed_depth: f64,
+) -> Option<(&'static str, usize, f64, f64)> {
+    before
+        .values
+        .iter()
+        .zip(&after.values)
+        .position(|(&b, &a)| b >= -tolerance && a < -allowed_depth)
+        .map(|k| ("constraint", k, before.values[k], after.values[k]))
 }

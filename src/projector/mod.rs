@@ -28,6 +28,7 @@
 //! V-Clip are one provider; analytic providers test it alone.
 
 mod consistent_equalities;
+mod equality_damping;
 pub mod friction;
 mod line_search;
 mod step;

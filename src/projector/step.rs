@@ -15,6 +15,7 @@ use std::time::Instant;
 use nalgebra::DVector;
 
 use super::consistent_equalities::consistent_equalities;
+use super::equality_damping::damped_equalities;
 use super::friction::friction_cones;
 use super::line_search::{LineSearchOutcome, line_search};
 use super::trust_region::TrustRegion;
@@ -169,19 +170,22 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
         settings.friction_directions,
         settings.friction_model,
     );
-    let (qp, solution) = match solve_projection(&qp, &settings.solver) {
-        Ok(solution) => (qp, solution),
-        Err(error) => match consistent_equalities(&qp)? {
-            Some((consistent, removed)) => {
-                log::debug!(
-                    "  not solved ({error}); equality rows made consistent (a change of {removed:.3e} that no first-order motion reaches) and solved again"
-                );
-                let solution = solve_projection(&consistent, &settings.solver)?;
-                (consistent, solution)
-            }
-            None => return Err(error),
-        },
+    let (qp, mut solution) = match damped_equalities(&qp, settings.equality_damping, lengths.scale)? {
+        Some((damped, mu)) => {
+            log::debug!(
+                "  {} equality rows damped: mu {mu:.3e}",
+                qp.num_equalities
+            );
+            let solution = solve_projection(&damped, &settings.solver)?;
+            (qp, solution)
+        }
+        None => solve_or_make_consistent(qp, settings)?,
     };
+    // The pseudo-bodies of the damping carry no pose.
+    let dofs = qp.num_dofs();
+    if solution.dq.len() > dofs {
+        solution.dq = solution.dq.rows(0, dofs).into_owned();
+    }
     let trust_scale = TrustRegion::of(settings).scale(&solution.dq, inertias, worst_before);
     let dq = &solution.dq * trust_scale;
     Ok(Plan::Step(Box::new(PlannedStep {
@@ -194,6 +198,28 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
         solve_seconds: solve_start.elapsed().as_secs_f64(),
         solution,
     })))
+}
+
+/// Solves `qp`; when every solver fails on a problem with equality rows,
+/// solves it again with its equalities made consistent
+/// ([`consistent_equalities`]).
+fn solve_or_make_consistent(
+    qp: ProjectionQp,
+    settings: &Settings,
+) -> Result<(ProjectionQp, ProjectionSolution), SolverError> {
+    match solve_projection(&qp, &settings.solver) {
+        Ok(solution) => Ok((qp, solution)),
+        Err(error) => match consistent_equalities(&qp)? {
+            Some((consistent, removed)) => {
+                log::debug!(
+                    "  not solved ({error}); equality rows made consistent (a change of {removed:.3e} that no first-order motion reaches) and solved again"
+                );
+                let solution = solve_projection(&consistent, &settings.solver)?;
+                Ok((consistent, solution))
+            }
+            None => Err(error),
+        },
+    }
 }
 
 impl StepReport {
@@ -274,18 +300,34 @@ pub fn take_step<P: ConstraintProvider + ?Sized>(
         }
     }
     report.line_search_seconds = line_search_start.elapsed().as_secs_f64();
+    let (largest_dx, largest_dtheta) = largest_motions(&dq);
+
     log::debug!(
-        "  step: {} rows, {:?}, trust scale {:.3e}, alpha {:?} after {} trials, depth {:.3e} -> {:.3e}",
+        "  step: {} rows, {:?}, trust scale {:.3e}, largest |dx| {:.3e} |dtheta| {:.3e}, alpha {:?} after {} trials, depth {:.3e} -> {:.3e}, equality error {:.3e} -> {:.3e}",
         report.constraints,
         solution.solver,
         report.trust_scale,
+        largest_dx,
+        largest_dtheta,
         report.alpha,
         report.line_search_trials,
         report.depth_before,
-        report.depth_after
+        report.depth_after,
+        report.equality_error_before,
+        report.equality_error_after
     );
     report.solution = Some(solution);
     report
+}
+
+/// The largest translation and rotation of one body in a correction.
+fn largest_motions(dq: &DVector<f64>) -> (f64, f64) {
+    (0..dq.len() / 6).fold((0.0, 0.0), |(dx, dtheta): (f64, f64), i| {
+        (
+            dx.max(dq.fixed_rows::<3>(6 * i).norm()),
+            dtheta.max(dq.fixed_rows::<3>(6 * i + 3).norm()),
+        )
+    })
 }
 
 /// One projection step on `configuration` (moved in place only if a step is

@@ -19,7 +19,11 @@
 use std::collections::HashMap;
 
 use nalgebra::{Isometry3, Vector3};
-use rapier3d::dynamics::{IntegrationParameters, RigidBody, RigidBodyHandle, RigidBodySet};
+use rapier3d::dynamics::{
+    ImpulseJointSet, IntegrationParameters, MultibodyJointSet, RigidBody, RigidBodyHandle,
+    RigidBodySet,
+};
+use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::geometry::ColliderSet;
 use rapier3d::math::Vector;
 
@@ -29,6 +33,7 @@ use super::collider_shape::{
 };
 use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
+use super::joints::{JointReadReport, JointSkipReason, RapierJoint, SkippedJoint, read_joints};
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
 use super::round_off::{own_lengths, raised_lengths, write_back_round_off_bound};
 use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
@@ -123,21 +128,65 @@ impl RapierBridge {
         Ok(report)
     }
 
-    /// Reads the world, removes interpenetration, writes the corrected
-    /// poses of dynamic bodies back (velocities untouched). `parameters`
-    /// are the ones of the step just taken (the coupling mode may read
-    /// them). On error nothing is written.
+    /// Reads the joints into the scene's joints, replacing those of the
+    /// last call (`super::joints`: which joints are read, which are
+    /// skipped and why). Call after [`RapierBridge::sync`].
+    pub fn sync_joints(
+        &mut self,
+        impulse_joints: &ImpulseJointSet,
+        multibody_joints: &MultibodyJointSet,
+    ) -> Result<JointReadReport, BridgeError> {
+        let (joints, mut report) = read_joints(impulse_joints, multibody_joints, &self.map);
+        let all: Vec<usize> = (0..self.scene.joints().len()).collect();
+        self.scene
+            .remove_joints(&all)
+            .map_err(|e| BridgeError::Stabilize(e.into()))?;
+        for (handle, joint) in joints {
+            match self.scene.add_joint(joint) {
+                Ok(_) => report.read += 1,
+                Err(error) => report.skipped.push(SkippedJoint {
+                    joint: RapierJoint::Impulse(handle),
+                    reason: JointSkipReason::Invalid(error.to_string()),
+                }),
+            }
+        }
+        Ok(report)
+    }
+
+    /// [`RapierBridge::stabilize`] on a [`PhysicsWorld`], after
+    /// `world.step()`: its bodies, colliders, joints and integration
+    /// parameters.
+    pub fn stabilize_world(&mut self, world: &mut PhysicsWorld) -> Result<BridgeReport, BridgeError> {
+        self.stabilize(
+            &mut world.bodies,
+            &world.colliders,
+            &world.impulse_joints,
+            &world.multibody_joints,
+            &world.integration_parameters,
+        )
+    }
+
+    /// Reads the world (bodies, colliders and joints, the sets
+    /// `PhysicsPipeline::step` takes), removes interpenetration and joint
+    /// drift, writes the corrected poses of dynamic bodies back (and, in
+    /// the velocity modes, their velocities). `parameters` are the ones of
+    /// the step just taken (the coupling mode may read them). On error
+    /// nothing is written.
     pub fn stabilize(
         &mut self,
         bodies: &mut RigidBodySet,
         colliders: &ColliderSet,
+        impulse_joints: &ImpulseJointSet,
+        multibody_joints: &MultibodyJointSet,
         parameters: &IntegrationParameters,
     ) -> Result<BridgeReport, BridgeError> {
         let sync = self.sync(bodies, colliders)?;
+        let joints = self.sync_joints(impulse_joints, multibody_joints)?;
         let own = own_lengths(&self.settings.stabilizer, &self.scene);
         let round_off_bound = write_back_round_off_bound(&self.scene, &self.map, &own);
         let mut report = BridgeReport {
             sync,
+            joints,
             stabilizer: None,
             bodies_written: 0,
             write_back_round_off: WriteBackRoundOff::default(),

@@ -59,6 +59,8 @@ pub struct WriteBackRoundOff {
 pub struct BridgeReport {
     /// How the world was read.
     pub sync: SyncReport,
+    /// How the joints were read.
+    pub joints: super::joints::JointReadReport,
     /// The stabilizer's report; `None` when the scene has no dynamic body
     /// (nothing to do, the stabilizer is not called).
     pub stabilizer: Option<Report>,

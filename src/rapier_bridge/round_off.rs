@@ -30,7 +30,9 @@
 //! taken as the largest over the dynamic bodies (the only ones written;
 //! fixed and kinematic poses are read from f32 and never rounded again)
 //! that can touch another body: whose box, grown by the contact margin,
-//! overlaps another's at the start of the call. A body farther from every
+//! overlaps another's at the start of the call, or that a joint holds
+//! (a joint's anchor moves as a collider point does, its distance from
+//! the body origin counted in `r`). A body farther from every
 //! other is never moved into contact by its rounding (far smaller than
 //! the margin), so its `delta`, large far from the origin, does not
 //! change any depth (counted over every dynamic body, a box thrown 350 m
@@ -95,16 +97,28 @@ pub(crate) fn write_back_round_off_bound(
     map: &BodyMap,
     own: &ResolvedLengths,
 ) -> f64 {
+    // The farthest joint anchor of each body from its origin (0 without
+    // joints): rounding moves an anchor as it moves a collider point.
+    let mut anchor_reach = vec![0.0_f64; scene.len()];
+    for joint in scene.joints() {
+        for (body, frame) in [(joint.body_a, &joint.frame_a), (joint.body_b, &joint.frame_b)] {
+            if let (Some(entry), Some(reach)) = (map.entry(body), anchor_reach.get_mut(body)) {
+                let in_body = entry.collider_in_body * frame.translation.vector;
+                *reach = reach.max(in_body.norm());
+            }
+        }
+    }
     let deltas: Vec<(usize, f64)> = map
         .entries()
         .iter()
         .zip(scene.bodies())
+        .zip(&anchor_reach)
         .enumerate()
-        .filter(|(_, (entry, _))| entry.is_dynamic())
-        .map(|(index, (entry, body))| {
+        .filter(|(_, ((entry, _), _))| entry.is_dynamic())
+        .map(|(index, ((entry, body), &anchor))| {
             let body_pose = body.user_pose() * entry.collider_in_body.inverse();
             let origin = body_pose.translation.vector;
-            let lever = body.reach() + (body.com_world().coords - origin).norm();
+            let lever = (body.reach() + (body.com_world().coords - origin).norm()).max(anchor);
             (
                 index,
                 F32_UNIT_ROUND_OFF * origin.norm() + ROTATION_ROUND_OFF * lever,
@@ -123,9 +137,10 @@ pub(crate) fn write_back_round_off_bound(
         return largest;
     };
     let mut touching = vec![false; scene.len()];
-    for pair in pairs {
-        touching[pair.body_a] = true;
-        touching[pair.body_b] = true;
+    let joined = scene.joints().iter().map(|j| (j.body_a, j.body_b));
+    for (a, b) in pairs.iter().map(|p| (p.body_a, p.body_b)).chain(joined) {
+        touching[a] = true;
+        touching[b] = true;
     }
     deltas
         .iter()

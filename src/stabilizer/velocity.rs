@@ -101,7 +101,7 @@ use super::Stabilizer;
 use crate::Error;
 use crate::broad_phase::BodyPair;
 use crate::contact::SceneParts;
-use crate::contact::islands;
+use crate::contact::islands_with_joints;
 use crate::contact::{BodyGeometry, ContactFriction, Detection, SceneGeometry, contact_rows};
 use crate::projector::friction::pyramid_rows;
 use crate::projector::projection_qp;
@@ -158,6 +158,13 @@ pub struct VelocityReport {
     pub cone_before: f64,
     /// The same after.
     pub cone_after: f64,
+    /// Largest relative speed along a joint's locked axis, or into a
+    /// joint's limit beyond what its margin allows (speed; angular rates
+    /// times the scene's scale), over the joints of the islands asked for,
+    /// before.
+    pub joint_rate_before: f64,
+    /// The same after.
+    pub joint_rate_after: f64,
 }
 
 impl Stabilizer {
@@ -221,7 +228,8 @@ impl Stabilizer {
             parts: &parts,
             poses: &part_poses,
         };
-        for island in islands(&fixed, &pairs)? {
+        let joint_pairs = super::joint_state::joint_pairs(scene);
+        for island in islands_with_joints(&fixed, &pairs, &joint_pairs)? {
             if !island.bodies.iter().any(|b| bodies.contains(b)) {
                 continue;
             }
@@ -230,6 +238,8 @@ impl Stabilizer {
                 geometry,
                 bodies: &island.bodies,
                 pairs: &island_pairs,
+                joints: &island.joints,
+                scale: lengths.scale,
                 detection,
                 contact_gap,
                 gap_rate,
@@ -250,7 +260,16 @@ impl Stabilizer {
     ) {
         let settings = &self.settings;
         let bodies = contacts.bodies;
-        let (mut rows, gaps, contact_count) = self.island_rows(scene, contacts);
+        // Islands hold dynamic bodies only, so their states exist; an
+        // inconsistency is reported as a failed island, velocities kept.
+        let Ok((configuration, inertias)) = super::solve_island::island_state(scene, bodies) else {
+            report.islands_failed += 1;
+            return;
+        };
+        let Ok((mut rows, gaps, counts)) = self.island_rows(scene, contacts, &configuration) else {
+            report.islands_failed += 1;
+            return;
+        };
         let v = island_velocity(velocities, bodies);
         let rate = |rows: &mut [ConstraintRow], v: &DVector<f64>| {
             for (row, gap) in rows.iter_mut().zip(&gaps) {
@@ -263,21 +282,14 @@ impl Stabilizer {
             }
         };
         rate(&mut rows, &v);
-        report.contacts += contact_count;
-        let before = Violations::of(&rows, contact_count);
+        report.contacts += counts.contacts;
+        let before = Violations::of(&rows, counts);
         report.record_before(before);
-        // An approach starts a projection, a cone violation alone does not
-        // (module docs).
-        if before.approach <= 0.0 {
+        // An approach or a joint's relative motion starts a projection, a
+        // cone violation alone does not (module docs).
+        if before.approach <= 0.0 && before.joint_rate <= 0.0 {
             return;
         }
-        // Islands hold dynamic bodies only, so their states exist; an
-        // inconsistency is reported as a failed island, velocities kept.
-        let Ok((configuration, inertias)) = super::solve_island::island_state(scene, bodies) else {
-            report.islands_failed += 1;
-            report.record_after(before);
-            return;
-        };
         let (qp, _) = projection_qp(
             &configuration,
             &inertias,
@@ -292,7 +304,7 @@ impl Stabilizer {
                 report.islands_solved += 1;
                 let v_new = &v + &solution.dq;
                 rate(&mut rows, &v_new);
-                report.record_after(Violations::of(&rows, contact_count));
+                report.record_after(Violations::of(&rows, counts));
                 for (i, &body) in bodies.iter().enumerate() {
                     let block: Vector6<f64> = v_new.fixed_rows::<6>(6 * i).into_owned();
                     velocities[body] = BodyVelocity {
@@ -313,15 +325,33 @@ impl Stabilizer {
     }
 
     /// The rows of an island's projection, each with its gap rate
-    /// `max(0, phi) / h` (0 without a time step), and how many of them,
-    /// first, are contact rows (the others: the cone rows of friction on
-    /// the velocity, module docs).
+    /// `max(0, phi) / h` (0 without a time step; 0 for a joint's locked
+    /// axis), and how many of them are joint rows (first) and contact rows
+    /// (next; the others: the cone rows of friction on the velocity,
+    /// module docs).
     fn island_rows(
         &self,
         scene: &Scene,
         contacts: &IslandContacts,
-    ) -> (Vec<ConstraintRow>, Vec<f64>, usize) {
+        configuration: &[crate::rows::BodyState],
+    ) -> Result<(Vec<ConstraintRow>, Vec<f64>, RowCounts), Error> {
         let settings = &self.settings;
+        let joints = super::joint_state::island_joints(
+            scene,
+            contacts.joints,
+            contacts.bodies,
+            contacts.scale,
+            contacts.contact_gap,
+        )?;
+        let mut rows: Vec<ConstraintRow> = joints.rows(configuration);
+        let mut gaps: Vec<f64> = rows
+            .iter()
+            .map(|row| match row.kind {
+                RowKind::Equality => 0.0,
+                RowKind::Inequality => row.phi.max(0.0) * contacts.gap_rate,
+            })
+            .collect();
+        let joint_count = rows.len();
         let parts = contacts.geometry.parts;
         let geometry = |part: usize| {
             let owner = parts.owner(part);
@@ -331,8 +361,6 @@ impl Stabilizer {
                 ..contacts.geometry.held(part)
             }
         };
-        let mut rows: Vec<ConstraintRow> = Vec::new();
-        let mut gaps: Vec<f64> = Vec::new();
         for &k in contacts.pairs {
             let pair = contacts.detection.active_pairs[k];
             let (a, b) = (geometry(pair.body_a), geometry(pair.body_b));
@@ -350,11 +378,14 @@ impl Stabilizer {
                 rows.push(row);
             }
         }
-        let contact_count = rows.len();
+        let counts = RowCounts {
+            joints: joint_count,
+            contacts: rows.len() - joint_count,
+        };
         if contacts.friction == VelocityFriction::OnVelocity {
-            append_velocity_cones(&mut rows, &mut gaps, settings.friction_directions);
+            append_velocity_cones(&mut rows, &mut gaps, counts, settings.friction_directions);
         }
-        (rows, gaps, contact_count)
+        Ok((rows, gaps, counts))
     }
 }
 
@@ -362,41 +393,66 @@ impl VelocityReport {
     fn record_before(&mut self, violations: Violations) {
         self.approach_before = self.approach_before.max(violations.approach);
         self.cone_before = self.cone_before.max(violations.cone);
+        self.joint_rate_before = self.joint_rate_before.max(violations.joint_rate);
     }
 
     fn record_after(&mut self, violations: Violations) {
         self.approach_after = self.approach_after.max(violations.approach);
         self.cone_after = self.cone_after.max(violations.cone);
+        self.joint_rate_after = self.joint_rate_after.max(violations.joint_rate);
     }
 }
 
+/// How many rows of an island's velocity projection are joint rows (first)
+/// and contact rows (next); cone rows follow.
+#[derive(Debug, Clone, Copy)]
+struct RowCounts {
+    joints: usize,
+    contacts: usize,
+}
+
 /// The largest violations of an island's rows at some velocity (speeds,
-/// 0 if none): of the contact rows (approach) and of the cone rows.
+/// 0 if none): of the contact rows (approach), of the cone rows, and of
+/// the joint rows (a locked axis's rate either way, a limit's approach).
 #[derive(Debug, Clone, Copy)]
 struct Violations {
     approach: f64,
     cone: f64,
+    joint_rate: f64,
 }
 
 impl Violations {
-    /// Of `rows` rated at a velocity (`phi` the row's rate): the first
-    /// `contact_count` are contact rows, the others cone rows.
-    fn of(rows: &[ConstraintRow], contact_count: usize) -> Self {
-        let largest = |rows: &[ConstraintRow]| rows.iter().fold(0.0, |m: f64, r| m.max(-r.phi));
-        let (contact_rows, cone_rows) = rows.split_at(contact_count);
+    /// Of `rows` rated at a velocity (`phi` the row's rate), counted by
+    /// `counts`.
+    fn of(rows: &[ConstraintRow], counts: RowCounts) -> Self {
+        let violation = |r: &ConstraintRow| match r.kind {
+            RowKind::Equality => r.phi.abs(),
+            RowKind::Inequality => -r.phi,
+        };
+        let largest = |rows: &[ConstraintRow]| rows.iter().fold(0.0, |m: f64, r| m.max(violation(r)));
+        let (joint_rows, rest) = rows.split_at(counts.joints);
+        let (contact_rows, cone_rows) = rest.split_at(counts.contacts);
         Violations {
             approach: largest(contact_rows),
             cone: largest(cone_rows),
+            joint_rate: largest(joint_rows),
         }
     }
 }
 
 /// Friction on the velocity: replaces the friction of every contact row by
 /// the rows (2) of its pyramid (module docs), frictionless rows of their
-/// own appended to `rows`, each with its contact row's gap rate in `gaps`.
-fn append_velocity_cones(rows: &mut Vec<ConstraintRow>, gaps: &mut Vec<f64>, directions: usize) {
+/// own appended to `rows`, each with its contact row's gap rate in `gaps`
+/// (joint rows, first in `rows`, have no friction).
+fn append_velocity_cones(
+    rows: &mut Vec<ConstraintRow>,
+    gaps: &mut Vec<f64>,
+    counts: RowCounts,
+    directions: usize,
+) {
     // The pyramid's Jacobians; its `phi` (apex for the position problem)
     // is not used: a cone row is rated at the velocity like a contact row.
+    debug_assert!(rows[..counts.joints].iter().all(|r| r.friction.is_none()));
     let (facets, _, parents) = pyramid_rows(rows, 0.0, directions);
     for (facet, parent) in facets.into_iter().zip(parents) {
         gaps.push(gaps[parent]);
@@ -421,6 +477,10 @@ struct IslandContacts<'a> {
     /// Indices of the island's pairs into the detection's active (part)
     /// pairs.
     pairs: &'a [usize],
+    /// The island's joints (scene indices).
+    joints: &'a [usize],
+    /// The scene's length scale (angles to lengths).
+    scale: f64,
     detection: &'a Detection,
     /// Rows of points further apart than this are left out.
     contact_gap: f64,

@@ -1,5 +1,5 @@
-//! Files and pictures: scene files (feature `serde`), LCP files, the SVG
-//! picture of a scene.
+//! Files and pictures: scene files (feature `serde`) and their joints,
+//! LCP files, the SVG picture of a scene.
 
 mod lcp_file;
 #[cfg(feature = "testbed")]
@@ -12,3 +12,7 @@ mod scene_file_bad_input;
 mod scene_file_limits;
 #[cfg(feature = "serde")]
 mod scene_file_settings;
+#[cfg(feature = "serde")]
+pub(crate) mod scene_joints;
+#[cfg(feature = "serde")]
+mod scene_joints_bad_input;

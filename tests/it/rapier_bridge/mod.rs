@@ -8,6 +8,7 @@
 mod compound;
 mod coupling;
 mod kept_scene;
+mod joints;
 mod round_off;
 
 use constraint_stabilization::Settings;
@@ -68,6 +69,8 @@ fn run(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> BridgeReport {
         .stabilize(
             &mut world.bodies,
             &world.colliders,
+            &world.impulse_joints,
+            &world.multibody_joints,
             &world.integration_parameters,
         )
         .expect("the bridge call succeeds")
@@ -325,6 +328,8 @@ fn blown_up_pose_is_a_typed_error_and_nothing_is_written() {
     let result = bridge.stabilize(
         &mut world.bodies,
         &world.colliders,
+        &world.impulse_joints,
+        &world.multibody_joints,
         &world.integration_parameters,
     );
 

@@ -55,7 +55,6 @@ fn pushed_into_the_ground(mu: f64, alpha: f64, beta: f64, depth: f64) -> Project
         rows: vec![central_row(push)],
         phi: vec![-depth],
         target: vec![0.0],
-        num_equalities: 0,
         cones: vec![FrictionCone {
             normal: central_row(Vector3::z()),
             tangents: [central_row(Vector3::x()), central_row(Vector3::y())],
