@@ -170,12 +170,10 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
         settings.friction_directions,
         settings.friction_model,
     );
-    let (qp, mut solution) = match damped_equalities(&qp, settings.equality_damping, lengths.scale)? {
+    let (qp, mut solution) = match damped_equalities(&qp, settings.equality_damping, lengths.scale)?
+    {
         Some((damped, mu)) => {
-            log::debug!(
-                "  {} equality rows damped: mu {mu:.3e}",
-                qp.num_equalities
-            );
+            log::debug!("  {} equality rows damped: mu {mu:.3e}", qp.num_equalities);
             let solution = solve_projection(&damped, &settings.solver)?;
             (qp, solution)
         }

@@ -23,9 +23,9 @@ use rapier3d::dynamics::{
     ImpulseJointSet, IntegrationParameters, MultibodyJointSet, RigidBody, RigidBodyHandle,
     RigidBodySet,
 };
-use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::geometry::ColliderSet;
 use rapier3d::math::Vector;
+use rapier3d::pipeline::PhysicsWorld;
 
 use super::body_map::{BodyMap, MappedCollider};
 use super::collider_shape::{
@@ -156,7 +156,10 @@ impl RapierBridge {
     /// [`RapierBridge::stabilize`] on a [`PhysicsWorld`], after
     /// `world.step()`: its bodies, colliders, joints and integration
     /// parameters.
-    pub fn stabilize_world(&mut self, world: &mut PhysicsWorld) -> Result<BridgeReport, BridgeError> {
+    pub fn stabilize_world(
+        &mut self,
+        world: &mut PhysicsWorld,
+    ) -> Result<BridgeReport, BridgeError> {
         self.stabilize(
             &mut world.bodies,
             &world.colliders,

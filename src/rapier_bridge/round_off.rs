@@ -101,7 +101,10 @@ pub(crate) fn write_back_round_off_bound(
     // joints): rounding moves an anchor as it moves a collider point.
     let mut anchor_reach = vec![0.0_f64; scene.len()];
     for joint in scene.joints() {
-        for (body, frame) in [(joint.body_a, &joint.frame_a), (joint.body_b, &joint.frame_b)] {
+        for (body, frame) in [
+            (joint.body_a, &joint.frame_a),
+            (joint.body_b, &joint.frame_b),
+        ] {
             if let (Some(entry), Some(reach)) = (map.entry(body), anchor_reach.get_mut(body)) {
                 let in_body = entry.collider_in_body * frame.translation.vector;
                 *reach = reach.max(in_body.norm());

@@ -429,7 +429,8 @@ impl Violations {
             RowKind::Equality => r.phi.abs(),
             RowKind::Inequality => -r.phi,
         };
-        let largest = |rows: &[ConstraintRow]| rows.iter().fold(0.0, |m: f64, r| m.max(violation(r)));
+        let largest =
+            |rows: &[ConstraintRow]| rows.iter().fold(0.0, |m: f64, r| m.max(violation(r)));
         let (joint_rows, rest) = rows.split_at(counts.joints);
         let (contact_rows, cone_rows) = rest.split_at(counts.contacts);
         Violations {

@@ -63,10 +63,12 @@ use crate::solver::scaling::LcpScaling;
 /// dependence formed in f64 leaves about `1e-16`.
 pub const EQUALITY_RANK_TOL_REL: f64 = 1e-10;
 
-/// Largest part of `b_E` outside the range of `A_EE`, relative to
-/// `|b|_inf`, for the equalities to count as consistent. The acceptance of
-/// the projection (1e-6 by default) is looser; a problem between the two is
-/// left to the other solvers.
+/// Smallest tolerance on the part of `b_E` outside the range of `A_EE`,
+/// relative to `|b|_inf`, for the equalities to count as consistent; the
+/// tolerance used is the larger of this and Lemke's residual tolerance
+/// ([`LemkeSettings::tol_residual`], the acceptance's inside the
+/// projection): rows redundant up to that part are solved, and the final
+/// check of the whole mixed problem decides.
 pub const EQUALITY_RANGE_TOL_REL: f64 = 1e-9;
 
 /// Convergence threshold of the SVD (nalgebra's default, five ulps).
@@ -88,7 +90,11 @@ pub(super) fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution
     let g_b = &g * &b_e;
     let outside = (&b_e - &a_ee * &g_b).amax();
     let scale = q.amax().max(f64::MIN_POSITIVE);
-    if outside.is_nan() || outside > EQUALITY_RANGE_TOL_REL * scale {
+    // Consistent within what the final check accepts: Lemke's own
+    // residual tolerance (the acceptance's, inside the projection), at
+    // least `EQUALITY_RANGE_TOL_REL`.
+    let range_tolerance = EQUALITY_RANGE_TOL_REL.max(settings.tol_residual);
+    if outside.is_nan() || outside > range_tolerance * scale {
         let residual = outside / scale;
         log::debug!("lemke: equality rows inconsistent, {residual:.2e} of b outside the range");
         return Err(failure(LemkeStatus::InconsistentEqualities { residual }));

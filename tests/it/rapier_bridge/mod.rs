@@ -7,8 +7,8 @@
 
 mod compound;
 mod coupling;
-mod kept_scene;
 mod joints;
+mod kept_scene;
 mod round_off;
 
 use constraint_stabilization::Settings;

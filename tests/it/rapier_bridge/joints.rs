@@ -1,0 +1,122 @@
+//! Joints through the bridge: Rapier's impulse joints read and their drift
+//! removed with the contacts, every call, judged from Rapier's own body
+//! poses (anchor points in f64 from the f32 poses); multibody joints and
+//! joints to bodies outside the scene skipped with their reason.
+
+#[path = "../../../examples/common/rapier_joint_scenes.rs"]
+mod joint_scenes;
+
+use constraint_stabilization::rapier_bridge::{
+    BridgeSettings, JointSkipReason, RapierBridge, RapierJoint,
+};
+use joint_scenes::{chain_stretch, chain_world, largest_joint_separation};
+use rapier3d::prelude::*;
+
+/// Rapier steps of a chain test (2 s at 60 Hz: the chain's first swing).
+const STEPS: usize = 120;
+/// Largest stretch asked of a chain (relative to its rest length).
+const STRETCH: f64 = 1e-3;
+/// The engine alone separates this chain's joints by more than this in
+/// the same steps (measured: 18 cm over 300 steps), so the test can fail.
+const RAPIER_ALONE_AT_LEAST: f64 = 0.01;
+
+fn default_bridge() -> RapierBridge {
+    RapierBridge::with_settings(BridgeSettings::default()).expect("default settings")
+}
+
+#[test]
+fn a_chain_with_a_heavy_end_keeps_its_joints_after_every_call() {
+    let (mut world, chain) = chain_world(10, 100.0);
+    let mut bridge = default_bridge();
+    let mut rapier_alone_worst: f64 = 0.0;
+    let (mut alone, _) = chain_world(10, 100.0);
+    for step in 0..STEPS {
+        world.step();
+        let report = bridge
+            .stabilize_world(&mut world)
+            .expect("the call succeeds");
+        assert_eq!(report.joints.read, chain.joints.len());
+        let stabilizer = report.stabilizer.as_ref().expect("dynamic bodies");
+        assert!(
+            stabilizer.status.is_resolved(),
+            "step {step}: {:?}",
+            stabilizer.status
+        );
+        // The call's tolerance and the f32 write-back (twice its bound).
+        let allowed = stabilizer.tolerance + 2.0 * report.round_off_bound;
+        let separation = largest_joint_separation(&world);
+        assert!(
+            separation <= allowed,
+            "step {step}: separation {separation:e} > {allowed:e}"
+        );
+        assert!(chain_stretch(&world, &chain) <= STRETCH);
+        alone.step();
+        rapier_alone_worst = rapier_alone_worst.max(largest_joint_separation(&alone));
+    }
+    assert!(
+        rapier_alone_worst > RAPIER_ALONE_AT_LEAST,
+        "{rapier_alone_worst}"
+    );
+}
+
+#[test]
+fn multibody_joints_and_joints_to_bodies_outside_the_scene_are_skipped_with_their_reason() {
+    let mut world = PhysicsWorld::default();
+    // An anchor without a collider: not in the scene.
+    let anchor = world.insert_body(RigidBodyBuilder::fixed());
+    let (a, _) = world.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.0, 0.0)),
+        ColliderBuilder::cuboid(0.1, 0.1, 0.1),
+    );
+    let (b, _) = world.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.5, 1.0, 0.0)),
+        ColliderBuilder::cuboid(0.1, 0.1, 0.1),
+    );
+    let (c, _) = world.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(1.0, 1.0, 0.0)),
+        ColliderBuilder::cuboid(0.1, 0.1, 0.1),
+    );
+    let to_anchor = world.insert_impulse_joint(anchor, a, SphericalJointBuilder::new());
+    let between = world.insert_impulse_joint(
+        a,
+        b,
+        SphericalJointBuilder::new()
+            .local_anchor1(Vector::new(0.25, 0.0, 0.0))
+            .local_anchor2(Vector::new(-0.25, 0.0, 0.0)),
+    );
+    let multibody = world
+        .multibody_joints
+        .insert(b, c, RevoluteJointBuilder::new(Vector::Z), true)
+        .expect("a multibody link");
+    let mut bridge = default_bridge();
+    let report = bridge
+        .stabilize_world(&mut world)
+        .expect("the call succeeds");
+    assert_eq!(report.joints.read, 1);
+    assert_eq!(bridge.scene().joints().len(), 1);
+    let reasons: Vec<_> = report
+        .joints
+        .skipped
+        .iter()
+        .map(|s| (s.joint, s.reason.clone()))
+        .collect();
+    assert!(
+        reasons.contains(&(
+            RapierJoint::Impulse(to_anchor),
+            JointSkipReason::BodyNotInScene(anchor)
+        )),
+        "{reasons:?}"
+    );
+    assert!(
+        reasons.contains(&(
+            RapierJoint::Multibody(multibody),
+            JointSkipReason::Multibody
+        )),
+        "{reasons:?}"
+    );
+    assert!(
+        !reasons
+            .iter()
+            .any(|(j, _)| *j == RapierJoint::Impulse(between))
+    );
+}
