@@ -8,7 +8,6 @@ use crate::body::Body;
 
 /// The errors of one joint at some poses.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct JointErrors {
     /// Largest `|p_k|` over the locked linear axes (length units): for a
     /// joint that locks every translation, the separation of the anchor

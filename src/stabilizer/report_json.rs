@@ -4,7 +4,8 @@
 use serde_json::{Value, json};
 
 use crate::scene::Scene;
-use crate::stabilizer::{IslandReport, PairPenetration, PassReport, Report};
+use crate::joints::JointErrors;
+use crate::stabilizer::{IslandReport, JointReport, PairPenetration, PassReport, Report};
 
 /// The report as a JSON object.
 pub fn report_to_json(report: &Report, scene: &Scene) -> Value {
@@ -19,6 +20,10 @@ pub fn report_to_json(report: &Report, scene: &Scene) -> Value {
             .map(|p| penetration_to_json(p, scene)).collect::<Vec<_>>(),
         "penetrations_after": report.penetrations_after.iter()
             .map(|p| penetration_to_json(p, scene)).collect::<Vec<_>>(),
+        "joint_error_before": report.joint_error_before,
+        "joint_error_after": report.joint_error_after,
+        "joints": report.joints.iter()
+            .map(|j| joint_to_json(j, scene)).collect::<Vec<_>>(),
         "displacement": report.displacement,
         "bodies_moved": report.bodies_moved,
         "islands_solved": report.islands_solved(),
@@ -56,6 +61,7 @@ fn pass_to_json(pass: &PassReport) -> Value {
         "penetrating_pairs": pass.penetrating_pairs,
         "islands": pass.islands,
         "deepest": pass.deepest,
+        "joint_error": pass.joint_error,
         "solved": pass.solved.iter().map(island_to_json).collect::<Vec<_>>(),
     })
 }
@@ -63,6 +69,7 @@ fn pass_to_json(pass: &PassReport) -> Value {
 fn island_to_json(island: &IslandReport) -> Value {
     json!({
         "bodies": island.bodies,
+        "joints": island.joints,
         "constraints": island.constraints,
         "solver": island.solver.map(|s| format!("{s:?}")),
         "fallbacks": island.fallbacks.iter().map(|f| format!("{f:?}")).collect::<Vec<_>>(),
@@ -73,7 +80,28 @@ fn island_to_json(island: &IslandReport) -> Value {
         "line_search_trials": island.line_search_trials,
         "depth_before": island.depth_before,
         "depth_after": island.depth_after,
+        "joint_error_before": island.joint_error_before,
+        "joint_error_after": island.joint_error_after,
         "displacement": island.displacement,
+    })
+}
+
+fn joint_to_json(joint: &JointReport, scene: &Scene) -> Value {
+    let errors = |e: &JointErrors| {
+        json!({
+            "linear": e.linear,
+            "angular_rad": e.angular,
+            "travel_limit": e.travel_limit,
+            "angle_limit_rad": e.angle_limit,
+        })
+    };
+    json!({
+        "index": joint.index,
+        "name": joint.name,
+        "type": joint.kind,
+        "bodies": body_names(&[joint.body_a, joint.body_b], scene),
+        "before": errors(&joint.before),
+        "after": errors(&joint.after),
     })
 }
 

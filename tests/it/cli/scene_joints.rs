@@ -43,6 +43,13 @@ fn the_pendulum_is_corrected_and_its_joint_round_trips_through_the_output() {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&output).unwrap()).unwrap();
     assert_eq!(json["report"]["status"], "converged");
+    // The report names the joint, with its errors before and after.
+    let joint = &json["report"]["joints"][0];
+    assert_eq!(joint["type"], "revolute");
+    let tolerance = json["report"]["tolerance"].as_f64().unwrap();
+    assert!(joint["before"]["linear"].as_f64().unwrap() > 0.1);
+    assert!(joint["after"]["linear"].as_f64().unwrap() <= tolerance);
+    assert!(json["report"]["joint_error_after"].as_f64().unwrap() <= tolerance);
     assert_eq!(
         json["joints"][0]["bodies"],
         serde_json::json!(["pivot", "rod"])
