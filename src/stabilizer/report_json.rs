@@ -3,8 +3,8 @@
 
 use serde_json::{Value, json};
 
-use crate::scene::Scene;
 use crate::joints::JointErrors;
+use crate::scene::Scene;
 use crate::stabilizer::{IslandReport, JointReport, PairPenetration, PassReport, Report};
 
 /// The report as a JSON object.
