@@ -90,6 +90,46 @@ impl IslandJoints {
         &self.indices
     }
 
+    /// Whether the joints close a loop (bodies held still count as one
+    /// node, the ground): only then can their equality rows be redundant
+    /// for any pose (a tree of joints locks each body's motions once).
+    pub fn close_a_loop(&self) -> bool {
+        let slots = self
+            .joints
+            .iter()
+            .flat_map(|j| j.ends)
+            .filter_map(|end| match end {
+                End::Moving(slot) => Some(slot + 1),
+                End::Held(_) => None,
+            })
+            .max()
+            .unwrap_or(0);
+        // Node 0 is the ground, node `slot + 1` a moving body.
+        let mut parent: Vec<usize> = (0..=slots).collect();
+        fn root(parent: &mut [usize], mut node: usize) -> usize {
+            while parent[node] != node {
+                parent[node] = parent[parent[node]];
+                node = parent[node];
+            }
+            node
+        }
+        let node = |end: &End| match end {
+            End::Moving(slot) => slot + 1,
+            End::Held(_) => 0,
+        };
+        for joint in &self.joints {
+            let (a, b) = (
+                root(&mut parent, node(&joint.ends[0])),
+                root(&mut parent, node(&joint.ends[1])),
+            );
+            if a == b {
+                return true;
+            }
+            parent[a] = b;
+        }
+        false
+    }
+
     /// Anchor frames of joint `j` at `configuration`.
     fn frames(&self, j: usize, configuration: &[BodyState]) -> AnchorFrames {
         let joint = &self.joints[j];

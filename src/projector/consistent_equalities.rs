@@ -29,9 +29,12 @@
 //! where the leftover, of second order, is smaller still: the loop closes
 //! as Newton's method on the joints' manifold does.
 //!
-//! The eigendecomposition is dense, `O(n_E^3)`: it runs only after a
-//! solver failed on a problem with equalities, and only up to
-//! [`MAX_PROJECTED_EQUALITIES`] rows.
+//! The eigendecomposition is dense, `O(n_E^3)`: it runs before solving
+//! only where the provider says the rows may be redundant (a closed loop
+//! of joints, [`crate::rows::ConstraintProvider::equalities_may_be_redundant`];
+//! a tree of joints locks each body's motions once), and after a solver
+//! failed on a problem with equalities; up to [`MAX_PROJECTED_EQUALITIES`]
+//! rows.
 
 use nalgebra::{DMatrix, DVector};
 

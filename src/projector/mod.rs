@@ -28,7 +28,6 @@
 //! V-Clip are one provider; analytic providers test it alone.
 
 mod consistent_equalities;
-mod equality_damping;
 pub mod friction;
 mod line_search;
 mod step;
@@ -37,6 +36,6 @@ mod trust_region;
 pub use line_search::{LineSearchOutcome, line_search};
 pub use step::{
     Plan, PlannedStep, ProjectionStatus, ProjectionSummary, StepOutcome, StepReport, plan_step,
-    project, projection_qp, projection_step, take_step,
+    project, projection_qp, projection_qp_weighted, projection_step, take_step,
 };
 pub use trust_region::{TrustRegion, radius_of_gyration};

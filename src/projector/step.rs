@@ -12,10 +12,9 @@
 
 use std::time::Instant;
 
-use nalgebra::DVector;
+use nalgebra::{DVector, Matrix3};
 
 use super::consistent_equalities::consistent_equalities;
-use super::equality_damping::damped_equalities;
 use super::friction::friction_cones;
 use super::line_search::{LineSearchOutcome, line_search};
 use super::trust_region::TrustRegion;
@@ -162,28 +161,33 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
     let held = hold_rows
         .then(|| held_rows(&rows, lengths.tolerance, lengths.target_margin))
         .flatten();
-    let (qp, qp_parents) = projection_qp(
+    let jointed = rows.iter().any(|row| row.kind == RowKind::Equality);
+    let (qp, qp_parents) = projection_qp_weighted(
         configuration,
         inertias,
         held.as_deref().unwrap_or(&rows),
         lengths.target_margin,
         settings.friction_directions,
         settings.friction_model,
+        if jointed {
+            settings.joint_rotation_weight
+        } else {
+            0.0
+        },
     );
-    let (qp, mut solution) = match damped_equalities(&qp, settings.equality_damping, lengths.scale)?
-    {
-        Some((damped, mu)) => {
-            log::debug!("  {} equality rows damped: mu {mu:.3e}", qp.num_equalities);
-            let solution = solve_projection(&damped, &settings.solver)?;
-            (qp, solution)
-        }
-        None => solve_or_make_consistent(qp, settings)?,
+    let qp = match provider.equalities_may_be_redundant() {
+        true => match consistent_equalities(&qp)? {
+            Some((consistent, removed)) => {
+                log::debug!(
+                    "  a loop of joints: equality rows made consistent before solving (a change of {removed:.3e})"
+                );
+                consistent
+            }
+            None => qp,
+        },
+        false => qp,
     };
-    // The pseudo-bodies of the damping carry no pose.
-    let dofs = qp.num_dofs();
-    if solution.dq.len() > dofs {
-        solution.dq = solution.dq.rows(0, dofs).into_owned();
-    }
+    let (qp, solution) = solve_or_make_consistent(qp, settings)?;
     let trust_scale = TrustRegion::of(settings).scale(&solution.dq, inertias, worst_before);
     let dq = &solution.dq * trust_scale;
     Ok(Plan::Step(Box::new(PlannedStep {
@@ -431,12 +435,39 @@ pub fn projection_qp(
     friction_directions: usize,
     friction_model: FrictionModel,
 ) -> (ProjectionQp, Vec<usize>) {
+    projection_qp_weighted(
+        configuration,
+        inertias,
+        rows,
+        target_margin,
+        friction_directions,
+        friction_model,
+        0.0,
+    )
+}
+
+/// [`projection_qp`] with each body's rotational metric `I + w (tr I / 2)
+/// Id` (`w = rotation_weight`: [`Settings::joint_rotation_weight`] in
+/// islands with joints, 0 elsewhere).
+pub fn projection_qp_weighted(
+    configuration: &[BodyState],
+    inertias: &[BodyInertia],
+    rows: &[ConstraintRow],
+    target_margin: f64,
+    friction_directions: usize,
+    friction_model: FrictionModel,
+    rotation_weight: f64,
+) -> (ProjectionQp, Vec<usize>) {
     let bodies = configuration
         .iter()
         .zip(inertias)
-        .map(|(state, inertia)| BodyMetric {
-            mass: inertia.mass,
-            inertia_world: inertia.inertia_world(&state.rotation),
+        .map(|(state, inertia)| {
+            let world = inertia.inertia_world(&state.rotation);
+            let floor = rotation_weight * 0.5 * world.trace();
+            BodyMetric {
+                mass: inertia.mass,
+                inertia_world: world + Matrix3::identity() * floor,
+            }
         })
         .collect();
     let mut order: Vec<usize> = (0..rows.len()).collect();

@@ -112,4 +112,11 @@ pub trait ConstraintProvider {
     /// The true constraint values at `configuration` (used by the line search
     /// and the convergence test).
     fn measure(&mut self, configuration: &[BodyState]) -> Measurement;
+
+    /// Whether the equality rows may be linearly dependent (a closed loop
+    /// of joints): their right-hand side is then made consistent before
+    /// solving (`projector/consistent_equalities.rs`). Default false.
+    fn equalities_may_be_redundant(&self) -> bool {
+        false
+    }
 }

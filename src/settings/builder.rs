@@ -85,8 +85,8 @@ impl SettingsBuilder {
         friction_model: FrictionModel,
         /// [`Settings::solve_whole_islands`].
         solve_whole_islands: bool,
-        /// [`Settings::equality_damping`].
-        equality_damping: f64,
+        /// [`Settings::joint_rotation_weight`].
+        joint_rotation_weight: f64,
         /// [`Settings::step_max_rotation`].
         step_max_rotation: f64,
         /// [`Settings::step_max_translation_relative`].

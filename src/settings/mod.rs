@@ -185,18 +185,19 @@ pub struct Settings {
     /// `stabilizer/region.rs`), which gives the whole island's answer to
     /// within the tolerance at the cost of the part that moves.
     pub solve_whole_islands: bool,
-    /// Levenberg–Marquardt damping `nu` of joints' equality rows: each
-    /// step solves them softly with `mu = nu (|e|_inf / L) mean(A_EE)_kk`
-    /// (`projector/equality_damping.rs`), which vanishes with the error.
-    /// Keeps the step where the linearization holds when an error can be
-    /// removed only by a motion with a tiny lever (nearly collinear
-    /// links), and redundant rows (closed loops) solvable. Default
-    /// [`DEFAULT_EQUALITY_DAMPING`], 0: the rows solved exactly (Newton),
-    /// the fastest where measured (a Rapier chain of 10 links with an end
-    /// box 1 and 10 times a link's mass: 4 and 31 passes, against 10 and 46
-    /// with `nu = 1`); a redundant loop is then made consistent when a
-    /// solver fails (`projector/consistent_equalities.rs`).
-    pub equality_damping: f64,
+    /// In islands with joints, each body's rotational metric is
+    /// `I + w (tr I / 2) Id` with this `w`, instead of the inertia `I`
+    /// alone: a rotation costs at least `w` times what turning the body
+    /// about an axis of its mean inertia costs. The mass metric makes a
+    /// light link's rotation cheap, and where a joint error can be removed
+    /// to first order only by turning links with a tiny lever (a nearly
+    /// straight chain held between a fixed anchor and a heavy body), the
+    /// minimum-norm step turns them far and its second-order error undoes
+    /// the step; weighted, the step translates instead. Default
+    /// [`DEFAULT_JOINT_ROTATION_WEIGHT`], chosen by measurement on Rapier
+    /// chains (`docs/joints.md`); 0 is the mass metric. Islands without
+    /// joints always use the mass metric.
+    pub joint_rotation_weight: f64,
     /// Trust region: the largest rotation of a body in one step, radians.
     /// The island's whole correction is scaled down (its direction kept) so
     /// that no body turns further, before the line search; the next pass
@@ -219,8 +220,8 @@ pub struct Settings {
     pub vclip: VClipSettings,
 }
 
-/// Default of [`Settings::equality_damping`].
-pub const DEFAULT_EQUALITY_DAMPING: f64 = 0.0;
+/// Default of [`Settings::joint_rotation_weight`].
+pub const DEFAULT_JOINT_ROTATION_WEIGHT: f64 = 30.0;
 
 /// Default of [`Settings::step_max_rotation`], radians.
 pub const DEFAULT_STEP_MAX_ROTATION: f64 = 0.2;
@@ -249,7 +250,7 @@ impl Default for Settings {
             friction_directions: DEFAULT_FRICTION_DIRECTIONS,
             friction_model: FrictionModel::default(),
             solve_whole_islands: false,
-            equality_damping: DEFAULT_EQUALITY_DAMPING,
+            joint_rotation_weight: DEFAULT_JOINT_ROTATION_WEIGHT,
             step_max_rotation: DEFAULT_STEP_MAX_ROTATION,
             step_max_translation_relative: DEFAULT_STEP_MAX_TRANSLATION_RELATIVE,
             line_search: LineSearchSettings::default(),
@@ -285,7 +286,7 @@ impl Settings {
             non_negative("target_margin_absolute", value)?;
         }
         non_negative("allowed_penetration", self.allowed_penetration)?;
-        non_negative("equality_damping", self.equality_damping)?;
+        non_negative("joint_rotation_weight", self.joint_rotation_weight)?;
         positive_or_infinite("step_max_rotation", self.step_max_rotation)?;
         positive_or_infinite(
             "step_max_translation_relative",

@@ -36,6 +36,10 @@ impl ConstraintProvider for IslandConstraints<'_> {
         rows
     }
 
+    fn equalities_may_be_redundant(&self) -> bool {
+        self.joints.close_a_loop()
+    }
+
     fn measure(&mut self, configuration: &[BodyState]) -> Measurement {
         let (equalities, mut values) = self.joints.measure(configuration);
         values.extend(self.contacts.measure(configuration).values);
