@@ -120,3 +120,34 @@ fn multibody_joints_and_joints_to_bodies_outside_the_scene_are_skipped_with_thei
             .any(|(j, _)| *j == RapierJoint::Impulse(between))
     );
 }
+
+/// What the velocity projection leaves of a joint's relative velocity
+/// along its locked axes, relative to what it found: the acceptance of its
+/// QP (1e-6 of the largest violation), with room for rounding.
+const VELOCITY_LEFT: f64 = 1e-5;
+
+#[test]
+fn the_velocity_coupling_removes_relative_velocity_along_locked_axes() {
+    let (mut world, _) = chain_world(5, 100.0);
+    let mut bridge = default_bridge();
+    let mut projected = 0;
+    for step in 0..30 {
+        world.step();
+        let report = bridge
+            .stabilize_world(&mut world)
+            .expect("the call succeeds");
+        let Some(velocities) = report.velocities else {
+            continue;
+        };
+        if velocities.joint_rate_before > 0.0 {
+            projected += 1;
+            assert!(
+                velocities.joint_rate_after <= VELOCITY_LEFT * velocities.joint_rate_before,
+                "step {step}: {:e} -> {:e}",
+                velocities.joint_rate_before,
+                velocities.joint_rate_after
+            );
+        }
+    }
+    assert!(projected > 0, "no call projected a joint's velocity");
+}
