@@ -147,8 +147,11 @@ fn scenes() -> Vec<Scene> {
 /// its joints and rest length.
 struct JointScene {
     name: &'static str,
-    build: fn() -> (PhysicsWorld, Option<Chain>),
+    build: JointBuild,
 }
+
+/// A joint scene's builder: its world and, for a chain, the chain.
+type JointBuild = fn() -> (PhysicsWorld, Option<Chain>);
 
 fn joint_scenes() -> Vec<JointScene> {
     /// A chain of `LINKS` links, its end box `RATIO` times a link's mass.
@@ -156,7 +159,7 @@ fn joint_scenes() -> Vec<JointScene> {
         let (world, chain) = joint_scenes::chain_world(LINKS, f32::from(RATIO));
         (world, Some(chain))
     }
-    let scenes: [(&'static str, fn() -> (PhysicsWorld, Option<Chain>)); 6] = [
+    let scenes: [(&'static str, JointBuild); 6] = [
         ("chain20_1x", chain::<20, 1>),
         ("chain20_100x", chain::<20, 100>),
         ("chain20_1000x", chain::<20, 1000>),
