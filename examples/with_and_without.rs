@@ -3,8 +3,13 @@
 //! simulation, measured.
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example with_and_without -- [--steps N] [--only NAME] [--out DIR]
+//! cargo run --release --features rapier,serde --example with_and_without -- [--steps N] [--only NAME] [--scenes A,B,...] [--out DIR]
 //! ```
+//!
+//! `--only NAME` runs the scenes whose name contains `NAME`; `--scenes`
+//! runs the scenes listed, each entry a scene's name or the part of names
+//! before an underscore (`chain20` is `chain20_1x`, `chain20_100x` and
+//! `chain20_1000x`; `stack` both stacks). Without either, every scene.
 //!
 //! Scenes (examples/common/rapier_scenes.rs, Rapier's defaults, 60 Hz):
 //! a pile of 200 boxes and hulls dropped into a bin; a pile of 60 compound
@@ -34,7 +39,24 @@
 //! `DIR/with_and_without.csv` (every step), `DIR/with_and_without.md` (the
 //! summary table) and `DIR/with_and_without_NAME.svg` (deepest penetration
 //! against time, log scale, one line per run), and prints the table.
+//!
+//! Joint scenes (examples/common/rapier_joint_scenes.rs, issue 23): chains
+//! of 20 revolute links holding an end box 1, 100 and 1,000 times a link's
+//! mass, a chain of 50 links with 100 times, a ragdoll-like figure dropped
+//! on the ground, a hinged lever resting on a box; each run plain and with
+//! a bridge call of `BridgeSettings::default()` after every step. Per step:
+//! the largest joint separation (the distance between a joint's two anchor
+//! points, in f64 from Rapier's f32 poses), the chain's stretch (summed
+//! separations over the rest length), the exact deepest penetration (the
+//! same oracle), the call's status and tolerance, Rapier's step time and
+//! the call's time. Writes `DIR/with_and_without_joints.csv` (every step),
+//! the joint table after the contact table in `DIR/with_and_without.md`,
+//! and `DIR/with_and_without_NAME.svg` (largest joint separation against
+//! time, log scale, with and without). `DIR/with_and_without.csv` is
+//! written only when a contact scene ran.
 
+#[path = "common/rapier_joint_scenes.rs"]
+mod joint_scenes;
 #[path = "common/rapier_scenes.rs"]
 mod scenes;
 
@@ -45,6 +67,7 @@ use std::time::Instant;
 use constraint_stabilization::Settings;
 use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
 use constraint_stabilization::stabilizer::VelocityFriction;
+use joint_scenes::Chain;
 use plotters::prelude::*;
 use rapier3d::prelude::*;
 
@@ -120,6 +143,72 @@ fn scenes() -> Vec<Scene> {
     ]
 }
 
+/// A scene with joints: a builder of its world at step 0 and, for a chain,
+/// its joints and rest length.
+struct JointScene {
+    name: &'static str,
+    build: JointBuild,
+}
+
+/// A joint scene's builder: its world and, for a chain, the chain.
+type JointBuild = fn() -> (PhysicsWorld, Option<Chain>);
+
+fn joint_scenes() -> Vec<JointScene> {
+    /// A chain of `LINKS` links, its end box `RATIO` times a link's mass.
+    fn chain<const LINKS: usize, const RATIO: u16>() -> (PhysicsWorld, Option<Chain>) {
+        let (world, chain) = joint_scenes::chain_world(LINKS, f32::from(RATIO));
+        (world, Some(chain))
+    }
+    let scenes: [(&'static str, JointBuild); 6] = [
+        ("chain20_1x", chain::<20, 1>),
+        ("chain20_100x", chain::<20, 100>),
+        ("chain20_1000x", chain::<20, 1000>),
+        ("chain50_100x", chain::<50, 100>),
+        ("ragdoll", || (joint_scenes::ragdoll_world(), None)),
+        ("lever", || (joint_scenes::lever_world(), None)),
+    ];
+    scenes
+        .into_iter()
+        .map(|(name, build)| JointScene { name, build })
+        .collect()
+}
+
+/// Which scenes to run: `--only` (a part of the name) and `--scenes` (a
+/// comma-separated list of names or name prefixes before an underscore).
+struct Selection {
+    only: Option<String>,
+    scenes: Option<Vec<String>>,
+}
+
+impl Selection {
+    fn wants(&self, name: &str) -> bool {
+        let only = self.only.as_deref().is_none_or(|o| name.contains(o));
+        let listed = self
+            .scenes
+            .as_ref()
+            .is_none_or(|list| list.iter().any(|entry| Self::names(entry, name)));
+        only && listed
+    }
+
+    /// Whether a `--scenes` entry names this scene.
+    fn names(entry: &str, name: &str) -> bool {
+        name == entry
+            || name
+                .strip_prefix(entry)
+                .is_some_and(|rest| rest.starts_with('_'))
+    }
+
+    /// The `--scenes` entries that name no scene.
+    fn unknown(&self, names: &[&str]) -> Vec<String> {
+        self.scenes
+            .iter()
+            .flatten()
+            .filter(|entry| !names.iter().any(|name| Self::names(entry, name)))
+            .cloned()
+            .collect()
+    }
+}
+
 /// How the world is stabilized after each step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Run {
@@ -136,6 +225,9 @@ enum Run {
     Allowed,
     /// Positions only, velocities untouched, no friction.
     Positions,
+    /// The bridge's defaults, `BridgeSettings::default()` (the joint
+    /// scenes' run).
+    Default,
 }
 
 impl Run {
@@ -170,6 +262,7 @@ impl Run {
             }
             Run::Allowed => "allowed+friction".into(),
             Run::Positions => "positions (seed)".into(),
+            Run::Default => "bridge default".into(),
         }
     }
 
@@ -181,6 +274,7 @@ impl Run {
             Run::Closed => RGBColor(230, 150, 20),
             Run::Allowed => RGBColor(40, 160, 60),
             Run::Positions => RGBColor(120, 120, 120),
+            Run::Default => RGBColor(30, 110, 200),
         }
     }
 
@@ -209,6 +303,7 @@ impl Run {
                 collider_friction: false,
                 ..BridgeSettings::default()
             },
+            Run::Default => BridgeSettings::default(),
         };
         Some(RapierBridge::with_settings(settings).expect("valid settings"))
     }
@@ -228,30 +323,132 @@ struct StepRecord {
     drift: f64,
 }
 
+/// One bridge call after a step, timed.
+struct Call {
+    ms: f64,
+    /// The stabilizer's status name (`error` when the call returned an
+    /// error, `no_dynamic_body` when the stabilizer was not called).
+    status: &'static str,
+    /// Whether no penetration or joint error beyond the tolerance remains.
+    resolved: bool,
+    /// The tolerance the call stated; infinite without a stabilizer report.
+    tolerance: f64,
+    /// The call's bound on the f32 rounding of a written pose (0 on error).
+    round_off_bound: f64,
+}
+
+/// One call of `bridge` on the world after its step, timed.
+fn call(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> Call {
+    let t = Instant::now();
+    let result = bridge.stabilize_world(world);
+    let ms = t.elapsed().as_secs_f64() * 1e3;
+    match result {
+        Ok(report) => {
+            let (status, resolved, tolerance) = report
+                .stabilizer
+                .as_ref()
+                .map_or(("no_dynamic_body", true, f64::INFINITY), |r| {
+                    (r.status.name(), r.status.is_resolved(), r.tolerance)
+                });
+            Call {
+                ms,
+                status,
+                resolved,
+                tolerance,
+                round_off_bound: report.round_off_bound,
+            }
+        }
+        Err(_) => Call {
+            ms,
+            status: "error",
+            resolved: false,
+            tolerance: f64::INFINITY,
+            round_off_bound: 0.0,
+        },
+    }
+}
+
+/// One Rapier step, its time in ms.
+fn timed_step(world: &mut PhysicsWorld) -> f64 {
+    let t = Instant::now();
+    world.step();
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+/// The exact deepest penetration of the world as Rapier holds it (f32
+/// poses), by brute-force separating axes over every pair with a dynamic
+/// body.
+fn deepest(
+    measure: &mut RapierBridge,
+    world: &PhysicsWorld,
+) -> Result<f64, Box<dyn std::error::Error>> {
+    measure.sync(&world.bodies, &world.colliders)?;
+    Ok(dev_support::sat::sat_deepest(measure.scene()).0)
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        println!(
+            "with_and_without [--steps N] [--only NAME] [--scenes A,B,...] [--out DIR]\n\
+             --steps N       steps per run (default {DEFAULT_STEPS})\n\
+             --only NAME     the scenes whose name contains NAME\n\
+             --scenes A,B    the scenes named, or named by the part before an underscore\n\
+             --out DIR       where the md, csv and svg files go (default benchmarks/results)\n\
+             scenes: {}",
+            scenes()
+                .iter()
+                .map(|s| s.name)
+                .chain(joint_scenes().iter().map(|s| s.name))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        return Ok(());
+    }
     let value = |flag: &str| {
         args.iter()
             .position(|a| a == flag)
             .and_then(|i| args.get(i + 1).cloned())
     };
     let steps = value("--steps").map_or(Ok(DEFAULT_STEPS), |s| s.parse())?;
-    let only = value("--only");
+    let selection = Selection {
+        only: value("--only"),
+        scenes: value("--scenes").map(|list| {
+            list.split(',')
+                .map(str::trim)
+                .filter(|s| !s.is_empty())
+                .map(String::from)
+                .collect()
+        }),
+    };
+    let (contact_scenes, joint_scenes) = (scenes(), joint_scenes());
+    let names: Vec<&str> = contact_scenes
+        .iter()
+        .map(|s| s.name)
+        .chain(joint_scenes.iter().map(|s| s.name))
+        .collect();
+    let unknown = selection.unknown(&names);
+    if !unknown.is_empty() {
+        return Err(format!(
+            "no scene named {}; the scenes: {}",
+            unknown.join(", "),
+            names.join(", ")
+        )
+        .into());
+    }
     let out = PathBuf::from(value("--out").unwrap_or_else(|| "benchmarks/results".into()));
     std::fs::create_dir_all(&out)?;
     let mut csv = String::from(
         "scene,run,step,deepest_m,call_tolerance_m,rapier_ms,call_ms,call_failed,top_z_m,max_drift_m\n",
     );
-    let mut table = String::from(
-        "| scene | run | deepest after step 1 (m) | deepest, median over steps (m) | deepest, max over the last 100 steps (m) | top: start -> end z (m) | max horizontal drift (mm) | failed calls | steps deeper than the call's tolerance | Rapier step ms (median) | call ms (median / max) |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
-    );
-    for scene in scenes() {
-        if only.as_deref().is_some_and(|o| !scene.name.contains(o)) {
-            continue;
+    let mut table = String::new();
+    for scene in contact_scenes.iter().filter(|s| selection.wants(s.name)) {
+        if table.is_empty() {
+            table += "| scene | run | deepest after step 1 (m) | deepest, median over steps (m) | deepest, max over the last 100 steps (m) | top: start -> end z (m) | max horizontal drift (mm) | failed calls | steps deeper than the call's tolerance | Rapier step ms (median) | call ms (median / max) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
         }
         let mut runs = Vec::new();
         for run in Run::ALL {
-            let records = simulate(&scene, run, steps)?;
+            let records = simulate(scene, run, steps)?;
             for r in &records {
                 let _ = writeln!(
                     csv,
@@ -273,13 +470,65 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             table += &row;
             runs.push((run, records));
         }
-        plot(
-            &out.join(format!("with_and_without_{}.svg", scene.name)),
-            scene.name,
-            &runs,
-        )?;
+        let series: Vec<Series> = runs
+            .iter()
+            .map(|(run, records)| Series::of(*run, records, |r| r.depth))
+            .collect();
+        plot(&out, scene.name, "deepest penetration", &series)?;
     }
-    std::fs::write(out.join("with_and_without.csv"), csv)?;
+    if !table.is_empty() {
+        std::fs::write(out.join("with_and_without.csv"), csv)?;
+    }
+    let mut joint_csv = String::from(
+        "scene,run,step,largest_joint_separation_m,chain_stretch,deepest_m,status,resolved,call_tolerance_m,round_off_bound_m,rapier_ms,call_ms\n",
+    );
+    let mut joint_table = String::new();
+    for scene in joint_scenes.iter().filter(|s| selection.wants(s.name)) {
+        if joint_table.is_empty() {
+            joint_table += JOINT_TABLE_HEADER;
+        }
+        let mut series = Vec::new();
+        for run in [Run::Plain, Run::Default] {
+            let records = simulate_joints(scene, run, steps)?;
+            for r in &records {
+                let stretch = r.stretch.map_or(String::new(), |s| format!("{s:.6e}"));
+                let (status, resolved, tolerance, round_off, call_ms) =
+                    r.call
+                        .as_ref()
+                        .map_or(("", "", f64::INFINITY, 0.0, 0.0), |c| {
+                            (
+                                c.status,
+                                if c.resolved { "true" } else { "false" },
+                                c.tolerance,
+                                c.round_off_bound,
+                                c.ms,
+                            )
+                        });
+                let _ = writeln!(
+                    joint_csv,
+                    "{},{},{},{:.6e},{stretch},{:.6e},{status},{resolved},{tolerance:.6e},{round_off:.6e},{:.4},{call_ms:.4}",
+                    scene.name,
+                    run.name(),
+                    r.step,
+                    r.separation,
+                    r.depth,
+                    r.rapier_ms,
+                );
+            }
+            let row = joint_summary(scene.name, run, &records);
+            eprintln!("{row}");
+            joint_table += &row;
+            series.push(Series::of(run, &records, |r| r.separation));
+        }
+        plot(&out, scene.name, "largest joint separation", &series)?;
+    }
+    if !joint_table.is_empty() {
+        std::fs::write(out.join("with_and_without_joints.csv"), joint_csv)?;
+        if !table.is_empty() {
+            table.push('\n');
+        }
+        table += &joint_table;
+    }
     std::fs::write(out.join("with_and_without.md"), &table)?;
     println!("{table}");
     Ok(())
@@ -301,33 +550,16 @@ fn simulate(
     let mut drift: f64 = 0.0;
     let mut records = Vec::with_capacity(steps);
     for step in 1..=steps {
-        let t = Instant::now();
-        world.step();
-        let rapier_ms = t.elapsed().as_secs_f64() * 1e3;
+        let rapier_ms = timed_step(&mut world);
         let (mut call_ms, mut call_failed) = (0.0, false);
         let mut call_tolerance = f64::INFINITY;
         if let Some(bridge) = bridge.as_mut() {
-            let t = Instant::now();
-            let result = bridge.stabilize(
-                &mut world.bodies,
-                &world.colliders,
-                &world.impulse_joints,
-                &world.multibody_joints,
-                &world.integration_parameters,
-            );
-            call_failed = match result {
-                Ok(report) => {
-                    if let Some(r) = &report.stabilizer {
-                        call_tolerance = r.tolerance;
-                    }
-                    report.stabilizer.is_some_and(|r| !r.status.is_resolved())
-                }
-                Err(_) => true,
-            };
-            call_ms = t.elapsed().as_secs_f64() * 1e3;
+            let call = call(bridge, &mut world);
+            call_ms = call.ms;
+            call_failed = !call.resolved;
+            call_tolerance = call.tolerance;
         }
-        measure.sync(&world.bodies, &world.colliders)?;
-        let depth = dev_support::sat::sat_deepest(measure.scene()).0;
+        let depth = deepest(&mut measure, &world)?;
         if step == scene.drift_from {
             start = tracked
                 .iter()
@@ -359,6 +591,121 @@ fn simulate(
         });
     }
     Ok(records)
+}
+
+/// One step of one run of a joint scene.
+struct JointStepRecord {
+    step: usize,
+    /// The largest distance between a joint's two anchor points (m).
+    separation: f64,
+    /// A chain's summed anchor separations over its rest length.
+    stretch: Option<f64>,
+    /// The exact deepest penetration after the step and the call (m).
+    depth: f64,
+    rapier_ms: f64,
+    /// The bridge call after the step (`None` for Rapier alone).
+    call: Option<Call>,
+}
+
+/// Runs `steps` steps of a fresh copy of a joint scene's world.
+fn simulate_joints(
+    scene: &JointScene,
+    run: Run,
+    steps: usize,
+) -> Result<Vec<JointStepRecord>, Box<dyn std::error::Error>> {
+    let (mut world, chain) = (scene.build)();
+    let mut bridge = run.bridge();
+    let mut measure = RapierBridge::new(Settings::default())?;
+    if run == Run::Plain {
+        // The world as built: it must start without penetration.
+        let masses: Vec<String> = world
+            .bodies
+            .iter()
+            .filter(|(_, b)| b.is_dynamic())
+            .map(|(_, b)| format!("{:.3}", b.mass()))
+            .collect();
+        eprintln!(
+            "{}: at step 0, deepest {:.3e} m, joint separation {:.3e} m, dynamic masses (kg) {}",
+            scene.name,
+            deepest(&mut measure, &world)?,
+            joint_scenes::largest_joint_separation(&world),
+            masses.join(" ")
+        );
+    }
+    let mut records = Vec::with_capacity(steps);
+    for step in 1..=steps {
+        let rapier_ms = timed_step(&mut world);
+        let call = bridge.as_mut().map(|bridge| call(bridge, &mut world));
+        records.push(JointStepRecord {
+            step,
+            separation: joint_scenes::largest_joint_separation(&world),
+            stretch: chain
+                .as_ref()
+                .map(|chain| joint_scenes::chain_stretch(&world, chain)),
+            depth: deepest(&mut measure, &world)?,
+            rapier_ms,
+            call,
+        });
+    }
+    Ok(records)
+}
+
+/// The joint table's header.
+const JOINT_TABLE_HEADER: &str = "| scene | run | worst joint separation (m) | joint separation, last step (m) | worst chain stretch | worst depth (m) | unresolved calls (statuses) | steps with separation above the call's tolerance + 2 round-off | Rapier step ms (median) | call ms (median / max) | call in Rapier steps (median / worst) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+
+/// One row of the joint table.
+fn joint_summary(scene: &str, run: Run, records: &[JointStepRecord]) -> String {
+    let worst = |value: fn(&JointStepRecord) -> f64| records.iter().map(value).fold(0.0, f64::max);
+    let separation = worst(|r| r.separation);
+    let last = records.last().map_or(0.0, |r| r.separation);
+    let stretch = if records.iter().any(|r| r.stretch.is_some()) {
+        format!("{:.2e}", worst(|r| r.stretch.unwrap_or(0.0)))
+    } else {
+        "-".into()
+    };
+    let depth = worst(|r| r.depth);
+    let calls: Vec<(&JointStepRecord, &Call)> = records
+        .iter()
+        .filter_map(|r| r.call.as_ref().map(|c| (r, c)))
+        .collect();
+    let rapier_ms = median(records.iter().map(|r| r.rapier_ms).collect());
+    if calls.is_empty() {
+        return format!(
+            "| {scene} | {} | {separation:.2e} | {last:.2e} | {stretch} | {depth:.2e} | - | - | {rapier_ms:.3} | - | - |\n",
+            run.name()
+        );
+    }
+    let mut statuses: Vec<(&str, usize)> = Vec::new();
+    for (_, c) in calls.iter().filter(|(_, c)| !c.resolved) {
+        match statuses.iter_mut().find(|(s, _)| *s == c.status) {
+            Some((_, n)) => *n += 1,
+            None => statuses.push((c.status, 1)),
+        }
+    }
+    let unresolved: usize = statuses.iter().map(|(_, n)| n).sum();
+    let statuses = if statuses.is_empty() {
+        String::new()
+    } else {
+        let list: Vec<String> = statuses.iter().map(|(s, n)| format!("{s} {n}")).collect();
+        format!(" ({})", list.join(", "))
+    };
+    let beyond = calls
+        .iter()
+        .filter(|(r, c)| r.separation > c.tolerance + 2.0 * c.round_off_bound)
+        .count();
+    let call_ms: Vec<f64> = calls.iter().map(|(_, c)| c.ms).collect();
+    let max_call = call_ms.iter().fold(0.0, |m: f64, &c| m.max(c));
+    let ratios: Vec<f64> = calls
+        .iter()
+        .map(|(r, c)| c.ms / r.rapier_ms.max(f64::MIN_POSITIVE))
+        .collect();
+    let worst_ratio = ratios.iter().fold(0.0, |m: f64, &c| m.max(c));
+    format!(
+        "| {scene} | {} | {separation:.2e} | {last:.2e} | {stretch} | {depth:.2e} | {unresolved}{statuses} | {beyond} | {rapier_ms:.3} | {:.2} / {max_call:.1} | {:.1} / {worst_ratio:.0} |\n",
+        run.name(),
+        median(call_ms),
+        median(ratios),
+    )
 }
 
 fn median(mut values: Vec<f64>) -> f64 {
@@ -397,24 +744,45 @@ fn summary(scene: &str, run: Run, records: &[StepRecord]) -> String {
     )
 }
 
-/// Deepest penetration against time, log scale, one line per run.
+/// One line of a plot: a value per step, from step 1.
+struct Series {
+    label: String,
+    colour: RGBColor,
+    values: Vec<f64>,
+}
+
+impl Series {
+    /// A run's line: `value` of each of its records.
+    fn of<R>(run: Run, records: &[R], value: impl Fn(&R) -> f64) -> Series {
+        Series {
+            label: run.name(),
+            colour: run.colour(),
+            values: records.iter().map(value).collect(),
+        }
+    }
+}
+
+/// A length (m) against time, log scale, one line per run (a value below
+/// the floor drawn at the floor), as `DIR/with_and_without_SCENE.svg`.
 fn plot(
-    path: &std::path::Path,
+    out: &std::path::Path,
     scene: &str,
-    runs: &[(Run, Vec<StepRecord>)],
+    what: &str,
+    series: &[Series],
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let steps = runs.iter().map(|(_, r)| r.len()).max().unwrap_or(1);
+    let path = out.join(format!("with_and_without_{scene}.svg"));
+    let steps = series.iter().map(|s| s.values.len()).max().unwrap_or(1);
     let seconds = steps as f64 * scenes::STEP_SECONDS;
-    let top = runs
+    let top = series
         .iter()
-        .flat_map(|(_, r)| r.iter().map(|s| s.depth))
+        .flat_map(|s| s.values.iter().copied())
         .fold(PLOT_FLOOR * 10.0, f64::max)
         * 2.0;
-    let root = SVGBackend::new(path, (800, 480)).into_drawing_area();
+    let root = SVGBackend::new(&path, (800, 480)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            format!("{scene}: deepest penetration after each step"),
+            format!("{scene}: {what} after each step"),
             ("sans-serif", 20),
         )
         .margin(10)
@@ -424,22 +792,20 @@ fn plot(
     chart
         .configure_mesh()
         .x_desc("time (s)")
-        .y_desc("deepest penetration (m)")
+        .y_desc(format!("{what} (m)"))
         .y_label_formatter(&|y| format!("{y:.0e}"))
         .draw()?;
-    for (run, records) in runs {
-        let colour = run.colour();
+    for line in series {
+        let colour = line.colour;
         chart
             .draw_series(LineSeries::new(
-                records.iter().map(|r| {
-                    (
-                        r.step as f64 * scenes::STEP_SECONDS,
-                        r.depth.max(PLOT_FLOOR),
-                    )
-                }),
+                line.values
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &v)| ((i + 1) as f64 * scenes::STEP_SECONDS, v.max(PLOT_FLOOR))),
                 colour.stroke_width(2),
             ))?
-            .label(run.name())
+            .label(line.label.as_str())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
     }
     chart

@@ -197,22 +197,29 @@ pub fn lever_world() -> PhysicsWorld {
         Some(ground),
     );
     let box_half = 0.2;
-    let box_body = part(&mut world, [box_half; 3], Vector::new(1.6, 0.0, box_half));
-    let _ = box_body;
-    // The plank runs from the post's top to just above the box, slightly
-    // inclined; it rests on the box under gravity.
-    let plank_half = [0.8, 0.1, 0.02];
-    let top = 2.0 * box_half + plank_half[2];
-    let angle = ((top - post_top - 0.06) / 1.6).atan();
+    part(&mut world, [box_half; 3], Vector::new(1.6, 0.0, box_half));
+    // The plank hangs from a hinge 6 cm above the post's top, 5 cm beyond
+    // its near end, inclined down towards the box so that its far bottom
+    // edge is 1 mm above the box's top face; it settles on the box under
+    // gravity. Rotated by `angle` about y, the far bottom edge (plank
+    // coordinates (reach, -half_z)) is at height
+    // `hinge_z - reach sin(angle) - half_z cos(angle)`.
+    let plank_half: [f32; 3] = [0.8, 0.1, 0.02];
+    let hinge_offset = plank_half[0] + 0.05;
+    let hinge_z = post_top + 0.06;
+    let drop = hinge_z - (2.0 * box_half + 0.001);
+    let reach = hinge_offset + plank_half[0];
+    let radius = reach.hypot(plank_half[2]);
+    let angle = (drop / radius).asin() - plank_half[2].atan2(reach);
     let center = Vector::new(
-        0.85 * angle.cos(),
+        hinge_offset * angle.cos(),
         0.0,
-        post_top + 0.06 + 0.85 * angle.sin(),
+        hinge_z - hinge_offset * angle.sin(),
     );
     let plank = world.insert_body(
         RigidBodyBuilder::dynamic()
             .translation(center)
-            .rotation(Vector::new(0.0, -angle, 0.0)),
+            .rotation(Vector::new(0.0, angle, 0.0)),
     );
     world.insert_collider(
         ColliderBuilder::cuboid(plank_half[0], plank_half[1], plank_half[2])
@@ -220,8 +227,8 @@ pub fn lever_world() -> PhysicsWorld {
         Some(plank),
     );
     let hinge = RevoluteJointBuilder::new(Vector::Y)
-        .local_anchor1(Vector::new(0.0, 0.0, post_top + 0.06))
-        .local_anchor2(Vector::new(-0.85, 0.0, 0.0));
+        .local_anchor1(Vector::new(0.0, 0.0, hinge_z))
+        .local_anchor2(Vector::new(-hinge_offset, 0.0, 0.0));
     world.insert_impulse_joint(ground, plank, hinge);
     world
 }
