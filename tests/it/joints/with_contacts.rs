@@ -9,7 +9,7 @@ use constraint_stabilization::joints::{Joint, JointKind};
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::{CrossCheckOutcome, SolverKind};
 use constraint_stabilization::{Report, Settings, Stabilizer, Status};
-use dev_support::joints::{revolute_chain, worst_joint_errors};
+use dev_support::joints::{chain_on_ground, revolute_chain, worst_joint_errors};
 use dev_support::sat::exact_depth;
 use dev_support::scene::{
     IDENTITY_XYZW, assert_untouched, bystander_pair, cuboid, ground, pose_bits,
@@ -46,41 +46,6 @@ fn assert_within_tolerance(scene: &Scene, report: &Report) {
     );
     let depth = exact_depth(scene, report.tolerance);
     assert!(depth.resolved(), "depth {:e}", depth.deepest);
-}
-
-/// A free chain of `n` bars lying on the ground along x, hinged about z
-/// (vertical axes) end to end.
-fn chain_on_ground(scene: &mut Scene, n: usize, sunk: usize, depth: f64) -> Vec<usize> {
-    let (h, w) = (0.2, 0.04);
-    let mut links = Vec::new();
-    for i in 0..n {
-        let y = if i == sunk { w - depth } else { w };
-        links.push(
-            scene
-                .add_body(cuboid(
-                    &format!("link {i}"),
-                    [0.9 * h, w, w],
-                    [(2 * i + 1) as f64 * h, y, 0.0],
-                    IDENTITY_XYZW,
-                    MassSpec::Mass(1.0),
-                ))
-                .unwrap(),
-        );
-    }
-    let vertical = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), std::f64::consts::FRAC_PI_2);
-    for i in 1..n {
-        scene
-            .add_joint(Joint {
-                name: format!("hinge {i}"),
-                kind: JointKind::Revolute { limit: None },
-                body_a: links[i - 1],
-                body_b: links[i],
-                frame_a: Isometry3::from_parts(Vector3::new(h, 0.0, 0.0).into(), vertical),
-                frame_b: Isometry3::from_parts(Vector3::new(-h, 0.0, 0.0).into(), vertical),
-            })
-            .unwrap();
-    }
-    links
 }
 
 #[test]
