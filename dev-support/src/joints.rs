@@ -8,7 +8,7 @@ use constraint_stabilization::joints::{Joint, JointKind};
 use constraint_stabilization::scene::Scene;
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
-use crate::scene::{IDENTITY_XYZW, cuboid, xyzw};
+use crate::scene::{IDENTITY_XYZW, bystander_pair, cuboid, ground, xyzw};
 
 /// A joint's errors as the tests judge them.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -231,4 +231,28 @@ pub fn ball_joint_pulled_apart(m_a: f64, m_b: f64, d: f64) -> Scene {
         })
         .expect("valid joint");
     scene
+}
+
+/// The ground, a chain of 6 links on it ([`chain_on_ground`]) with link 3
+/// sunk `sunk`, a bystander pair far away (within the contact margin, not
+/// penetrating) and a second chain of 3 links at rest 30 away along z.
+/// Returns the scene and the bodies of the bystanders and of the second
+/// chain, which a call must leave bit-identical.
+pub fn sunk_chain_with_bystanders(sunk: f64) -> (Scene, Vec<usize>) {
+    let mut scene = Scene::new();
+    scene.add_body(ground()).expect("valid ground");
+    chain_on_ground(&mut scene, 6, 3, sunk);
+    let mut untouched: Vec<usize> = bystander_pair([50.0, 5.0, 0.0], 1e-3)
+        .into_iter()
+        .map(|d| scene.add_body(d).expect("valid bystander"))
+        .collect();
+    let far = chain_on_ground(&mut scene, 3, usize::MAX, 0.0);
+    for &link in &far {
+        let t = *scene.bodies()[link].translation_user() + Vector3::new(0.0, 0.0, 30.0);
+        scene.bodies_mut()[link]
+            .set_user_pose(t, IDENTITY_XYZW)
+            .expect("valid pose");
+    }
+    untouched.extend(far);
+    (scene, untouched)
 }

@@ -14,13 +14,10 @@ use constraint_stabilization::settings::GaussSeidelSettings;
 use constraint_stabilization::{Method, Report, Settings, Stabilizer, Status};
 use dev_support::joints::{
     ball_joint_pulled_apart, chain_on_ground, oracle_joint_errors, pendulum_off_pivot,
-    worst_joint_errors,
+    sunk_chain_with_bystanders, worst_joint_errors,
 };
 use dev_support::sat::exact_depth;
-use dev_support::scene::{
-    IDENTITY_XYZW, assert_finite, assert_untouched, bystander_pair, ground, pose_bits,
-};
-use nalgebra::Vector3;
+use dev_support::scene::{IDENTITY_XYZW, assert_finite, assert_untouched, ground, pose_bits};
 
 /// Sweeps allowed for a lone joint to close.
 const JOINT_SWEEPS: usize = 100;
@@ -127,21 +124,7 @@ fn oracle_joint_error(scene: &Scene, scale: f64) -> f64 {
 
 #[test]
 fn a_chain_on_the_ground_with_a_sunk_link_is_lifted_with_its_joints_kept() {
-    let mut scene = Scene::new();
-    scene.add_body(ground()).expect("valid ground");
-    chain_on_ground(&mut scene, 6, 3, SUNK);
-    let bystanders: Vec<usize> = bystander_pair([50.0, 5.0, 0.0], 1e-3)
-        .into_iter()
-        .map(|d| scene.add_body(d).expect("valid bystander"))
-        .collect();
-    // A second chain far away, at rest: its island is not visited.
-    let far = chain_on_ground(&mut scene, 3, usize::MAX, 0.0);
-    for &link in &far {
-        let t = *scene.bodies()[link].translation_user() + Vector3::new(0.0, 0.0, 30.0);
-        scene.bodies_mut()[link]
-            .set_user_pose(t, IDENTITY_XYZW)
-            .expect("valid pose");
-    }
+    let (mut scene, untouched) = sunk_chain_with_bystanders(SUNK);
     let before = pose_bits(&scene);
     let depth_before = exact_depth(&scene, 1e-6).deepest;
     assert!(depth_before > 0.9 * SUNK, "{depth_before}");
@@ -152,7 +135,6 @@ fn a_chain_on_the_ground_with_a_sunk_link_is_lifted_with_its_joints_kept() {
         "chain: exact depth {:.3e}, oracle joint error {joint_error:.3e}, {} moved",
         depth.deepest, report.bodies_moved
     );
-    let untouched: Vec<usize> = bystanders.iter().chain(&far).copied().collect();
     assert_untouched(&scene, &before, &untouched);
     // The baseline's known weakness: the contacts and the joints pull
     // against each other one row at a time, and the error falls only
