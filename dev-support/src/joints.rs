@@ -1,14 +1,14 @@
 //! Joint errors computed independently of the library (from the bodies'
 //! user poses and the joints' anchor frames, with nalgebra alone), and
 //! jointed scenes for the tests, examples and benchmarks: chains of links
-//! and a four-bar linkage.
+//! on a ground, a pendulum off its pivot, two cubes on a ball joint.
 
 use constraint_stabilization::body::MassSpec;
 use constraint_stabilization::joints::{Joint, JointKind};
 use constraint_stabilization::scene::Scene;
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
-use crate::scene::{IDENTITY_XYZW, cuboid};
+use crate::scene::{IDENTITY_XYZW, bystander_pair, cuboid, ground, xyzw};
 
 /// A joint's errors as the tests judge them.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -129,4 +129,130 @@ pub fn revolute_chain(links: usize, half_length: f64, end_mass: f64, origin: [f6
         })
         .expect("valid end joint");
     scene
+}
+
+/// Adds to `scene` a free chain of `n` bars (mass 1) lying on the ground
+/// along x, hinged about z (vertical axes) end to end, link `sunk` sunk
+/// `depth` into the ground (`usize::MAX`: none); returns the links.
+pub fn chain_on_ground(scene: &mut Scene, n: usize, sunk: usize, depth: f64) -> Vec<usize> {
+    let (h, w) = (0.2, 0.04);
+    let mut links = Vec::new();
+    for i in 0..n {
+        let y = if i == sunk { w - depth } else { w };
+        links.push(
+            scene
+                .add_body(cuboid(
+                    &format!("link {i}"),
+                    [0.9 * h, w, w],
+                    [(2 * i + 1) as f64 * h, y, 0.0],
+                    IDENTITY_XYZW,
+                    MassSpec::Mass(1.0),
+                ))
+                .expect("valid link"),
+        );
+    }
+    let vertical = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), std::f64::consts::FRAC_PI_2);
+    for i in 1..n {
+        scene
+            .add_joint(Joint {
+                name: format!("hinge {i}"),
+                kind: JointKind::Revolute { limit: None },
+                body_a: links[i - 1],
+                body_b: links[i],
+                frame_a: Isometry3::from_parts(Vector3::new(h, 0.0, 0.0).into(), vertical),
+                frame_b: Isometry3::from_parts(Vector3::new(-h, 0.0, 0.0).into(), vertical),
+            })
+            .expect("valid hinge");
+    }
+    links
+}
+
+/// A link (mass 1) on a ball joint below a fixed pivot at `(0, 2, 0)`,
+/// tilted by 0.3 rad about z and moved off the pivot by about 0.07: the
+/// anchors start more than 0.05 apart. Returns the scene (pivot first).
+pub fn pendulum_off_pivot() -> Scene {
+    let mut scene = Scene::new();
+    scene
+        .add_body(cuboid(
+            "pivot",
+            [0.05; 3],
+            [0.0, 2.0, 0.0],
+            IDENTITY_XYZW,
+            MassSpec::Fixed,
+        ))
+        .expect("valid pivot");
+    let tilt = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.3);
+    scene
+        .add_body(cuboid(
+            "link",
+            [0.05, 0.5, 0.05],
+            [0.07, 1.45, 0.02],
+            xyzw(&tilt),
+            MassSpec::Mass(1.0),
+        ))
+        .expect("valid link");
+    scene
+        .add_joint(Joint {
+            name: "pivot".into(),
+            kind: JointKind::Spherical,
+            body_a: 0,
+            body_b: 1,
+            frame_a: Isometry3::translation(0.0, -0.1, 0.0),
+            frame_b: Isometry3::translation(0.0, 0.5, 0.0),
+        })
+        .expect("valid joint");
+    scene
+}
+
+/// Two cubes of half size 0.25 and masses `m_a`, `m_b` on a ball joint
+/// whose anchors (each 0.5 from its centre of mass along x) are pulled
+/// `d` apart along x; `a` at the origin. Returns the scene (`a`, `b`).
+pub fn ball_joint_pulled_apart(m_a: f64, m_b: f64, d: f64) -> Scene {
+    let mut scene = Scene::new();
+    for (name, x, mass) in [("a", 0.0, m_a), ("b", 1.0 + d, m_b)] {
+        scene
+            .add_body(cuboid(
+                name,
+                [0.25; 3],
+                [x, 0.0, 0.0],
+                IDENTITY_XYZW,
+                MassSpec::Mass(mass),
+            ))
+            .expect("valid cube");
+    }
+    scene
+        .add_joint(Joint {
+            name: "ball".into(),
+            kind: JointKind::Spherical,
+            body_a: 0,
+            body_b: 1,
+            frame_a: Isometry3::translation(0.5, 0.0, 0.0),
+            frame_b: Isometry3::translation(-0.5, 0.0, 0.0),
+        })
+        .expect("valid joint");
+    scene
+}
+
+/// The ground, a chain of 6 links on it ([`chain_on_ground`]) with link 3
+/// sunk `sunk`, a bystander pair far away (within the contact margin, not
+/// penetrating) and a second chain of 3 links at rest 30 away along z.
+/// Returns the scene and the bodies of the bystanders and of the second
+/// chain, which a call must leave bit-identical.
+pub fn sunk_chain_with_bystanders(sunk: f64) -> (Scene, Vec<usize>) {
+    let mut scene = Scene::new();
+    scene.add_body(ground()).expect("valid ground");
+    chain_on_ground(&mut scene, 6, 3, sunk);
+    let mut untouched: Vec<usize> = bystander_pair([50.0, 5.0, 0.0], 1e-3)
+        .into_iter()
+        .map(|d| scene.add_body(d).expect("valid bystander"))
+        .collect();
+    let far = chain_on_ground(&mut scene, 3, usize::MAX, 0.0);
+    for &link in &far {
+        let t = *scene.bodies()[link].translation_user() + Vector3::new(0.0, 0.0, 30.0);
+        scene.bodies_mut()[link]
+            .set_user_pose(t, IDENTITY_XYZW)
+            .expect("valid pose");
+    }
+    untouched.extend(far);
+    (scene, untouched)
 }

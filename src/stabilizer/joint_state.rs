@@ -4,8 +4,10 @@
 
 use crate::Error;
 use crate::broad_phase::BodyPair;
+use crate::contact::{Detection, Island, islands_with_joints};
 use crate::joints::{IslandJoints, JointErrors, island_joints::JointBody};
 use crate::scene::Scene;
+use crate::settings::ResolvedLengths;
 
 use super::report::JointReport;
 
@@ -20,6 +22,33 @@ pub(crate) fn joint_pairs(scene: &Scene) -> Vec<BodyPair> {
             body_b: joint.body_a.max(joint.body_b),
         })
         .collect()
+}
+
+/// The islands of `detection`'s active pairs and `scene`'s joints that
+/// have a penetration or a joint error (`joints`, at the detection's
+/// poses) beyond the tolerance, in island order, and the number of
+/// islands in all.
+pub(crate) fn violated_islands(
+    scene: &Scene,
+    detection: &Detection,
+    joints: &[JointErrors],
+    lengths: &ResolvedLengths,
+) -> Result<(Vec<Island>, usize), Error> {
+    let all_islands = islands_with_joints(
+        &scene.fixed_flags(),
+        &detection.active_bodies,
+        &joint_pairs(scene),
+    )?;
+    let count = all_islands.len();
+    let joint_violated = |j: &usize| joints[*j].largest(lengths.scale) > lengths.tolerance;
+    let violated = all_islands
+        .into_iter()
+        .filter(|island| {
+            detection.island_penetrates(island, lengths.tolerance)
+                || island.joints.iter().any(joint_violated)
+        })
+        .collect();
+    Ok((violated, count))
 }
 
 /// The errors of every joint at the scene's poses.
@@ -37,6 +66,16 @@ pub(crate) fn joint_errors(scene: &Scene) -> Result<Vec<JointErrors>, Error> {
 /// The largest joint error in length units (angles times `scale`).
 pub(crate) fn largest_joint_error(errors: &[JointErrors], scale: f64) -> f64 {
     errors.iter().fold(0.0, |m, e| m.max(e.largest(scale)))
+}
+
+/// The joints' part of the merit: `sum (error - tolerance)^2` over the
+/// joints whose largest error (length units, angles times `scale`)
+/// exceeds the tolerance, as [`super::Report::merit`] counts penetrations.
+pub(crate) fn joint_merit(errors: &[JointErrors], scale: f64, tolerance: f64) -> f64 {
+    errors
+        .iter()
+        .map(|e| (e.largest(scale) - tolerance).max(0.0).powi(2))
+        .sum()
 }
 
 /// One report line per joint, from its errors before and after the call.

@@ -67,14 +67,15 @@ pub use velocity::{BodyVelocity, VelocityFriction, VelocityReport};
 use crate::Error;
 use crate::broad_phase::IncrementalBroadPhase;
 use crate::contact::SceneParts;
-use crate::contact::islands_with_joints;
 use crate::contact::{Detection, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect};
 use crate::joints::JointErrors;
 use crate::parallel;
 use crate::scene::Scene;
 use crate::settings::{Method, ResolvedLengths, Settings};
 use crate::vclip::VClip;
-use joint_state::{joint_errors, joint_pairs, joint_reports, largest_joint_error};
+use joint_state::{
+    joint_errors, joint_merit, joint_reports, largest_joint_error, violated_islands,
+};
 use solve_island::{IslandSolution, PassInput, solve_island};
 
 /// Removes interpenetration from scenes; owns its settings and the V-Clip
@@ -435,20 +436,8 @@ impl Stabilizer {
         lengths: &ResolvedLengths,
         pass: &mut PassReport,
     ) -> Result<Vec<IslandSolution>, Error> {
-        let all_islands = islands_with_joints(
-            &scene.fixed_flags(),
-            &detection.active_bodies,
-            &joint_pairs(scene),
-        )?;
-        pass.islands = all_islands.len();
-        let joint_violated = |j: &usize| joints[*j].largest(lengths.scale) > lengths.tolerance;
-        let penetrating: Vec<_> = all_islands
-            .into_iter()
-            .filter(|island| {
-                detection.island_penetrates(island, lengths.tolerance)
-                    || island.joints.iter().any(joint_violated)
-            })
-            .collect();
+        let (penetrating, count) = violated_islands(scene, detection, joints, lengths)?;
+        pass.islands = count;
         let input = PassInput {
             scene,
             geometry,
@@ -476,14 +465,8 @@ fn worse_than_input(
     joints_after: &[JointErrors],
 ) -> bool {
     let tolerance = report.tolerance;
-    let joint_merit = |errors: &[JointErrors]| -> f64 {
-        errors
-            .iter()
-            .map(|e| (e.largest(report.scale) - tolerance).max(0.0).powi(2))
-            .sum()
-    };
     let merit = |penetrations: &[PairPenetration], joints: &[JointErrors]| {
-        Report::merit(penetrations, tolerance) + joint_merit(joints)
+        Report::merit(penetrations, tolerance) + joint_merit(joints, report.scale, tolerance)
     };
     let joint_before = largest_joint_error(joints_before, report.scale);
     let joint_after = largest_joint_error(joints_after, report.scale);

@@ -4,7 +4,9 @@
 //! stack and a pile, bystanders untouched, never worse than the input,
 //! typed errors. Depths are judged by the brute-force separating-axis
 //! oracle of `dev_support::sat` (`sat_depth`, `sat_deepest`), not by the
-//! library's report alone.
+//! library's report alone. Joints: [`joints`].
+
+mod joints;
 
 use constraint_stabilization::body::{BodyDesc, MassSpec};
 use constraint_stabilization::scene::Scene;

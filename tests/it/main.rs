@@ -11,7 +11,7 @@
 //!   cone, the Siconos LCP files;
 //! - [`stabilize`]: `Stabilizer::stabilize` end to end, and the projector
 //!   on analytic constraints;
-//! - [`gauss_seidel`]: the Gauss-Seidel method;
+//! - [`gauss_seidel`]: the Gauss-Seidel method (with joints: its `joints`);
 //! - [`io`]: scene and LCP files, the SVG picture;
 //! - [`cli`]: the `stabilize` command line (feature `cli`);
 //! - [`rapier_bridge`]: the Rapier bridge (features `rapier` and `testbed`);

@@ -1,17 +1,21 @@
 //! A stabilization call by nonlinear Gauss–Seidel: sweeps until the
-//! deepest penetration is within the tolerance or the sweeps run out.
+//! deepest penetration and the largest joint error are within the
+//! tolerance or the sweeps run out.
 //!
 //! Each sweep starts with a detection at the current poses (the
 //! projection's: broad phase, V-Clip, exact depth); it is the measurement
 //! of the configuration the previous sweep reached, so the call keeps the
-//! best configuration measured (least merit, `sum (depth - tolerance)^2`,
-//! among those no deeper than the input) without measuring anything twice,
-//! and returns it: never worse than its input. Then the sweep visits the
-//! contact points ([`super::contacts`]) and moves the bodies
-//! ([`super::sweep`]). After the last sweep one more detection measures
+//! best configuration measured (least merit, `sum (depth - tolerance)^2`
+//! over the penetrations plus `sum (error - tolerance)^2` over the joints,
+//! among those no deeper than the input and with no joint error beyond the
+//! input's or the tolerance) without measuring anything twice, and returns
+//! it: never worse than its input. Then the sweep visits the contact
+//! points and the joints ([`super::contacts`]) and moves the bodies
+//! ([`super::sweep`], [`super::joints`]). After the last sweep one more detection measures
 //! the result.
 //!
-//! Status: [`Status::NothingToDo`] when the input is within the tolerance,
+//! Status (joint errors counted with the depth): [`Status::NothingToDo`]
+//! when the input is within the tolerance,
 //! [`Status::Converged`] when a sweep's detection is, else
 //! [`Status::PassLimit`] after `iterations` sweeps (or
 //! [`Status::TimeLimit`] when [`Settings::time_budget`] is spent after a
@@ -31,6 +35,7 @@ use crate::contact::{
 };
 use crate::scene::Scene;
 use crate::settings::{ResolvedLengths, Settings};
+use crate::stabilizer::joint_state::{joint_errors, joint_merit, largest_joint_error};
 use crate::stabilizer::{PassReport, Report, Status, pass_report};
 use crate::vclip::VClip;
 
@@ -74,7 +79,6 @@ pub fn run(
     };
     let vclip = VClip::new(settings.vclip);
     let parts = SceneParts::of(scene);
-    let fixed = scene.fixed_flags();
     let mut bodies = sweep_bodies(scene);
     let input = InputPoses::of(scene);
     let mut report = Report::new(lengths);
@@ -89,16 +93,18 @@ pub fn run(
             .filter(|_| report.passes < gauss_seidel.iterations && !budget_spent(settings, start))
         {
             let solve_start = Instant::now();
-            let summary = bodies.sweep(&contacts.points, parameters);
+            let summary = bodies.sweep(&contacts.points, &contacts.joints, parameters);
             report.times.solve += solve_start.elapsed().as_secs_f64();
             report.passes += 1;
             log::debug!(
-                "gauss-seidel sweep {} on the stored points: {} visited, {} pushed",
+                "gauss-seidel sweep {} on the stored points: {} visited, {} pushed; {} joint rows, {} relaxed",
                 report.passes,
                 summary.visited,
-                summary.pushed
+                summary.pushed,
+                summary.joint_rows,
+                summary.joint_relaxed
             );
-            if summary.pushed == 0 {
+            if !summary.moved() {
                 // Nothing moved: further sweeps would repeat this one.
                 stored = None;
             }
@@ -119,26 +125,40 @@ pub fn run(
         };
         let detection = detect(scene, geometry, state, &vclip, lengths)?;
         report.record_detection(&detection);
+        let joints = joint_errors(scene)?;
         let mut pass = pass_report(&detection, lengths.tolerance);
+        pass.joint_error = largest_joint_error(&joints, lengths.scale);
+        if report.passes == 0 {
+            // The input's, as the stabilizer measures it again after the call.
+            report.joint_error_before = pass.joint_error;
+        }
         let solve_start = Instant::now();
-        let next = match stop_status(&report, &detection, settings, start) {
+        let next = match stop_status(&report, &pass, settings, start) {
             Some(status) => Next::Stop(status),
             None => Next::Sweep(sweep_points(
+                scene,
                 geometry,
                 &bodies.poses,
-                &fixed,
                 &detection,
+                &joints,
                 lengths,
                 settings,
             )?),
         };
-        keep_if_best(&mut best, &report, &bodies.poses, detection);
+        let measured = Measured {
+            joint_error: pass.joint_error,
+            merit: Report::merit(&detection.penetrations, report.tolerance)
+                + joint_merit(&joints, lengths.scale, report.tolerance),
+            detection,
+        };
+        keep_if_best(&mut best, &report, &bodies.poses, measured);
         let contacts = match next {
             Next::Sweep(contacts) => contacts,
             Next::Stop(status) => {
                 log::debug!(
-                    "gauss-seidel stop: deepest penetration {:.3e}, tolerance {:.1e}: {}",
+                    "gauss-seidel stop: deepest penetration {:.3e}, largest joint error {:.3e}, tolerance {:.1e}: {}",
                     pass.deepest,
+                    pass.joint_error,
                     lengths.tolerance,
                     status.name()
                 );
@@ -148,7 +168,7 @@ pub fn run(
             }
         };
         pass.islands = contacts.islands;
-        let summary = bodies.sweep(&contacts.points, parameters);
+        let summary = bodies.sweep(&contacts.points, &contacts.joints, parameters);
         if !gauss_seidel.detect_every_sweep {
             stored = Some(contacts);
         }
@@ -184,16 +204,17 @@ impl InputPoses {
     }
 }
 
-/// The status that ends the call after a sweep's detection, if any: within
-/// the tolerance, out of sweeps, or out of time.
+/// The status that ends the call after a sweep's detection (`pass`, with
+/// its joint error), if any: the deepest penetration and the largest joint
+/// error within the tolerance, out of sweeps, or out of time.
 fn stop_status(
     report: &Report,
-    detection: &Detection,
+    pass: &PassReport,
     settings: &Settings,
     start: Instant,
 ) -> Option<Status> {
     Status::after_detection(
-        detection.deepest,
+        pass.deepest.max(pass.joint_error),
         report.tolerance,
         report.passes,
         settings.gauss_seidel.iterations,
@@ -225,26 +246,40 @@ fn sweep_bodies(scene: &Scene) -> SweepBodies {
     }
 }
 
-/// Makes `detection` (at `poses`) the best if it is no deeper than the
-/// input and has a smaller merit than the best so far (the first one is the
-/// input's, kept whatever it is).
+/// A configuration as a sweep's detection measured it.
+struct Measured {
+    /// The largest joint error (length units).
+    joint_error: f64,
+    /// Penetrations' and joints' merit together.
+    merit: f64,
+    detection: Detection,
+}
+
+/// Makes `measured` (at `poses`) the best if it is no deeper than the
+/// input, has no joint error beyond the input's or the tolerance, and has
+/// a smaller merit than the best so far (the first one is the input's,
+/// kept whatever it is): the stabilizer's own test of a result worse than
+/// its input.
 fn keep_if_best(
     best: &mut Option<Best>,
     report: &Report,
     poses: &[Isometry3<f64>],
-    detection: Detection,
+    measured: Measured,
 ) {
-    let merit = Report::merit(&detection.penetrations, report.tolerance);
     let better = match best {
         None => true,
-        Some(kept) => detection.deepest <= report.depth_before && merit < kept.merit,
+        Some(kept) => {
+            measured.detection.deepest <= report.depth_before
+                && measured.joint_error <= report.joint_error_before.max(report.tolerance)
+                && measured.merit < kept.merit
+        }
     };
     if better {
         *best = Some(Best {
             sweeps: report.passes,
-            merit,
+            merit: measured.merit,
             poses: poses.to_vec(),
-            detection,
+            detection: measured.detection,
         });
     }
 }
@@ -306,14 +341,19 @@ fn finish(
 /// The debug line of a sweep.
 fn log_sweep(number: usize, pass: &PassReport, summary: &SweepSummary, start: Instant) {
     log::debug!(
-        "gauss-seidel sweep {number}: {} active pairs, {} penetrating, deepest {:.3e}; \
-         {} points visited, {} pushed, least separation {:.3e}, {:.3} ms so far",
+        "gauss-seidel sweep {number}: {} active pairs, {} penetrating, deepest {:.3e}, joint error {:.3e}; \
+         {} points visited, {} pushed, least separation {:.3e}; {} joint rows, {} relaxed, largest met {:.3e}; \
+         {:.3} ms so far",
         pass.active_pairs,
         pass.penetrating_pairs,
         pass.deepest,
+        pass.joint_error,
         summary.visited,
         summary.pushed,
         summary.min_separation,
+        summary.joint_rows,
+        summary.joint_relaxed,
+        summary.joint_error,
         start.elapsed().as_secs_f64() * 1e3
     );
 }

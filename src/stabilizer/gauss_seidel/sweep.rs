@@ -1,5 +1,6 @@
 //! One sweep: every stored contact point visited once, in order, each
-//! pushing its two bodies apart along its normal at once (Box2D v2.4,
+//! pushing its two bodies apart along its normal at once, then the
+//! joints' rows (Box2D v2.4,
 //! `b2ContactSolver::SolvePositionConstraints`, in 3D).
 //!
 //! For a point with separation `s` measured at the current poses
@@ -24,9 +25,22 @@
 //! the impulse `P = lambda n` (`x += P/m`, `theta += I^-1 (r x P)`), the
 //! rotation applied as a rotation vector, as the projection applies its
 //! corrections. A point with `C = 0` moves nothing, bit for bit.
+//!
+//! The push is one case of the relaxation of a scalar row with gradient
+//! blocks `g_a`, `g_b` (`[dx; dtheta]`, world) and error `C`
+//! ([`SweepBodies::relax`]), which the joints' rows use too
+//! ([`super::joints`]):
+//!
+//! ```text
+//! k = g_a^T M_a^-1 g_a + g_b^T M_b^-1 g_b,  lambda = -C / k,  (dx, dtheta)_i = lambda M_i^-1 g_i
+//! ```
+//!
+//! with `M^-1 = diag(I/m, I_world^-1)`; a point's row is `g_a = [n; r_a x
+//! n]`, `g_b = [-n; -(r_b x n)]`, which gives `K` and the update above.
 
-use nalgebra::{Isometry3, Matrix3, Point3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix3, Point3, Translation3, UnitQuaternion, Vector3, Vector6};
 
+use super::joints::SweepJoint;
 use super::point::StoredPoint;
 
 /// Inverse mass properties of a dynamic body.
@@ -67,31 +81,70 @@ pub struct SweepSummary {
     pub pushed: usize,
     /// Smallest separation met at a visit (before its push).
     pub min_separation: f64,
+    /// Joint constraints visited (equalities and limits).
+    pub joint_rows: usize,
+    /// Joint constraints that moved their bodies.
+    pub joint_relaxed: usize,
+    /// Largest `|value|` of an equality, or violation of a limit, met at a
+    /// visit (before its relaxation; length units).
+    pub joint_error: f64,
 }
 
-/// One body's part in a push: its index, inverse mass, and
-/// `I^-1 (r x n)` (world).
+impl SweepSummary {
+    /// Whether any visit moved a body.
+    pub fn moved(&self) -> bool {
+        self.pushed + self.joint_relaxed > 0
+    }
+}
+
+/// One scalar row between two bodies: its gradient blocks `[d/dx;
+/// d/dtheta]` (world) at the current poses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Row {
+    /// Scene index of the first body.
+    pub body_a: usize,
+    /// Scene index of the second body.
+    pub body_b: usize,
+    /// Gradient with respect to the first body's correction.
+    pub grad_a: Vector6<f64>,
+    /// Gradient with respect to the second body's correction.
+    pub grad_b: Vector6<f64>,
+}
+
+/// One body's part in a relaxation: its index, `M^-1 g` (world), and
+/// `g^T M^-1 g`.
 struct Response {
     body: usize,
-    inverse_mass: f64,
-    angular: Vector3<f64>,
-    /// `(r x n) . I^-1 (r x n)`.
-    k_angular: f64,
+    dx: Vector3<f64>,
+    dtheta: Vector3<f64>,
+    k: f64,
 }
 
 impl SweepBodies {
-    /// Visits `points` in order, once each.
-    pub fn sweep(&mut self, points: &[StoredPoint], parameters: PushParameters) -> SweepSummary {
+    /// Visits `points` in order, once each, then the constraints of
+    /// `joints` (each joint's in order; [`super::joints`]).
+    pub fn sweep(
+        &mut self,
+        points: &[StoredPoint],
+        joints: &[SweepJoint],
+        parameters: PushParameters,
+    ) -> SweepSummary {
         let mut summary = SweepSummary {
             visited: 0,
             pushed: 0,
             min_separation: f64::INFINITY,
+            joint_rows: 0,
+            joint_relaxed: 0,
+            joint_error: 0.0,
         };
         for point in points {
             let (pushed, separation) = self.push_apart(point, parameters);
             summary.visited += 1;
             summary.pushed += usize::from(pushed);
             summary.min_separation = summary.min_separation.min(separation);
+        }
+        for joint in joints {
+            self.relax_joint(joint, parameters, &mut summary);
         }
         summary
     }
@@ -108,57 +161,77 @@ impl SweepBodies {
             return (false, s);
         }
         let n = measured.n_world;
-        let response_a = self.response(a, &measured.p_a_world, &n);
-        let response_b = self.response(b, &measured.p_b_world, &n);
+        let lever = |p: &Point3<f64>, body: usize| p - self.poses[body].translation.vector;
+        let (r_a, r_b) = (lever(&measured.p_a_world, a), lever(&measured.p_b_world, b));
+        let row = Row {
+            body_a: a,
+            body_b: b,
+            grad_a: block(n, r_a.coords.cross(&n)),
+            grad_b: block(-n, n.cross(&r_b.coords)),
+        };
+        (self.relax(&row, c), s)
+    }
+
+    /// Relaxes `row` whose error is `c`: `lambda = -c / k` with `k = g_a^T
+    /// M_a^-1 g_a + g_b^T M_b^-1 g_b`, each body moved by `lambda M^-1 g`
+    /// at once (module docs). Returns whether a body moved: not when `c`
+    /// is 0 or `k` is not positive (two fixed bodies, a degenerate row).
+    pub(super) fn relax(&mut self, row: &Row, c: f64) -> bool {
+        if c == 0.0 || !c.is_finite() {
+            return false;
+        }
+        let response_a = self.response(row.body_a, &row.grad_a);
+        let response_b = self.response(row.body_b, &row.grad_b);
         let k: f64 = [&response_a, &response_b]
             .into_iter()
             .flatten()
-            .map(|r| r.inverse_mass + r.k_angular)
+            .map(|r| r.k)
             .sum();
         // Box2D's `K > 0` guard (a pair of two fixed bodies has `K = 0`).
-        if k.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return (false, s);
+        if !(k > 0.0 && k.is_finite()) {
+            return false;
         }
         let lambda = -c / k;
-        if let Some(response) = response_a {
-            self.displace(&response, lambda, &n);
+        for response in [response_a, response_b].into_iter().flatten() {
+            self.displace(&response, lambda);
         }
-        if let Some(response) = response_b {
-            self.displace(&response, -lambda, &n);
-        }
-        (true, s)
+        true
     }
 
-    /// Body `body`'s response to a push at `p_world` along `n`; `None` if
-    /// it is fixed.
-    fn response(&self, body: usize, p_world: &Point3<f64>, n: &Vector3<f64>) -> Option<Response> {
+    /// Body `body`'s response to a row with gradient block `grad`; `None`
+    /// if it is fixed.
+    fn response(&self, body: usize, grad: &Vector6<f64>) -> Option<Response> {
         let inverse = self.inverse_masses[body]?;
-        let pose = &self.poses[body];
-        let r_world = p_world - pose.translation.vector;
-        let rn_world = r_world.coords.cross(n);
-        let rotation = pose.rotation.to_rotation_matrix();
+        let rotation = self.poses[body].rotation.to_rotation_matrix();
         let inverse_inertia_world =
             rotation.matrix() * inverse.inertia_body * rotation.matrix().transpose();
-        let angular = inverse_inertia_world * rn_world;
+        let (linear, angular) = (grad.fixed_rows::<3>(0), grad.fixed_rows::<3>(3));
+        let dx = linear * inverse.mass;
+        let dtheta = inverse_inertia_world * angular;
         Some(Response {
             body,
-            inverse_mass: inverse.mass,
-            angular,
-            k_angular: rn_world.dot(&angular),
+            k: linear.dot(&dx) + angular.dot(&dtheta),
+            dx: dx.into_owned(),
+            dtheta,
         })
     }
 
-    /// Moves a body by the impulse `lambda n` (signed for its side).
-    fn displace(&mut self, response: &Response, lambda: f64, n: &Vector3<f64>) {
+    /// Moves a body by `lambda M^-1 g`.
+    fn displace(&mut self, response: &Response, lambda: f64) {
         let pose = &mut self.poses[response.body];
-        let dx_world = n * (lambda * response.inverse_mass);
-        let dtheta_world = response.angular * lambda;
-        let rotation = UnitQuaternion::from_scaled_axis(dtheta_world) * pose.rotation;
+        let rotation = UnitQuaternion::from_scaled_axis(response.dtheta * lambda) * pose.rotation;
         *pose = Isometry3::from_parts(
-            Translation3::from(pose.translation.vector + dx_world),
+            Translation3::from(pose.translation.vector + response.dx * lambda),
             UnitQuaternion::new_normalize(rotation.into_inner()),
         );
     }
+}
+
+/// `[linear; angular]`.
+fn block(linear: Vector3<f64>, angular: Vector3<f64>) -> Vector6<f64> {
+    Vector6::new(
+        linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
+    )
 }
 
 #[cfg(test)]
@@ -204,7 +277,7 @@ mod tests {
     #[test]
     fn central_push_removes_the_baumgarte_fraction() {
         let (mut bodies, point) = pair(Vector3::new(0.0, -1.0, 0.0), -0.1);
-        bodies.sweep(&[point], parameters(0.2, 0.0, f64::INFINITY));
+        bodies.sweep(&[point], &[], parameters(0.2, 0.0, f64::INFINITY));
         let after = point.measure(&bodies.poses[1], &bodies.poses[0]).separation;
         assert!((after - (-0.08)).abs() < ROUNDING, "{after}");
         assert_eq!(bodies.poses[0], Isometry3::identity());
@@ -213,11 +286,11 @@ mod tests {
     #[test]
     fn push_is_capped_and_respects_the_slop() {
         let (mut capped, point) = pair(Vector3::new(0.0, -1.0, 0.0), -0.1);
-        capped.sweep(&[point], parameters(1.0, 0.0, 0.03));
+        capped.sweep(&[point], &[], parameters(1.0, 0.0, 0.03));
         let lift = capped.poses[1].translation.vector.y;
         assert!((lift - 0.03).abs() < ROUNDING, "{lift}");
         let (mut within_slop, point) = pair(Vector3::new(0.0, -1.0, 0.0), -0.004);
-        let summary = within_slop.sweep(&[point], parameters(0.2, 0.005, 0.2));
+        let summary = within_slop.sweep(&[point], &[], parameters(0.2, 0.005, 0.2));
         assert_eq!(summary.pushed, 0);
         assert_eq!(within_slop.poses[1], Isometry3::identity());
     }
@@ -228,7 +301,7 @@ mod tests {
         // body rises by lambda = 0.1 / 2 and turns by 0.05 about z, which
         // lifts the point by another 0.05 to first order.
         let (mut bodies, point) = pair(Vector3::new(1.0, -1.0, 0.0), -0.1);
-        bodies.sweep(&[point], parameters(1.0, 0.0, f64::INFINITY));
+        bodies.sweep(&[point], &[], parameters(1.0, 0.0, f64::INFINITY));
         let pose = &bodies.poses[1];
         assert!((pose.translation.vector.y - 0.05).abs() < ROUNDING);
         let angle = pose.rotation.scaled_axis();

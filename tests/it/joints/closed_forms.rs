@@ -6,7 +6,7 @@ use constraint_stabilization::body::MassSpec;
 use constraint_stabilization::joints::{Joint, JointAxes, JointKind, JointLimits};
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::{Settings, Stabilizer, Status};
-use dev_support::joints::oracle_joint_errors;
+use dev_support::joints::{ball_joint_pulled_apart, oracle_joint_errors, pendulum_off_pivot};
 use dev_support::scene::{IDENTITY_XYZW, cuboid, xyzw};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
@@ -42,35 +42,7 @@ fn rotation(scene: &Scene, body: usize) -> UnitQuaternion<f64> {
 #[test]
 fn a_ball_joint_pulled_apart_closes_in_the_ratio_of_the_masses_without_turning() {
     let (m_a, m_b, d) = (1.0, 3.0, 0.04);
-    let mut scene = Scene::new();
-    scene
-        .add_body(cube(
-            "a",
-            0.25,
-            [0.0, 0.0, 0.0],
-            IDENTITY_XYZW,
-            MassSpec::Mass(m_a),
-        ))
-        .unwrap();
-    scene
-        .add_body(cube(
-            "b",
-            0.25,
-            [1.0 + d, 0.0, 0.0],
-            IDENTITY_XYZW,
-            MassSpec::Mass(m_b),
-        ))
-        .unwrap();
-    scene
-        .add_joint(Joint {
-            name: "ball".into(),
-            kind: JointKind::Spherical,
-            body_a: 0,
-            body_b: 1,
-            frame_a: Isometry3::translation(0.5, 0.0, 0.0),
-            frame_b: Isometry3::translation(-0.5, 0.0, 0.0),
-        })
-        .unwrap();
+    let mut scene = ball_joint_pulled_apart(m_a, m_b, d);
     let report = stabilize(&mut scene);
     let moved_a = translation(&scene, 0).x;
     let moved_b = translation(&scene, 1).x - (1.0 + d);
@@ -161,36 +133,7 @@ fn a_misaligned_hinge_is_realigned_with_the_mass_weighted_split_of_the_turn() {
 
 #[test]
 fn a_pendulum_link_off_its_fixed_pivot_returns_to_it() {
-    let mut scene = Scene::new();
-    scene
-        .add_body(cube(
-            "pivot",
-            0.05,
-            [0.0, 2.0, 0.0],
-            IDENTITY_XYZW,
-            MassSpec::Fixed,
-        ))
-        .unwrap();
-    let tilt = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.3);
-    scene
-        .add_body(cuboid(
-            "link",
-            [0.05, 0.5, 0.05],
-            [0.07, 1.45, 0.02],
-            xyzw(&tilt),
-            MassSpec::Mass(1.0),
-        ))
-        .unwrap();
-    scene
-        .add_joint(Joint {
-            name: "pivot".into(),
-            kind: JointKind::Spherical,
-            body_a: 0,
-            body_b: 1,
-            frame_a: Isometry3::translation(0.0, -0.1, 0.0),
-            frame_b: Isometry3::translation(0.0, 0.5, 0.0),
-        })
-        .unwrap();
+    let mut scene = pendulum_off_pivot();
     let before = oracle_joint_errors(&scene, &scene.joints()[0]);
     assert!(before.separation > 0.05);
     let report = stabilize(&mut scene);

@@ -9,11 +9,9 @@ use constraint_stabilization::joints::{Joint, JointKind};
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::{CrossCheckOutcome, SolverKind};
 use constraint_stabilization::{Report, Settings, Stabilizer, Status};
-use dev_support::joints::{revolute_chain, worst_joint_errors};
+use dev_support::joints::{revolute_chain, sunk_chain_with_bystanders, worst_joint_errors};
 use dev_support::sat::exact_depth;
-use dev_support::scene::{
-    IDENTITY_XYZW, assert_untouched, bystander_pair, cuboid, ground, pose_bits,
-};
+use dev_support::scene::{IDENTITY_XYZW, assert_untouched, cuboid, pose_bits};
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
 /// Agreement of clarabel and Lemke on `dq` (relative, mass-weighted): the
@@ -48,63 +46,13 @@ fn assert_within_tolerance(scene: &Scene, report: &Report) {
     assert!(depth.resolved(), "depth {:e}", depth.deepest);
 }
 
-/// A free chain of `n` bars lying on the ground along x, hinged about z
-/// (vertical axes) end to end.
-fn chain_on_ground(scene: &mut Scene, n: usize, sunk: usize, depth: f64) -> Vec<usize> {
-    let (h, w) = (0.2, 0.04);
-    let mut links = Vec::new();
-    for i in 0..n {
-        let y = if i == sunk { w - depth } else { w };
-        links.push(
-            scene
-                .add_body(cuboid(
-                    &format!("link {i}"),
-                    [0.9 * h, w, w],
-                    [(2 * i + 1) as f64 * h, y, 0.0],
-                    IDENTITY_XYZW,
-                    MassSpec::Mass(1.0),
-                ))
-                .unwrap(),
-        );
-    }
-    let vertical = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), std::f64::consts::FRAC_PI_2);
-    for i in 1..n {
-        scene
-            .add_joint(Joint {
-                name: format!("hinge {i}"),
-                kind: JointKind::Revolute { limit: None },
-                body_a: links[i - 1],
-                body_b: links[i],
-                frame_a: Isometry3::from_parts(Vector3::new(h, 0.0, 0.0).into(), vertical),
-                frame_b: Isometry3::from_parts(Vector3::new(-h, 0.0, 0.0).into(), vertical),
-            })
-            .unwrap();
-    }
-    links
-}
-
 #[test]
 fn a_chain_on_a_table_with_a_sunk_link_is_lifted_with_every_joint_kept() {
-    let mut scene = Scene::new();
-    scene.add_body(ground()).unwrap();
-    chain_on_ground(&mut scene, 6, 3, 0.02);
-    let bystanders: Vec<usize> = bystander_pair([50.0, 5.0, 0.0], 1e-3)
-        .into_iter()
-        .map(|d| scene.add_body(d).unwrap())
-        .collect();
-    // A second chain far away, at rest: its island is not solved.
-    let far = chain_on_ground(&mut scene, 3, usize::MAX, 0.0);
-    for &link in &far {
-        let t = *scene.bodies()[link].translation_user() + Vector3::new(0.0, 0.0, 30.0);
-        scene.bodies_mut()[link]
-            .set_user_pose(t, IDENTITY_XYZW)
-            .unwrap();
-    }
+    let (mut scene, untouched) = sunk_chain_with_bystanders(0.02);
     let before = pose_bits(&scene);
     assert!(exact_depth(&scene, 1e-6).deepest > 0.019);
     let report = run(&mut scene, Settings::default());
     assert_within_tolerance(&scene, &report);
-    let untouched: Vec<usize> = bystanders.iter().chain(&far).copied().collect();
     assert_untouched(&scene, &before, &untouched);
     // The lift spread along the chain: the sunk link's neighbours rose.
     assert!(report.bodies_moved >= 3, "{}", report.bodies_moved);
