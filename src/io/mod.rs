@@ -3,6 +3,8 @@
 
 pub mod lcp_file;
 #[cfg(feature = "serde")]
+mod round_shapes;
+#[cfg(feature = "serde")]
 pub mod scene_file;
 #[cfg(feature = "serde")]
 mod strict_json;
