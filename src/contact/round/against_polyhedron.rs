@@ -20,9 +20,8 @@
 //! nearest boundary point) or a boundary edge of the polygon (against the
 //! segment).
 //!
-//! **Points.** On a face (the axis of a penetration, or a face whose normal
-//! is within the angle of [`FACE_ALIGNMENT_COS`] of the separation's
-//! normal): the segment clipped to the face's prism (the side planes
+//! **Points.** On a face (the axis of a penetration, or the face the
+//! closest point of an apart pair lies on, [`FACE_NORMAL_EXACT`]): the segment clipped to the face's prism (the side planes
 //! through its edges), both ends, each with its height above the face (a
 //! capsule lying on a face gives its two ends; across a box's edge, the
 //! end inside and the point above the edge). Otherwise one point: the
@@ -33,13 +32,18 @@ use nalgebra::{Point3, Vector3};
 
 use super::segments::closest_points;
 use super::{CoreContact, CorePoint};
-use crate::contact::penetration::{EDGE_PARALLEL_SINE, FACE_ALIGNMENT_COS};
+use crate::contact::penetration::EDGE_PARALLEL_SINE;
 use crate::geometry::ConvexPolyhedron;
 
 /// Relative distance (to the pair's size) below which the closest points
 /// of a separated pair are too close to give a normal: the widest
 /// separating axis gives it instead.
 pub const NORMAL_FROM_POINTS_MIN_RELATIVE: f64 = 1e-9;
+
+/// `1 - cos` of the largest angle between an apart pair's normal and a
+/// face normal for which the face carries the manifold (the closest point
+/// lies on the face, up to rounding).
+pub const FACE_NORMAL_EXACT: f64 = 1e-9;
 
 /// A face's clipped points stand for the deepest point when one of them
 /// is within this fraction of the depth; else the deepest end (outside the
@@ -286,7 +290,10 @@ pub fn segment_polyhedron(s: &[Point3<f64>; 2], poly: &ConvexPolyhedron) -> Core
         .enumerate()
         .map(|(f, face)| (f, face.plane.normal.dot(&normal)))
         .max_by(|x, y| x.1.total_cmp(&y.1));
-    let aligned = aligned.filter(|(_, cos)| *cos >= FACE_ALIGNMENT_COS);
+    // The face carries the manifold only when the closest point of the
+    // polyhedron lies on it (the normal is the face's): its clipped ends'
+    // heights then bound the distance from below at every point.
+    let aligned = aligned.filter(|(_, cos)| *cos >= 1.0 - FACE_NORMAL_EXACT);
     if let Some(contact) = aligned.and_then(|(f, _)| face_points(s, poly, f)) {
         return CoreContact {
             signed_distance: distance,

@@ -6,6 +6,7 @@
 mod closed_forms;
 mod mass;
 mod oracle;
+mod scenes;
 
 use constraint_stabilization::body::Body;
 use constraint_stabilization::internals::contact::{self, BodyGeometry, PairQuery};
