@@ -21,7 +21,7 @@ use constraint_stabilization::internals::geometry::curved::CURVED_DEVIATION_RELA
 use constraint_stabilization::internals::geometry::{
     isometry_to_parry, point_to_parry, vector_to_parry,
 };
-use dev_support::random::random_rotation;
+use dev_support::random::{MIXED_SHAPE_KINDS, mixed_shape, random_rotation};
 use dev_support::scene::xyzw;
 use dev_support::support_oracle::body_signed_distance;
 use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
@@ -39,57 +39,12 @@ const ORACLE_AGREEMENT: f64 = 1e-7;
 const PARRY_AGREEMENT: f64 = 1e-4;
 
 /// The shape kinds drawn.
-const KINDS: usize = 8;
-
-fn random_shape(rng: &mut ChaCha8Rng, kind: usize) -> Shape {
-    let mut size = || rng.random_range(0.2..0.8);
-    match kind {
-        0 => Shape::Sphere { radius: size() },
-        1 => Shape::Capsule {
-            half_height: size(),
-            radius: 0.5 * size(),
-        },
-        2 => Shape::RoundCuboid {
-            half_extents: Vector3::new(size(), size(), size()),
-            radius: 0.3 * size(),
-        },
-        3 | 5 => {
-            let points = (0..12)
-                .map(|_| {
-                    Point3::new(
-                        rng.random_range(-0.6..0.6),
-                        rng.random_range(-0.6..0.6),
-                        rng.random_range(-0.6..0.6),
-                    )
-                })
-                .collect();
-            if kind == 3 {
-                Shape::RoundConvexHull {
-                    points,
-                    radius: rng.random_range(0.05..0.2),
-                }
-            } else {
-                Shape::ConvexHull { points }
-            }
-        }
-        4 => Shape::Cuboid {
-            half_extents: Vector3::new(size(), size(), size()),
-        },
-        6 => Shape::Cylinder {
-            half_height: size(),
-            radius: size(),
-        },
-        _ => Shape::Cone {
-            half_height: size(),
-            radius: size(),
-        },
-    }
-}
+const KINDS: usize = MIXED_SHAPE_KINDS;
 
 fn random_body(rng: &mut ChaCha8Rng, kind: usize, name: &str, at: Vector3<f64>) -> Option<Body> {
     let desc = BodyDesc {
         name: name.into(),
-        shape: random_shape(rng, kind),
+        shape: mixed_shape(rng, kind, 1.0),
         translation: at,
         rotation_xyzw: xyzw(&random_rotation(rng)),
         mass: MassSpec::Mass(1.0),

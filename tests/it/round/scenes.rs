@@ -7,43 +7,11 @@
 use crate::stabilize::support::{describe, stabilize_with};
 use constraint_stabilization::body::{MassSpec, Shape, ShapePart};
 use constraint_stabilization::{Settings, Status};
-use dev_support::random::random_rotation;
+use dev_support::random::{mixed_shape, random_rotation};
 use dev_support::scene::{IDENTITY_XYZW, body, ground, scene_of, xyzw};
-use nalgebra::{Point3, Vector3};
+use nalgebra::Vector3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-
-fn mixed_shape(rng: &mut ChaCha8Rng, kind: usize) -> Shape {
-    let mut size = || rng.random_range(0.15..0.35);
-    match kind % 7 {
-        0 => Shape::Sphere { radius: size() },
-        1 => Shape::Capsule {
-            half_height: size(),
-            radius: 0.5 * size(),
-        },
-        2 => Shape::RoundCuboid {
-            half_extents: Vector3::new(size(), size(), size()),
-            radius: 0.2 * size(),
-        },
-        3 => Shape::RoundConvexHull {
-            points: (0..8)
-                .map(|_| Point3::new(size() - 0.25, size() - 0.25, size() - 0.25))
-                .collect(),
-            radius: 0.05,
-        },
-        4 => Shape::Cylinder {
-            half_height: size(),
-            radius: size(),
-        },
-        5 => Shape::Cone {
-            half_height: size(),
-            radius: size(),
-        },
-        _ => Shape::Cuboid {
-            half_extents: Vector3::new(size(), size(), size()),
-        },
-    }
-}
 
 #[test]
 fn a_mixed_pile_is_resolved_by_the_oracle() {
@@ -56,7 +24,7 @@ fn a_mixed_pile_is_resolved_by_the_oracle() {
                 rng.random_range(0.0..1.2),
                 rng.random_range(-0.8..0.8),
             ];
-            let shape = mixed_shape(&mut rng, i);
+            let shape = mixed_shape(&mut rng, i, 0.45);
             let rotation = xyzw(&random_rotation(&mut rng));
             descs.push(body(
                 &format!("b{i}"),
