@@ -11,4 +11,6 @@ mod scene_file_bad_input;
 #[cfg(feature = "serde")]
 mod scene_file_limits;
 #[cfg(feature = "serde")]
+mod scene_file_round;
+#[cfg(feature = "serde")]
 mod scene_file_settings;
