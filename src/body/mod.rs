@@ -41,7 +41,7 @@ use std::sync::Arc;
 use nalgebra::{Isometry3, Matrix3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use thiserror::Error;
 
-use crate::geometry::{ConvexPolyhedron, GeometryError, Rounding};
+use crate::geometry::{ConvexPolyhedron, GeometryError, Rounding, curved};
 
 mod part_solid;
 mod parts;
@@ -151,6 +151,26 @@ impl Shape {
                 let solid = PartSolid::build(round)?;
                 Ok(Arc::unwrap_or_clone(solid.polyhedron))
             }
+        }
+    }
+
+    /// The largest distance between the surface the narrow phase works on
+    /// and the true surface (length): `r (1/cos(π/N) - 1)` for a cylinder
+    /// or cone of radius `r` (its circumscribed `N`-gon,
+    /// [`crate::geometry::curved`]; at most
+    /// [`crate::geometry::curved::CURVED_DEVIATION_RELATIVE`] of `r`), the
+    /// largest part's for a compound, 0 for every exact shape.
+    pub fn surface_deviation(&self) -> f64 {
+        let sides = curved::sides_for(curved::CURVED_DEVIATION_RELATIVE);
+        match self {
+            Shape::Cylinder { radius, .. } | Shape::Cone { radius, .. } => {
+                radius * curved::deviation_of(sides)
+            }
+            Shape::Compound { parts } => parts
+                .iter()
+                .map(|part| part.shape.surface_deviation())
+                .fold(0.0, f64::max),
+            _ => 0.0,
         }
     }
 
