@@ -14,10 +14,12 @@
 //!   `[x, y, z, w]`), and either `"fixed": true` or exactly one of `mass` and
 //!   `density` (`"fixed": false` may be given with them; it is not written
 //!   back); optionally its own Coulomb `friction` coefficient (finite,
-//!   nonnegative; see [`crate::body::Body::set_friction`]). `shape` is `{"cuboid": half_extents}`, `{"convex_hull": points}` or
+//!   nonnegative; see [`crate::body::Body::set_friction`]). `shape` is `{"cuboid": half_extents}`, `{"convex_hull": points}`, a
+//!   round or curved shape (`sphere`, `capsule`, `cylinder`, `cone`, or a
+//!   `radius` beside `cuboid` or `convex_hull`: `io::round_shapes`) or
 //!   `{"compound": [{"shape": ..., "translation": [x, y, z], "rotation": [x, y, z, w]}, ...]}`:
 //!   one rigid body of several convex parts, each placed in the body's
-//!   shape frame (a part's shape is a cuboid or a hull; at most
+//!   shape frame (a part's shape is any but a compound; at most
 //!   [`MAX_COMPOUND_PARTS`] parts).
 //! - `settings` is optional, and so is each of its fields: `tolerance`,
 //!   `contact_margin`, `target_margin`, `max_passes`, `solver`
