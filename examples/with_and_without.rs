@@ -14,7 +14,8 @@
 //! Scenes (examples/common/rapier_scenes.rs, Rapier's defaults, 60 Hz):
 //! a pile of 200 boxes and hulls dropped into a bin; a pile of 60 compound
 //! bodies (two or three box colliders on one rigid body, L and T shapes)
-//! dropped into a bin; four light boxes under
+//! dropped into a bin; a pile of 60 balls, capsules, cylinders and rounded
+//! boxes dropped into a bin (issue 25); four light boxes under
 //! a box 100 and 1,000 times heavier; a box thrown at 15 m/s into a stack;
 //! a pyramid of 55 boxes. Runs, from the same initial world:
 //! - `plain`: Rapier alone;
@@ -111,6 +112,15 @@ fn scenes() -> Vec<Scene> {
             name: "compound_pile_60",
             build: || {
                 let world = scenes::compound_pile_world(60, 0.6, 1);
+                let tracked = all_dynamic(&world);
+                (world, tracked)
+            },
+            drift_from: 150,
+        },
+        Scene {
+            name: "mixed_pile_60",
+            build: || {
+                let world = scenes::mixed_pile_world(60, 0.6, 1);
                 let tracked = all_dynamic(&world);
                 (world, tracked)
             },

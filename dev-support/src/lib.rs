@@ -18,4 +18,5 @@ pub mod random;
 pub mod sat;
 pub mod scene;
 pub mod solver;
+pub mod support_oracle;
 pub mod vclip;

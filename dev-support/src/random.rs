@@ -1,7 +1,8 @@
-//! Random rotations, poses and convex hulls for the tests and benchmarks
+//! Random rotations, poses, convex hulls and mixed shapes for the tests and benchmarks
 //! (seeded by the caller: every use passes its own seeded RNG, so that a
 //! run draws the same shapes every time).
 
+use constraint_stabilization::body::Shape;
 use constraint_stabilization::internals::geometry::ConvexPolyhedron;
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rand::Rng;
@@ -89,5 +90,50 @@ pub fn random_hull_varied(rng: &mut impl Rng, n: usize, radius: f64) -> ConvexPo
         if let Some(poly) = hull(&points) {
             return poly;
         }
+    }
+}
+
+/// Kinds of [`mixed_shape`]: sphere, capsule, rounded cuboid, rounded hull,
+/// cuboid, hull, cylinder, cone.
+pub const MIXED_SHAPE_KINDS: usize = 8;
+
+/// A random shape of kind `kind % MIXED_SHAPE_KINDS` whose dimensions are
+/// `scale` times 0.2 to 0.8 (hull points within `0.6 scale` of the origin).
+pub fn mixed_shape(rng: &mut impl Rng, kind: usize, scale: f64) -> Shape {
+    let mut size = || scale * rng.random_range(0.2..0.8);
+    match kind % MIXED_SHAPE_KINDS {
+        0 => Shape::Sphere { radius: size() },
+        1 => Shape::Capsule {
+            half_height: size(),
+            radius: 0.5 * size(),
+        },
+        2 => Shape::RoundCuboid {
+            half_extents: Vector3::new(size(), size(), size()),
+            radius: 0.3 * size(),
+        },
+        3 | 5 => {
+            let points = (0..12)
+                .map(|_| Point3::from(Vector3::from_fn(|_, _| scale * rng.random_range(-0.6..0.6))))
+                .collect();
+            if kind % MIXED_SHAPE_KINDS == 3 {
+                Shape::RoundConvexHull {
+                    points,
+                    radius: scale * rng.random_range(0.05..0.2),
+                }
+            } else {
+                Shape::ConvexHull { points }
+            }
+        }
+        4 => Shape::Cuboid {
+            half_extents: Vector3::new(size(), size(), size()),
+        },
+        6 => Shape::Cylinder {
+            half_height: size(),
+            radius: size(),
+        },
+        _ => Shape::Cone {
+            half_height: size(),
+            radius: size(),
+        },
     }
 }

@@ -102,7 +102,7 @@ pub fn scaled(desc: &BodyDesc, s: f64) -> BodyDesc {
         Shape::ConvexHull { points } => Shape::ConvexHull {
             points: points.iter().map(|p| p * s).collect(),
         },
-        Shape::Compound { .. } => panic!("scaled: convex shapes only"),
+        _ => panic!("scaled: cuboids and hulls only"),
     };
     let mass = match desc.mass {
         MassSpec::Mass(m) => MassSpec::Mass(m * s * s * s),

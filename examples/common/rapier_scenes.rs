@@ -129,6 +129,19 @@ fn drop_position(i: usize, bin_half_width: f32) -> Vector {
 /// `count` bodies on a grid above a bin of half width `bin_half_width`,
 /// alternately boxes and hulls, about to drop.
 pub fn pile_world(count: usize, bin_half_width: f32, seed: u64) -> PhysicsWorld {
+    pile_of(count, bin_half_width, seed, |rng, i| {
+        random_collider(rng, i % 2 == 1)
+    })
+}
+
+/// `count` bodies dropped into a bin, each at a random rotation with the
+/// collider `collider(rng, i)` (drawn after the rotation).
+fn pile_of(
+    count: usize,
+    bin_half_width: f32,
+    seed: u64,
+    mut collider: impl FnMut(&mut ChaCha8Rng, usize) -> ColliderBuilder,
+) -> PhysicsWorld {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut world = world();
     ground_and_bin(&mut world, bin_half_width);
@@ -138,9 +151,24 @@ pub fn pile_world(count: usize, bin_half_width: f32, seed: u64) -> PhysicsWorld 
             translation,
             random_rapier_rotation(&mut rng),
         ));
-        world.insert(body, random_collider(&mut rng, i % 2 == 1));
+        world.insert(body, collider(&mut rng, i));
     }
     world
+}
+
+/// A pile of `count` round and curved bodies (issue 25) dropped into a
+/// bin: balls, capsules, cylinders and rounded cuboids in turn, 3-8 cm.
+pub fn mixed_pile_world(count: usize, bin_half_width: f32, seed: u64) -> PhysicsWorld {
+    pile_of(count, bin_half_width, seed, |rng, i| {
+        let mut size = || quantize(rng.random_range(0.03..0.08));
+        let collider = match i % 4 {
+            0 => ColliderBuilder::ball(size()),
+            1 => ColliderBuilder::capsule_y(size(), 0.5 * size()),
+            2 => ColliderBuilder::cylinder(size(), size()),
+            _ => ColliderBuilder::round_cuboid(size(), size(), size(), 0.2 * size()),
+        };
+        collider.density(DENSITY)
+    })
 }
 
 /// A rigid body of two or three box colliders: an L (a bar and a leg at

@@ -41,11 +41,13 @@ use std::sync::Arc;
 use nalgebra::{Isometry3, Matrix3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use thiserror::Error;
 
-use crate::geometry::{ConvexPolyhedron, GeometryError};
+use crate::geometry::{ConvexPolyhedron, GeometryError, Rounding, curved};
 
+mod part_solid;
 mod parts;
 mod state;
 
+use part_solid::PartSolid;
 use parts::Solid;
 pub use parts::{BodyPart, MAX_COMPOUND_PARTS, ShapePart};
 pub use state::{BodyInertia, BodyState};
@@ -77,6 +79,54 @@ pub enum Shape {
         /// The points (shape frame); points inside the hull are allowed.
         points: Vec<Point3<f64>>,
     },
+    /// A ball of radius `radius` about the shape-frame origin (a point
+    /// grown by the radius, `geometry::round`).
+    Sphere {
+        /// Radius (length, > 0).
+        radius: f64,
+    },
+    /// The segment from `-half_height z` to `+half_height z` grown by
+    /// `radius` (a cylinder of length `2 half_height` with hemispherical
+    /// ends).
+    Capsule {
+        /// Half the length of the core segment (length, > 0).
+        half_height: f64,
+        /// Radius (length, > 0).
+        radius: f64,
+    },
+    /// The box `[-h, h]` grown by `radius` (its edges and corners rounded,
+    /// its outer half extents `h + radius`).
+    RoundCuboid {
+        /// Half extents of the core box (length, all > 0).
+        half_extents: Vector3<f64>,
+        /// Rounding radius (length, >= 0).
+        radius: f64,
+    },
+    /// The convex hull of `points` grown by `radius`.
+    RoundConvexHull {
+        /// The points of the core hull (shape frame).
+        points: Vec<Point3<f64>>,
+        /// Rounding radius (length, >= 0).
+        radius: f64,
+    },
+    /// A solid cylinder along `z`, centred on the shape-frame origin; its
+    /// curved side is approximated within
+    /// [`crate::geometry::curved::CURVED_DEVIATION_RELATIVE`] of the radius.
+    Cylinder {
+        /// Half the height (length, > 0).
+        half_height: f64,
+        /// Radius (length, > 0).
+        radius: f64,
+    },
+    /// A solid cone along `z`: base of radius `radius` at
+    /// `z = -half_height`, apex at `z = half_height` (Rapier's convention,
+    /// along `z`); curved side approximated as a cylinder's.
+    Cone {
+        /// Half the height (length, > 0).
+        half_height: f64,
+        /// Radius of the base (length, > 0).
+        radius: f64,
+    },
     /// Several convex pieces moving as one rigid body ([`ShapePart`]; frames
     /// and mass properties in the module docs of `body::parts`).
     Compound {
@@ -87,17 +137,46 @@ pub enum Shape {
 }
 
 impl Shape {
-    /// Builds the polyhedron of a convex shape (body frame: origin at the
-    /// centre of mass); a compound has several
-    /// ([`GeometryError::NotConvex`], see [`Body::parts`]).
+    /// Builds the polyhedron of a convex shape (its own frame: origin at
+    /// the polyhedron's centre of mass); a compound has several
+    /// ([`GeometryError::NotConvex`], see [`Body::parts`]). For a round
+    /// shape it is the core (rounded cuboid or hull) or the box that holds
+    /// the solid (sphere, capsule), see [`BodyPart::rounding`]; for a
+    /// cylinder or cone the circumscribed approximation.
     pub fn build(&self) -> Result<ConvexPolyhedron, GeometryError> {
         match self {
             Shape::Cuboid { half_extents } => ConvexPolyhedron::cuboid(*half_extents),
             Shape::ConvexHull { points } => ConvexPolyhedron::from_points(points),
-            Shape::Compound { .. } => Err(GeometryError::NotConvex(
-                "a compound has one polyhedron per part".into(),
-            )),
+            round => {
+                let solid = PartSolid::build(round)?;
+                Ok(Arc::unwrap_or_clone(solid.polyhedron))
+            }
         }
+    }
+
+    /// The largest distance between the surface the narrow phase works on
+    /// and the true surface (length): `r (1/cos(π/N) - 1)` for a cylinder
+    /// or cone of radius `r` (its circumscribed `N`-gon,
+    /// [`crate::geometry::curved`]; at most
+    /// [`crate::geometry::curved::CURVED_DEVIATION_RELATIVE`] of `r`), the
+    /// largest part's for a compound, 0 for every exact shape.
+    pub fn surface_deviation(&self) -> f64 {
+        let sides = curved::sides_for(curved::CURVED_DEVIATION_RELATIVE);
+        match self {
+            Shape::Cylinder { radius, .. } | Shape::Cone { radius, .. } => {
+                radius * curved::deviation_of(sides)
+            }
+            Shape::Compound { parts } => parts
+                .iter()
+                .map(|part| part.shape.surface_deviation())
+                .fold(0.0, f64::max),
+            _ => 0.0,
+        }
+    }
+
+    /// Volume of the solid (the sum of the parts' for a compound).
+    pub fn volume(&self) -> Result<f64, BodyError> {
+        Solid::build(self).map(|solid| solid.volume)
     }
 }
 
@@ -267,7 +346,12 @@ impl Body {
         desc: BodyDesc,
         polyhedron: Arc<ConvexPolyhedron>,
     ) -> Result<Self, BodyError> {
-        Self::with_solid(desc, Solid::convex(polyhedron))
+        match desc.shape {
+            Shape::Cuboid { .. } | Shape::ConvexHull { .. } => {
+                Self::with_solid(desc, Solid::convex(polyhedron))
+            }
+            _ => Self::new(desc),
+        }
     }
 
     fn with_solid(desc: BodyDesc, solid: Solid) -> Result<Self, BodyError> {
@@ -348,7 +432,7 @@ impl Body {
     pub fn scale(&self) -> f64 {
         self.parts
             .iter()
-            .map(|p| p.polyhedron().scale())
+            .map(BodyPart::scale)
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -481,7 +565,11 @@ impl Body {
         let mut min = Point3::from(Vector3::repeat(f64::INFINITY));
         let mut max = Point3::from(Vector3::repeat(f64::NEG_INFINITY));
         for part in &self.parts {
-            let (part_min, part_max) = part_aabb(part.polyhedron(), &part.pose(&self.com_pose));
+            let (part_min, part_max) = rounded_aabb(
+                part.polyhedron(),
+                part.rounding().as_ref(),
+                &part.pose(&self.com_pose),
+            );
             min = min.inf(&part_min);
             max = max.sup(&part_max);
         }
@@ -502,6 +590,27 @@ pub fn part_aabb(
         max = max.sup(&v_world);
     }
     (min, max)
+}
+
+/// The world AABB `(min, max)` of a part at `pose`: its polyhedron's, or
+/// for a round part its core's grown by the radius.
+pub fn rounded_aabb(
+    polyhedron: &ConvexPolyhedron,
+    rounding: Option<&Rounding>,
+    pose: &Isometry3<f64>,
+) -> (Point3<f64>, Point3<f64>) {
+    let Some(rounding) = rounding else {
+        return part_aabb(polyhedron, pose);
+    };
+    let (min, max) = match rounding.segment() {
+        Some([p, q]) => {
+            let (p_world, q_world) = (pose * p, pose * q);
+            (p_world.inf(&q_world), p_world.sup(&q_world))
+        }
+        None => part_aabb(polyhedron, pose),
+    };
+    let grow = Vector3::repeat(rounding.radius);
+    (min - grow, max + grow)
 }
 
 pub(crate) fn check_translation(translation: &Vector3<f64>) -> Result<(), BodyError> {

@@ -33,8 +33,8 @@ use std::sync::Arc;
 
 use nalgebra::{Isometry3, Matrix3, Translation3, Vector3};
 
-use super::{BodyError, Shape, check_translation, unit_rotation};
-use crate::geometry::ConvexPolyhedron;
+use super::{BodyError, PartSolid, Shape, check_translation, unit_rotation};
+use crate::geometry::{ConvexPolyhedron, Rounding};
 
 /// Most parts a compound may have: the narrow phase of two compounds
 /// compares every pair of their parts whose boxes overlap.
@@ -60,6 +60,7 @@ pub struct ShapePart {
 #[derive(Debug, Clone)]
 pub struct BodyPart {
     polyhedron: Arc<ConvexPolyhedron>,
+    rounding: Option<Rounding>,
     offset: Option<Isometry3<f64>>,
 }
 
@@ -68,6 +69,22 @@ impl BodyPart {
     /// mass).
     pub fn polyhedron(&self) -> &Arc<ConvexPolyhedron> {
         &self.polyhedron
+    }
+
+    /// The core and radius of a round part (sphere, capsule, rounded
+    /// cuboid or hull); `None` for a plain polyhedron. A sphere's or
+    /// capsule's [`BodyPart::polyhedron`] is only the box that holds it.
+    pub fn rounding(&self) -> Option<Rounding> {
+        self.rounding
+    }
+
+    /// The part's length scale: its polyhedron's, or a round part's reach
+    /// (largest distance of a point of the solid from the part's origin).
+    pub fn scale(&self) -> f64 {
+        match &self.rounding {
+            Some(rounding) => rounding.reach(&self.polyhedron),
+            None => self.polyhedron.scale(),
+        }
     }
 
     /// The part's frame in the body frame; `None` for the only part of a
@@ -89,7 +106,7 @@ impl BodyPart {
     /// mass.
     pub fn reach(&self) -> f64 {
         let shift = self.offset.map_or(0.0, |o| o.translation.vector.norm());
-        shift + self.polyhedron.scale()
+        shift + self.scale()
     }
 }
 
@@ -117,6 +134,7 @@ impl Solid {
             inertia_unit_density: mass.inertia_unit_density,
             parts: vec![BodyPart {
                 polyhedron,
+                rounding: None,
                 offset: None,
             }],
         }
@@ -127,8 +145,22 @@ impl Solid {
         match shape {
             Shape::Compound { parts } => Self::compound(parts),
             convex => {
-                let polyhedron = convex.build().map_err(BodyError::Shape)?;
-                Ok(Self::convex(Arc::new(polyhedron)))
+                let solid = PartSolid::build(convex).map_err(BodyError::Shape)?;
+                let frame = solid.frame_from_com();
+                // The part frame is the body frame unless the rounding
+                // moved the centre of mass (a rounded hull).
+                let offset = (frame != Vector3::zeros())
+                    .then(|| Isometry3::from_parts(Translation3::from(frame), Default::default()));
+                Ok(Solid {
+                    volume: solid.volume,
+                    origin_offset: solid.com_shape,
+                    inertia_unit_density: solid.inertia_unit_density,
+                    parts: vec![BodyPart {
+                        polyhedron: solid.polyhedron,
+                        rounding: solid.rounding,
+                        offset,
+                    }],
+                })
             }
         }
     }
@@ -148,38 +180,38 @@ impl Solid {
             }
             check_translation(&part.translation).map_err(in_part)?;
             let rotation = unit_rotation(part.rotation_xyzw).map_err(in_part)?;
-            let polyhedron = part
-                .shape
-                .build()
-                .map_err(|e| in_part(BodyError::Shape(e)))?;
-            let com_shape = part.translation + rotation * polyhedron.shape_origin_offset();
-            placed.push((Arc::new(polyhedron), rotation, com_shape));
+            let solid = PartSolid::build(&part.shape).map_err(|e| in_part(BodyError::Shape(e)))?;
+            let com_shape = part.translation + rotation * solid.com_shape;
+            placed.push((solid, rotation, com_shape));
         }
-        let volume: f64 = placed.iter().map(|(p, _, _)| p.volume()).sum();
+        let volume: f64 = placed.iter().map(|(p, _, _)| p.volume).sum();
         let com = placed
             .iter()
-            .map(|(p, _, c)| c * p.volume())
+            .map(|(p, _, c)| c * p.volume)
             .sum::<Vector3<f64>>()
             / volume;
         let mut inertia = Matrix3::zeros();
-        for (polyhedron, rotation, com_shape) in &placed {
+        for (solid, rotation, com_shape) in &placed {
             let r = rotation.to_rotation_matrix();
-            let own = r.matrix()
-                * polyhedron.mass_properties().inertia_unit_density
-                * r.matrix().transpose();
+            let own = r.matrix() * solid.inertia_unit_density * r.matrix().transpose();
             let d = com_shape - com;
-            let shift =
-                (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * polyhedron.volume();
+            let shift = (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * solid.volume;
             inertia += own + shift;
         }
         let parts = placed
             .into_iter()
-            .map(|(polyhedron, rotation, com_shape)| BodyPart {
-                polyhedron,
-                offset: Some(Isometry3::from_parts(
-                    Translation3::from(com_shape - com),
-                    rotation,
-                )),
+            .map(|(solid, rotation, com_shape)| {
+                // The part frame (the polyhedron's) sits at the part's
+                // centre of mass plus the rounding's shift.
+                let frame = com_shape + rotation * solid.frame_from_com();
+                BodyPart {
+                    polyhedron: solid.polyhedron,
+                    rounding: solid.rounding,
+                    offset: Some(Isometry3::from_parts(
+                        Translation3::from(frame - com),
+                        rotation,
+                    )),
+                }
             })
             .collect();
         Ok(Solid {

@@ -208,7 +208,11 @@ impl Detection {
         self.deepest = self.deepest.max(-value);
         let parts = geometry.parts;
         let bodies = parts.owner_pair(pair);
-        if let Some(penetration) = result.penetration.filter(|p| p.depth() > lengths.tolerance) {
+        if let Some(depth) = result.depth().filter(|&d| d > lengths.tolerance) {
+            let features = match (&result.penetration, &result.round) {
+                (Some(penetration), None) => penetration.features(),
+                _ => PenetrationFeatures::Round,
+            };
             let first = |body: usize| parts.parts_of(body).start;
             self.penetrations.push(PairPenetration {
                 body_a: bodies.body_a,
@@ -217,8 +221,8 @@ impl Detection {
                     pair.body_a - first(bodies.body_a),
                     pair.body_b - first(bodies.body_b),
                 ],
-                features: penetration.features(),
-                depth: penetration.depth(),
+                features,
+                depth,
             });
         }
         if value < lengths.contact_margin {
@@ -234,13 +238,15 @@ impl Detection {
 fn log_pair(scene: &Scene, pair: BodyPair, result: &PairQuery, lengths: &ResolvedLengths) {
     let name = |i: usize| scene.bodies().get(i).map_or("?", |b| b.name());
     let (a, b) = (pair.body_a, pair.body_b);
-    match &result.penetration {
-        Some(p) if p.depth() > lengths.tolerance => log::debug!(
-            "  penetrating: {a} {} and {b} {}, {} depth {:.3e}",
+    let kind = match (&result.penetration, &result.round) {
+        (Some(p), None) => p.features().kind(),
+        _ => PenetrationFeatures::Round.kind(),
+    };
+    match result.depth() {
+        Some(depth) if depth > lengths.tolerance => log::debug!(
+            "  penetrating: {a} {} and {b} {}, {kind} depth {depth:.3e}",
             name(a),
             name(b),
-            p.features().kind(),
-            p.depth()
         ),
         _ => log::trace!(
             "  pair {a} {} and {b} {}: signed distance {:.3e}",

@@ -50,6 +50,7 @@ impl<'a> SceneGeometry<'a> {
     /// Part `part` at its pose in the scene, as a body that does not move.
     pub fn held(&self, part: usize) -> BodyGeometry<'a> {
         BodyGeometry::convex(&self.parts.shapes()[part], self.poses[part], None)
+            .rounded(self.parts.rounding(part))
     }
 }
 
@@ -187,6 +188,7 @@ impl<'a> IslandContacts<'a> {
                     pose: parts.pose(part, &state.isometry()),
                     configuration_index: Some(index),
                     com_world: state.position,
+                    rounding: parts.rounding(part),
                 }
             }
             Err(_) => self.scene.held(part),
@@ -236,7 +238,7 @@ impl ConstraintProvider for IslandContacts<'_> {
                 mu: self.friction[k],
             };
             let pair_rows = contact_rows(result, &a, &b, self.margin, self.settings, friction);
-            if let Some(penetration) = &result.penetration {
+            if let (Some(penetration), None) = (&result.penetration, &result.round) {
                 let (exact, reference) = (&penetration.exact, &penetration.reference);
                 log::trace!(
                     "  pair ({}, {}): {} depth {:.3e}, normal {:.3?}; {} rows on {} {:.3e}",

@@ -136,6 +136,8 @@ fn reference_points(
         PenetrationFeatures::EdgeEdge { edge_a, edge_b } => {
             vec![edge_contact(a, edge_a, b, edge_b, normal)]
         }
+        // Not an axis of polyhedra: the support contact below.
+        PenetrationFeatures::Round => Vec::new(),
     };
     if points.is_empty() {
         vec![support_contact(axis, a)]

@@ -44,12 +44,13 @@ mod island_contacts;
 pub mod manifold;
 mod memo;
 pub mod penetration;
+pub mod round;
 pub mod scene_parts;
 mod warm_start;
 
 use nalgebra::{Isometry3, Point3, Vector3};
 
-use crate::geometry::{ConvexPolyhedron, Feature};
+use crate::geometry::{ConvexPolyhedron, Feature, Rounding};
 use crate::rows::ConstraintRow;
 use crate::settings::Settings;
 use crate::vclip::{FeaturePair, Outcome, VClip, VClipError, VClipResult};
@@ -62,6 +63,7 @@ pub use memo::{PosedQuery, QueryMemo};
 pub use penetration::{
     ContactAxis, Penetration, PenetrationFeatures, minimum_translation, widest_separation,
 };
+pub use round::RoundAnswer;
 pub use scene_parts::SceneParts;
 pub use warm_start::WarmStartCache;
 
@@ -83,6 +85,9 @@ pub struct BodyGeometry<'a> {
     /// origin of `pose` for a convex body; a compound's part is offset from
     /// it), the point about which the body turns.
     pub com_world: Point3<f64>,
+    /// The part's core and radius when it is round (`shape` is then the
+    /// core, or for a point or segment core only a bounding box).
+    pub rounding: Option<Rounding>,
 }
 
 impl<'a> BodyGeometry<'a> {
@@ -97,7 +102,13 @@ impl<'a> BodyGeometry<'a> {
             pose,
             configuration_index,
             com_world: Point3::from(pose.translation.vector),
+            rounding: None,
         }
+    }
+
+    /// The same part with a rounding (`None`: a plain polyhedron).
+    pub fn rounded(self, rounding: Option<Rounding>) -> Self {
+        BodyGeometry { rounding, ..self }
     }
 
     fn side(&self) -> ContactSide {
@@ -112,13 +123,38 @@ impl<'a> BodyGeometry<'a> {
 pub struct PairQuery {
     /// V-Clip's answer (the final feature pair is the next warm start).
     pub vclip: VClipResult,
-    /// The exact penetration, when V-Clip found the bodies penetrating.
+    /// The exact penetration, when V-Clip found the bodies penetrating
+    /// (of the cores, for round parts).
     pub penetration: Option<Penetration>,
+    /// For a pair with a round part: the radii, and the cores' answer when
+    /// one is a point or a segment ([`round`]); `vclip` and `penetration`
+    /// are then the cores' (two polyhedra) or a placeholder (closed form).
+    pub round: Option<RoundAnswer>,
 }
 
 impl PairQuery {
-    /// Distance when separated, minus the exact depth when penetrating.
+    /// Distance when separated, minus the exact depth when penetrating
+    /// (for round parts the cores' value minus both radii, [`round`]).
     pub fn signed_value(&self) -> f64 {
+        match &self.round {
+            None => self.core_value(),
+            Some(round) => {
+                let core = round
+                    .closed_form
+                    .map_or_else(|| self.core_value(), |c| c.signed_distance);
+                core - round.radius_sum()
+            }
+        }
+    }
+
+    /// The exact depth when penetrating deeper than 0, else `None`.
+    pub fn depth(&self) -> Option<f64> {
+        let value = self.signed_value();
+        (value < 0.0).then_some(-value)
+    }
+
+    /// The signed value of the polyhedra V-Clip answered.
+    fn core_value(&self) -> f64 {
         match (&self.penetration, &self.vclip.outcome) {
             (Some(penetration), _) => -penetration.depth(),
             (None, Outcome::Separated { distance, .. }) => *distance,
@@ -137,6 +173,10 @@ pub fn query(
     b: &BodyGeometry,
     warm_start: Option<FeaturePair>,
 ) -> Result<PairQuery, VClipError> {
+    let radii = round::radii(a, b);
+    if let (Some(radii), Some(contact)) = (radii, round::closed_form(a, b)) {
+        return Ok(closed_form_query(radii, contact));
+    }
     let result = match vclip.query(a.shape, &a.pose, b.shape, &b.pose, warm_start) {
         // A warm start is a hint: one that does not fit these shapes is
         // dropped and the query starts cold.
@@ -154,7 +194,35 @@ pub fn query(
     Ok(PairQuery {
         vclip: result,
         penetration,
+        round: radii.map(|radii| RoundAnswer {
+            radii,
+            closed_form: None,
+        }),
     })
+}
+
+/// The answer of a pair with a point or segment core: V-Clip did not run,
+/// its fields hold the closest points and the cold start.
+fn closed_form_query(radii: [f64; 2], contact: round::CoreContact) -> PairQuery {
+    let closest = contact.points[0];
+    PairQuery {
+        vclip: VClipResult {
+            outcome: Outcome::Separated {
+                distance: contact.signed_distance.max(0.0),
+                witness_a_world: closest.on_a,
+                witness_b_world: closest.on_b,
+            },
+            final_pair: FeaturePair::cold(),
+            iterations: 0,
+            fallback: None,
+            resolved_cycle: false,
+        },
+        penetration: None,
+        round: Some(RoundAnswer {
+            radii,
+            closed_form: Some(contact),
+        }),
+    }
 }
 
 /// Coulomb friction of a pair's rows: coefficient `mu`, given to every row
@@ -248,6 +316,9 @@ pub fn contact_points(
     margin: f64,
     settings: &Settings,
 ) -> PairContactPoints {
+    if let Some(round) = &query.round {
+        return round_contact_points(query, round, a, b, margin, settings);
+    }
     let manifold = settings.contact_manifold;
     let near = match (&query.penetration, &query.vclip.outcome) {
         (Some(penetration), _) => Some(*penetration),
@@ -338,5 +409,85 @@ fn feature_normal(pair: FeaturePair, a: &BodyGeometry, b: &BodyGeometry) -> Opti
             da.cross(&db).try_normalize(f64::EPSILON)
         }
         _ => None,
+    }
+}
+
+/// Distance, relative to the pair's size, by which the cores' manifold axis
+/// may fall short of their distance before the closest points replace it
+/// (cores whose closest features are not a face or an edge pair).
+pub const ROUND_AXIS_SHORTFALL_RELATIVE: f64 = 1e-9;
+
+/// The contact points of a pair with a round part: the cores' points with
+/// the margin raised by the radii, put on the surfaces ([`round`]).
+fn round_contact_points(
+    query: &PairQuery,
+    round: &RoundAnswer,
+    a: &BodyGeometry,
+    b: &BodyGeometry,
+    margin: f64,
+    settings: &Settings,
+) -> PairContactPoints {
+    let mut points: Vec<ContactPoint> = match &round.closed_form {
+        Some(contact) => contact.points[..contact.count]
+            .iter()
+            .map(|p| round.on_surfaces(p, &contact.normal_world))
+            .collect(),
+        None => {
+            let core = PairQuery {
+                round: None,
+                ..*query
+            };
+            let raised = margin + round.radius_sum();
+            let mut core_points = contact_points(&core, a, b, raised, settings).points;
+            if let Outcome::Separated {
+                distance,
+                witness_a_world,
+                witness_b_world,
+            } = &query.vclip.outcome
+            {
+                // The manifold's axis is the widest facet axis, short of
+                // the distance when the closest features are a vertex and
+                // a vertex or an edge: the closest points then carry the
+                // single row.
+                let size = a.shape.scale().min(b.shape.scale());
+                let shallowest = core_points
+                    .iter()
+                    .map(|p| p.separation)
+                    .fold(f64::INFINITY, f64::min);
+                let far_enough = *distance > NORMAL_FROM_WITNESS_MIN_RELATIVE * size;
+                if far_enough
+                    && *distance < raised
+                    && shallowest < distance - ROUND_AXIS_SHORTFALL_RELATIVE * size
+                {
+                    let normal = (witness_a_world - witness_b_world) / *distance;
+                    core_points = vec![ContactPoint {
+                        point_a_world: *witness_a_world,
+                        point_b_world: *witness_b_world,
+                        normal_world: normal,
+                        separation: *distance,
+                    }];
+                }
+            }
+            core_points
+                .iter()
+                .map(|p| {
+                    let core = round::CorePoint {
+                        on_a: p.point_a_world,
+                        on_b: p.point_b_world,
+                        separation: p.separation,
+                    };
+                    round.on_surfaces(&core, &p.normal_world)
+                })
+                .collect()
+        }
+    };
+    points.retain(|p| p.separation < margin);
+    points.sort_by(|p, q| p.separation.total_cmp(&q.separation));
+    if !settings.contact_manifold {
+        points.truncate(1);
+    }
+    PairContactPoints {
+        points,
+        normal_body: NormalBody::B,
     }
 }

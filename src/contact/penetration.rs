@@ -137,6 +137,9 @@ pub enum PenetrationFeatures {
         /// Edge index in B.
         edge_b: usize,
     },
+    /// A pair with a round part (`contact::round`): the cores' features
+    /// do not name the contact on the surfaces.
+    Round,
 }
 
 impl PenetrationFeatures {
@@ -147,6 +150,7 @@ impl PenetrationFeatures {
             PenetrationFeatures::FaceOfB { .. } => "vertex_a_face_b",
             PenetrationFeatures::FaceOfA { .. } => "face_a_vertex_b",
             PenetrationFeatures::EdgeEdge { .. } => "edge_edge",
+            PenetrationFeatures::Round => "round",
         }
     }
 }

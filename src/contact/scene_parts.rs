@@ -17,15 +17,16 @@ use std::sync::Arc;
 
 use nalgebra::Isometry3;
 
-use crate::body::part_aabb;
+use crate::body::rounded_aabb;
 use crate::broad_phase::BodyPair;
-use crate::geometry::ConvexPolyhedron;
+use crate::geometry::{ConvexPolyhedron, Rounding};
 use crate::scene::Scene;
 
 /// The parts of every body of a scene, flattened.
 #[derive(Debug, Clone, Default)]
 pub struct SceneParts {
     shapes: Vec<Arc<ConvexPolyhedron>>,
+    roundings: Vec<Option<Rounding>>,
     offsets: Vec<Option<Isometry3<f64>>>,
     owners: Vec<usize>,
     /// `first[b]..first[b + 1]` are body `b`'s parts.
@@ -44,6 +45,7 @@ impl SceneParts {
         for (index, body) in scene.bodies().iter().enumerate() {
             for part in body.parts() {
                 parts.shapes.push(part.polyhedron().clone());
+                parts.roundings.push(part.rounding());
                 parts.offsets.push(part.offset().copied());
                 parts.owners.push(index);
             }
@@ -56,6 +58,11 @@ impl SceneParts {
     /// Polyhedron of each part.
     pub fn shapes(&self) -> &[Arc<ConvexPolyhedron>] {
         &self.shapes
+    }
+
+    /// The core and radius of part `part` if it is round.
+    pub fn rounding(&self, part: usize) -> Option<Rounding> {
+        self.roundings[part]
     }
 
     /// Number of parts.
@@ -127,8 +134,9 @@ impl SceneParts {
         let boxes: Vec<_> = self
             .shapes
             .iter()
+            .zip(&self.roundings)
             .zip(poses)
-            .map(|(shape, pose)| part_aabb(shape, pose))
+            .map(|((shape, rounding), pose)| rounded_aabb(shape, rounding.as_ref(), pose))
             .collect();
         let grow = margin / 2.0;
         let overlap = |p: usize, q: usize| {

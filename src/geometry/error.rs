@@ -61,6 +61,12 @@ pub enum GeometryError {
         /// The value that was given.
         value: f64,
     },
+    /// A rounding radius is negative or not finite.
+    #[error("radius is {value}: it must be finite and nonnegative")]
+    InvalidRadius {
+        /// The value that was given.
+        value: f64,
+    },
     /// The face cycles do not describe a closed two-manifold of genus 0.
     #[error("invalid topology: {0}")]
     InvalidTopology(String),

@@ -29,6 +29,7 @@
 //! shape was given. [`ConvexPolyhedron::shape_origin_offset`] maps back.
 
 mod coplanar;
+pub mod curved;
 mod error;
 mod exact_hull;
 mod features;
@@ -38,6 +39,8 @@ mod mass;
 mod parry_bridge;
 mod plane;
 mod polyhedron;
+pub mod round;
+pub mod round_mass;
 mod shapes;
 mod thin_faces;
 mod topology;
@@ -57,5 +60,6 @@ pub use parry_bridge::{
 };
 pub use plane::Plane;
 pub use polyhedron::{ConvexPolyhedron, Edge, Face, PLANARITY_TOLERANCE};
+pub use round::{RoundCore, Rounding};
 pub use shapes::MAX_GEODESIC_SUBDIVISIONS;
 pub use thin_faces::THIN_FACE_TOLERANCE;

@@ -14,10 +14,12 @@
 //!   `[x, y, z, w]`), and either `"fixed": true` or exactly one of `mass` and
 //!   `density` (`"fixed": false` may be given with them; it is not written
 //!   back); optionally its own Coulomb `friction` coefficient (finite,
-//!   nonnegative; see [`crate::body::Body::set_friction`]). `shape` is `{"cuboid": half_extents}`, `{"convex_hull": points}` or
+//!   nonnegative; see [`crate::body::Body::set_friction`]). `shape` is `{"cuboid": half_extents}`, `{"convex_hull": points}`, a
+//!   round or curved shape (`sphere`, `capsule`, `cylinder`, `cone`, or a
+//!   `radius` beside `cuboid` or `convex_hull`: `io::round_shapes`) or
 //!   `{"compound": [{"shape": ..., "translation": [x, y, z], "rotation": [x, y, z, w]}, ...]}`:
 //!   one rigid body of several convex parts, each placed in the body's
-//!   shape frame (a part's shape is a cuboid or a hull; at most
+//!   shape frame (a part's shape is any but a compound; at most
 //!   [`MAX_COMPOUND_PARTS`] parts).
 //! - `joints` is optional: an array of joints between the bodies, each
 //!   with `name`, `type`, `bodies` (by unique name or index), `anchor_a`,
@@ -63,6 +65,7 @@ use thiserror::Error;
 use super::object_reader::{Entry, ObjectReader};
 pub use super::scene_joints::MAX_JOINTS;
 use super::scene_joints::{self, FrameProblem, JointOut};
+use super::round_shapes::{self, AxialOut, CoreOut};
 use crate::body::{Body, BodyDesc, BodyError, MAX_COMPOUND_PARTS, MassSpec, Shape, ShapePart};
 use crate::joints::JointError;
 use crate::scene::Scene;
@@ -470,19 +473,49 @@ fn parse_shape_at(
         return Err(reader.error(
             field,
             FieldProblem::WrongType(
-                "an object {\"cuboid\": ...}, {\"convex_hull\": ...} or {\"compound\": ...}",
+                "an object {\"cuboid\": ...}, {\"convex_hull\": ...}, {\"sphere\": ...}, ... or {\"compound\": ...}",
             ),
         ));
     };
-    if let Some(key) = unknown_field(object, kinds) {
+    let known = |key: &&str| kinds.contains(key) || round_shapes::ROUND_KINDS.contains(key);
+    if let Some(key) = object
+        .keys()
+        .map(String::as_str)
+        .find(|key| !known(key) && *key != round_shapes::RADIUS)
+    {
         return Err(reader.error(&format!("{field}.{key}"), FieldProblem::Unknown));
     }
-    if object.len() != 1 {
+    if object.keys().filter(|key| known(&key.as_str())).count() != 1 {
         return Err(reader.error(
             field,
-            FieldProblem::Conflict("give exactly one of `cuboid`, `convex_hull` and `compound`"),
+            FieldProblem::Conflict(
+                "give exactly one of `cuboid`, `convex_hull`, `sphere`, `capsule`, `cylinder`, `cone` and `compound`",
+            ),
         ));
     }
+    let field_of = |key: &str| format!("{field}.{key}");
+    let at_field = |(at, problem): round_shapes::Problem| reader.error(&field_of(&at), problem);
+    if let Some((key, value)) = object
+        .iter()
+        .find(|(key, _)| round_shapes::ROUND_KINDS.contains(&key.as_str()))
+    {
+        if object.contains_key(round_shapes::RADIUS) {
+            let problem =
+                FieldProblem::Conflict("a radius is given only with `cuboid` or `convex_hull`");
+            return Err(reader.error(&field_of(round_shapes::RADIUS), problem));
+        }
+        return round_shapes::parse_round(key, value).map_err(at_field);
+    }
+    let shape = parse_polyhedral(reader, field, object)?;
+    round_shapes::with_radius(shape, object).map_err(at_field)
+}
+
+/// A cuboid, a hull or a compound (the one such key of `object`).
+fn parse_polyhedral(
+    reader: &BodyReader<'_>,
+    field: &str,
+    object: &Map<String, Value>,
+) -> Result<Shape, SceneFileError> {
     let field_of = |key: &str| format!("{field}.{key}");
     if let Some(half_extents) = object.get("cuboid") {
         let h = reader.numbers::<3>(
@@ -495,6 +528,11 @@ fn parse_shape_at(
         });
     }
     if let Some(parts) = object.get("compound") {
+        if object.contains_key(round_shapes::RADIUS) {
+            let problem =
+                FieldProblem::Conflict("a radius is given only with `cuboid` or `convex_hull`");
+            return Err(reader.error(&field_of(round_shapes::RADIUS), problem));
+        }
         return parse_compound(reader, &field_of("compound"), parts);
     }
     // The one key is known and neither of the above: a hull.
@@ -706,6 +744,17 @@ enum ShapeOut {
     Cuboid([f64; 3]),
     ConvexHull(Vec<[f64; 3]>),
     Compound(Vec<PartOut>),
+    Sphere(f64),
+    Capsule(AxialOut),
+    Cylinder(AxialOut),
+    Cone(AxialOut),
+    /// A rounded cuboid or hull: `{"cuboid": ..., "radius": r}`.
+    #[serde(untagged)]
+    Rounded {
+        #[serde(flatten)]
+        core: CoreOut,
+        radius: f64,
+    },
 }
 
 #[derive(Serialize)]
@@ -722,6 +771,30 @@ impl ShapeOut {
             Shape::ConvexHull { points } => {
                 ShapeOut::ConvexHull(points.iter().map(|p| p.coords.into()).collect())
             }
+            Shape::Sphere { radius } => ShapeOut::Sphere(*radius),
+            Shape::Capsule {
+                half_height,
+                radius,
+            } => ShapeOut::Capsule(AxialOut::new(*half_height, *radius)),
+            Shape::Cylinder {
+                half_height,
+                radius,
+            } => ShapeOut::Cylinder(AxialOut::new(*half_height, *radius)),
+            Shape::Cone {
+                half_height,
+                radius,
+            } => ShapeOut::Cone(AxialOut::new(*half_height, *radius)),
+            Shape::RoundCuboid {
+                half_extents,
+                radius,
+            } => ShapeOut::Rounded {
+                core: CoreOut::Cuboid((*half_extents).into()),
+                radius: *radius,
+            },
+            Shape::RoundConvexHull { points, radius } => ShapeOut::Rounded {
+                core: CoreOut::ConvexHull(points.iter().map(|p| p.coords.into()).collect()),
+                radius: *radius,
+            },
             Shape::Compound { parts } => ShapeOut::Compound(
                 parts
                     .iter()

@@ -1,7 +1,9 @@
 //! Which Rapier colliders the bridge reads, and their shapes.
 //!
 //! A collider is read when it is enabled, not a sensor, its shape is a
-//! cuboid or a convex polyhedron, and its parent (if any) is enabled. A
+//! cuboid, a convex polyhedron or a round or curved shape
+//! ([`super::round_collider`]: ball, capsule, rounded cuboid and convex
+//! polyhedron, cylinder, cone), and its parent (if any) is enabled. A
 //! Rapier cuboid is the box `[-h, h]` in the collider frame, and a convex
 //! polyhedron's points are in the collider frame: both become the
 //! library's [`Shape`] in the same frame, unchanged but for f32 -> f64.
@@ -18,6 +20,7 @@ use rapier3d::geometry::{Collider, ColliderHandle, ColliderSet};
 
 use super::convert::{pose_to_f64, vector_to_f64, xyzw};
 use super::report::SkipReason;
+use super::round_collider::{PlacedShape, round_shape_of, round_signature};
 use crate::body::{Shape, ShapePart};
 
 /// A cheap identity of a collider's shape, compared from step to step so
@@ -30,6 +33,9 @@ pub(crate) enum ShapeSignature {
     Cuboid([u32; 3]),
     /// Address of the shared shape and number of points.
     Polyhedron { address: usize, points: usize },
+    /// A round or curved shape: its kind and numbers
+    /// ([`super::round_collider::round_signature`]).
+    Round { kind: u8, bits: [u32; 7] },
 }
 
 /// One collider of a compound, as read.
@@ -182,6 +188,9 @@ fn signature(collider: &Collider) -> Result<ShapeSignature, SkipReason> {
             points: polyhedron.points().len(),
         });
     }
+    if let Some((kind, bits)) = round_signature(collider) {
+        return Ok(ShapeSignature::Round { kind, bits });
+    }
     Err(SkipReason::Shape(format!("{:?}", shape.shape_type())))
 }
 
@@ -189,24 +198,48 @@ fn signature(collider: &Collider) -> Result<ShapeSignature, SkipReason> {
 /// shape, or the compound of a body's colliders.
 pub(crate) fn shape_of_read(read: &ReadCollider, colliders: &ColliderSet) -> Option<Shape> {
     if read.parts.is_empty() {
-        return shape_of(colliders.get(read.collider)?);
+        return match shape_of(colliders.get(read.collider)?)? {
+            (shape, None) => Some(shape),
+            // A shape placed off the collider frame: a compound of one.
+            (shape, Some(placement)) => Some(Shape::Compound {
+                parts: vec![ShapePart {
+                    shape,
+                    translation: placement.translation.vector,
+                    rotation_xyzw: xyzw(&placement.rotation),
+                }],
+            }),
+        };
     }
     let parts = read
         .parts
         .iter()
         .map(|part| {
+            let (shape, placement) = shape_of(colliders.get(part.collider)?)?;
+            let pose = match placement {
+                None => part.collider_in_body,
+                Some(placement) => part.collider_in_body * placement,
+            };
             Some(ShapePart {
-                shape: shape_of(colliders.get(part.collider)?)?,
-                translation: part.collider_in_body.translation.vector,
-                rotation_xyzw: xyzw(&part.collider_in_body.rotation),
+                shape,
+                translation: pose.translation.vector,
+                rotation_xyzw: xyzw(&pose.rotation),
             })
         })
         .collect::<Option<Vec<_>>>()?;
     Some(Shape::Compound { parts })
 }
 
-/// The library shape of a collider that [`read_collider`] accepted.
-fn shape_of(collider: &Collider) -> Option<Shape> {
+/// The library shape of a collider that [`read_collider`] accepted, and
+/// its placement in the collider frame (`None`: the identity).
+fn shape_of(collider: &Collider) -> Option<PlacedShape> {
+    if let Some(placed) = round_shape_of(collider) {
+        return Some(placed);
+    }
+    polyhedral_shape_of(collider).map(|shape| (shape, None))
+}
+
+/// A cuboid or convex polyhedron collider's shape.
+fn polyhedral_shape_of(collider: &Collider) -> Option<Shape> {
     let shape = collider.shape();
     if let Some(cuboid) = shape.as_cuboid() {
         return Some(Shape::Cuboid {

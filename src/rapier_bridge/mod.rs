@@ -18,11 +18,11 @@
 //!
 //! | Rapier | scene body |
 //! |---|---|
-//! | dynamic body with exactly one enabled, non-sensor collider, a cuboid or a convex polyhedron | a body of mass `RigidBody::mass()` (uniform density over the shape) |
-//! | dynamic body with several enabled, non-sensor colliders, each a cuboid or a convex polyhedron | one compound body ([`crate::body::Shape::Compound`]) in the rigid body's frame, a part per collider at its offset `P_i`, of mass `RigidBody::mass()` (uniform density over the parts); its friction coefficient is the mean of its colliders' |
+//! | dynamic body with exactly one enabled, non-sensor collider, a cuboid, a convex polyhedron, a ball, a capsule, a rounded cuboid or convex polyhedron, a cylinder or a cone (`round_collider`) | a body of mass `RigidBody::mass()` (uniform density over the shape) |
+//! | dynamic body with several enabled, non-sensor colliders, each of those shapes | one compound body ([`crate::body::Shape::Compound`]) in the rigid body's frame, a part per collider at its offset `P_i`, of mass `RigidBody::mass()` (uniform density over the parts); its friction coefficient is the mean of its colliders' |
 //! | each such collider of a fixed or kinematic (position- or velocity-based) body (any number per body) | a fixed body: an obstacle, never written; its pose is read again each call |
 //! | each such collider without a parent body | a fixed body |
-//! | anything else (balls, capsules, round shapes, meshes, ..., sensors, disabled colliders or bodies) | skipped, and counted in [`BridgeReport::skipped`]; a dynamic body with one such collider among several is skipped whole |
+//! | anything else (rounded cylinders and cones, meshes, heightfields, ..., sensors, disabled colliders or bodies) | skipped, and counted in [`BridgeReport::skipped`]; a dynamic body with one such collider among several is skipped whole |
 //!
 //! A compound moves as one body: its parts never collide with each other,
 //! its rows act on the rigid body's six degrees of freedom about the
@@ -120,6 +120,7 @@ mod convert;
 mod error;
 mod joints;
 mod report;
+mod round_collider;
 pub mod round_off;
 mod settings;
 mod world;

@@ -8,8 +8,8 @@ use crate::stabilizer::Report;
 /// Why a collider is not in the scene.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum SkipReason {
-    /// Its shape is neither a cuboid nor a convex polyhedron (the name of
-    /// Rapier's `ShapeType`, e.g. `"Ball"`, `"RoundCuboid"`).
+    /// Its shape is none the bridge reads (`collider_shape`; the name of
+    /// Rapier's `ShapeType`, e.g. `"TriMesh"`, `"RoundCylinder"`).
     Shape(String),
     /// A sensor: it does not collide.
     Sensor,

@@ -90,12 +90,13 @@ pub fn world_from_scene(scene: &Scene, gravity: Vector3<f64>) -> Result<SceneWor
                 .collect(),
             convex => vec![(convex, Pose::IDENTITY)],
         };
-        let volume_of = |shape: &Shape| shape.build().map(|p| p.volume()).unwrap_or(0.0);
+        let volume_of = |shape: &Shape| shape.volume().unwrap_or(0.0);
         let total_volume: f64 = pieces.iter().map(|(shape, _)| volume_of(shape)).sum();
         let mut handles = Vec::with_capacity(pieces.len());
         for (shape, offset) in pieces {
-            let collider = collider_of(shape)
+            let (collider, axis) = collider_of(shape)
                 .ok_or_else(|| invalid("Rapier cannot build the hull of its points"))?;
+            let offset = offset * axis;
             let collider = match body.mass() {
                 // Uniform density: each part's share of the mass is its
                 // share of the volume.
@@ -114,20 +115,55 @@ pub fn world_from_scene(scene: &Scene, gravity: Vector3<f64>) -> Result<SceneWor
     Ok(out)
 }
 
-/// The collider of a convex shape (`None` for a hull Rapier cannot build,
-/// or a compound).
-fn collider_of(shape: &Shape) -> Option<ColliderBuilder> {
-    match shape {
+/// The collider of a convex shape and its pose in the shape frame (`None`
+/// for a hull Rapier cannot build, or a compound). Rapier's cylinders and
+/// cones stand along `y`, the library's along `z`: they are turned by a
+/// quarter turn about `x`.
+fn collider_of(shape: &Shape) -> Option<(ColliderBuilder, Pose)> {
+    let hull = |points: &[nalgebra::Point3<f64>]| -> Vec<Vector> {
+        points.iter().map(|p| f32_vector(&p.coords)).collect()
+    };
+    let y_to_z = pose_from_f64(&Isometry3::rotation(
+        Vector3::x() * std::f64::consts::FRAC_PI_2,
+    ));
+    let builder = match shape {
         Shape::Cuboid { half_extents } => {
             let h = f32_vector(half_extents);
-            Some(ColliderBuilder::cuboid(h.x, h.y, h.z))
+            ColliderBuilder::cuboid(h.x, h.y, h.z)
         }
-        Shape::ConvexHull { points } => {
-            let points: Vec<Vector> = points.iter().map(|p| f32_vector(&p.coords)).collect();
-            ColliderBuilder::convex_hull(&points)
+        Shape::ConvexHull { points } => ColliderBuilder::convex_hull(&hull(points))?,
+        Shape::Sphere { radius } => ColliderBuilder::ball(*radius as f32),
+        Shape::Capsule {
+            half_height,
+            radius,
+        } => ColliderBuilder::capsule_z(*half_height as f32, *radius as f32),
+        Shape::RoundCuboid {
+            half_extents,
+            radius,
+        } => {
+            let h = f32_vector(half_extents);
+            ColliderBuilder::round_cuboid(h.x, h.y, h.z, *radius as f32)
         }
-        Shape::Compound { .. } => None,
-    }
+        Shape::RoundConvexHull { points, radius } => {
+            ColliderBuilder::round_convex_hull(&hull(points), *radius as f32)?
+        }
+        Shape::Cylinder {
+            half_height,
+            radius,
+        } => {
+            let builder = ColliderBuilder::cylinder(*half_height as f32, *radius as f32);
+            return Some((builder, y_to_z));
+        }
+        Shape::Cone {
+            half_height,
+            radius,
+        } => {
+            let builder = ColliderBuilder::cone(*half_height as f32, *radius as f32);
+            return Some((builder, y_to_z));
+        }
+        Shape::Compound { .. } => return None,
+    };
+    Some((builder, Pose::IDENTITY))
 }
 
 /// Components rounded to f32.

@@ -23,7 +23,9 @@ use std::fmt::Write as _;
 
 use nalgebra::{Point3, Vector3};
 
+use crate::body::BodyPart;
 use crate::contact::PairPenetration;
+use crate::geometry::{ConvexPolyhedron, round_mass};
 use crate::scene::Scene;
 
 /// Picture width and height (SVG user units).
@@ -37,6 +39,31 @@ const AMBIENT: f64 = 0.35;
 const MAX_LABELS: usize = 20;
 /// `|v . y|` above which the up vector is world `z` instead of `y`.
 const UP_SWITCH: f64 = 0.9;
+
+/// Geodesic subdivisions of the directions that draw a round part.
+const ROUND_DRAWING_SUBDIVISIONS: usize = 2;
+
+/// The polyhedron that draws a round part (its core grown along the
+/// directions of a geodesic sphere); `None` for a plain polyhedron, drawn
+/// as it is (cylinders and cones by their polyhedra).
+fn drawing(part: &BodyPart) -> Option<ConvexPolyhedron> {
+    let rounding = part.rounding()?;
+    let directions: Vec<Vector3<f64>> =
+        ConvexPolyhedron::geodesic_sphere(1.0, ROUND_DRAWING_SUBDIVISIONS)
+            .ok()?
+            .vertices()
+            .iter()
+            .map(|v| v.coords)
+            .collect();
+    let points = match rounding.segment() {
+        Some(ends) => ends
+            .iter()
+            .flat_map(|p| directions.iter().map(move |d| p + d * rounding.radius))
+            .collect(),
+        None => round_mass::rounded_hull_points(part.polyhedron(), rounding.radius, &directions),
+    };
+    ConvexPolyhedron::from_points(&points).ok()
+}
 
 /// Where the camera looks from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -99,7 +126,8 @@ pub fn render_svg(scene: &Scene, view: View, penetrations: &[PairPenetration]) -
     let mut faces = Vec::new();
     for (index, body) in scene.bodies().iter().enumerate() {
         for (part, pose) in body.parts().iter().zip(body.part_poses()) {
-            let shape = part.polyhedron();
+            let drawn = drawing(part);
+            let shape = drawn.as_ref().unwrap_or(part.polyhedron());
             let world: Vec<Point3<f64>> = shape.vertices().iter().map(|p| pose * p).collect();
             for face in shape.faces() {
                 let normal = pose.rotation * face.plane.normal;

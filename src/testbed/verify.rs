@@ -6,8 +6,9 @@
 use crate::Error;
 use crate::broad_phase::candidate_pairs;
 use crate::contact::SceneParts;
-use crate::geometry::isometry_to_parry;
+use crate::geometry::{RoundCore, isometry_to_parry};
 use crate::scene::Scene;
+use parry3d_f64::shape::{Ball, Capsule, RoundShape, Shape};
 
 /// Penetration statistics of a scene by parry.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -22,10 +23,8 @@ pub struct ParryPenetration {
 /// broad-phase pairs (each pair of two compounds' parts counts apart).
 pub fn parry_penetration(scene: &Scene, threshold: f64) -> Result<ParryPenetration, Error> {
     let parts = SceneParts::of(scene);
-    let shapes = parts
-        .shapes()
-        .iter()
-        .map(|shape| shape.to_parry())
+    let shapes = (0..parts.len())
+        .map(|part| parry_shape(&parts, part))
         .collect::<Result<Vec<_>, _>>()?;
     let body_poses: Vec<_> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
     let part_poses = parts.poses(&body_poses);
@@ -34,7 +33,7 @@ pub fn parry_penetration(scene: &Scene, threshold: f64) -> Result<ParryPenetrati
     for pair in parts.part_pairs(&candidate_pairs(scene, 0.0)?, &part_poses, 0.0) {
         let (a, b) = (pair.body_a, pair.body_b);
         let contact =
-            parry3d_f64::query::contact(&poses[a], &shapes[a], &poses[b], &shapes[b], 0.0);
+            parry3d_f64::query::contact(&poses[a], &*shapes[a], &poses[b], &*shapes[b], 0.0);
         if let Ok(Some(contact)) = contact {
             let depth = -contact.dist;
             result.deepest = result.deepest.max(depth);
@@ -44,4 +43,23 @@ pub fn parry_penetration(scene: &Scene, threshold: f64) -> Result<ParryPenetrati
         }
     }
     Ok(result)
+}
+
+/// parry's shape of part `part`: a ball, a capsule or a rounded polyhedron
+/// for a round part (its core and radius), else the polyhedron.
+fn parry_shape(parts: &SceneParts, part: usize) -> Result<Box<dyn Shape>, Error> {
+    let polyhedron = parts.shapes()[part].to_parry()?;
+    Ok(match parts.rounding(part) {
+        None => Box::new(polyhedron),
+        Some(rounding) => match rounding.core {
+            RoundCore::Point => Box::new(Ball::new(rounding.radius)),
+            RoundCore::Segment { half_length } => {
+                Box::new(Capsule::new_z(half_length, rounding.radius))
+            }
+            RoundCore::Polyhedron => Box::new(RoundShape {
+                inner_shape: polyhedron,
+                border_radius: rounding.radius,
+            }),
+        },
+    })
 }

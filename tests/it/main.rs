@@ -9,6 +9,8 @@
 //! - [`scene`]: bodies, broad phase, islands, the demo scene;
 //! - [`solver`]: the projection QP, Lemke, PGS, clarabel, the friction
 //!   cone, the Siconos LCP files;
+//! - [`round`]: round and curved shapes (closed forms, the support-function
+//!   oracle, parry's contact query, mass properties);
 //! - [`stabilize`]: `Stabilizer::stabilize` end to end, and the projector
 //!   on analytic constraints;
 //! - [`gauss_seidel`]: the Gauss-Seidel method (with joints: its `joints`);
@@ -34,6 +36,7 @@ mod gauss_seidel;
 mod geometry;
 mod io;
 mod joints;
+mod round;
 mod scene;
 mod solver;
 mod stabilize;

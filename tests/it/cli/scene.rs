@@ -244,6 +244,20 @@ fn bad_inputs_exit_2_with_one_line_naming_body_and_field() {
             rock("\"tolerance\": 1e-6", "\"tolerance\": -1"),
             ["settings", "`tolerance`", "positive"],
         ),
+        (
+            rock(
+                "[[0,0,0],[1,0,0],[0,1,0],[0,0,1]]",
+                "[[0,0,0],[1,0,0],[0,1,0],[0,0,1]], \"radius\": -0.5",
+            ),
+            ["body 1", "`shape`", "radius"],
+        ),
+        (
+            rock(
+                "\"convex_hull\": [[0,0,0],[1,0,0],[0,1,0],[0,0,1]]",
+                "\"capsule\": {\"half_height\": 1, \"radius\": 1, \"axis\": 0}",
+            ),
+            ["body 1", "rock", "`shape.capsule.axis`"],
+        ),
     ];
     for (k, (text, words)) in cases.iter().enumerate() {
         let (code, stderr, output) = run_scene(&format!("bad-{k}"), text);

@@ -11,6 +11,8 @@ mod scene_file_bad_input;
 #[cfg(feature = "serde")]
 mod scene_file_limits;
 #[cfg(feature = "serde")]
+mod scene_file_round;
+#[cfg(feature = "serde")]
 mod scene_file_settings;
 #[cfg(feature = "serde")]
 pub(crate) mod scene_joints;

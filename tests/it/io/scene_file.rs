@@ -214,8 +214,8 @@ fn body_field_errors_name_index_name_and_field() {
             |p| matches!(p, FieldProblem::WrongType(_)),
         ),
         (
-            format!(r#""shape": {{"sphere": 1}}, {POSE}, "mass": 1"#),
-            "shape.sphere",
+            format!(r#""shape": {{"torus": 1}}, {POSE}, "mass": 1"#),
+            "shape.torus",
             |p| *p == FieldProblem::Unknown,
         ),
         (

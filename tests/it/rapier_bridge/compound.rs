@@ -98,23 +98,23 @@ fn a_body_with_two_colliders_is_one_compound_lifted_whole() {
 }
 
 #[test]
-fn a_compound_with_a_ball_is_skipped_whole_with_the_balls_reason() {
+fn a_compound_with_an_unsupported_shape_is_skipped_whole_with_its_reason() {
     let mut world = PhysicsWorld::default();
     ground(&mut world);
     let body =
         world.insert_body(RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 1.0, 0.0)));
     let cube = world.insert_collider(ColliderBuilder::cuboid(0.2, 0.2, 0.2), Some(body));
-    let ball = world.insert_collider(
-        ColliderBuilder::ball(0.2).translation(Vector::new(0.5, 0.0, 0.0)),
+    let odd = world.insert_collider(
+        ColliderBuilder::round_cylinder(0.2, 0.2, 0.05).translation(Vector::new(0.5, 0.0, 0.0)),
         Some(body),
     );
     let mut bridge = bridge();
     let report = run(&mut bridge, &mut world);
-    for collider in [cube, ball] {
+    for collider in [cube, odd] {
         let skipped = report.skipped().iter().find(|s| s.collider == collider);
         assert_eq!(
             skipped.map(|s| s.reason.clone()),
-            Some(SkipReason::Shape("Ball".into())),
+            Some(SkipReason::Shape("RoundCylinder".into())),
             "{collider:?}"
         );
     }

@@ -9,6 +9,7 @@ mod compound;
 mod coupling;
 mod joints;
 mod kept_scene;
+mod round;
 mod round_off;
 
 use constraint_stabilization::Settings;
@@ -247,11 +248,13 @@ fn hull_with_collider_offset_is_read_and_written_in_the_right_frames() {
 }
 
 #[test]
-fn ball_and_sensor_colliders_are_skipped_and_counted() {
+fn unsupported_shape_and_sensor_colliders_are_skipped_and_counted() {
     let mut world = PhysicsWorld::default();
     ground(&mut world);
-    let ball_body = RigidBodyBuilder::dynamic().translation(Vector::new(3.0, 0.2, 0.0));
-    let (_, ball) = world.insert(ball_body, ColliderBuilder::ball(0.3));
+    // A rounded cylinder: a shape the library has no form of (balls are
+    // read since issue 25).
+    let odd_body = RigidBodyBuilder::dynamic().translation(Vector::new(3.0, 0.2, 0.0));
+    let (_, odd) = world.insert(odd_body, ColliderBuilder::round_cylinder(0.3, 0.3, 0.05));
     let sensor = world.insert_collider(ColliderBuilder::cuboid(1.0, 1.0, 1.0).sensor(true), None);
     dynamic_box_at(&mut world, 0.5 - SINK_DEPTH);
     let mut bridge = bridge();
@@ -265,7 +268,10 @@ fn ball_and_sensor_colliders_are_skipped_and_counted() {
             .map(|s| s.reason.clone())
     };
     assert_eq!(report.skipped().len(), 2);
-    assert_eq!(reason_of(ball), Some(SkipReason::Shape("Ball".into())));
+    assert_eq!(
+        reason_of(odd),
+        Some(SkipReason::Shape("RoundCylinder".into()))
+    );
     assert_eq!(reason_of(sensor), Some(SkipReason::Sensor));
     assert_eq!(bridge.scene().len(), 2, "ground and the single box");
     assert_eq!(report.bodies_written, 1);

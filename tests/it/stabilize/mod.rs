@@ -6,7 +6,7 @@
 
 mod extreme;
 mod one_row;
-mod support;
+pub mod support;
 
 mod behaviour;
 mod budget_and_slop;

@@ -60,6 +60,17 @@ pub fn parry_pair_depth(scene: &Scene, shapes: &[Vec<ParryPolyhedron>], a: usize
             .map(|p| isometry_to_parry(&p))
             .collect()
     };
+    let round = |body: usize| {
+        scene.bodies()[body]
+            .parts()
+            .iter()
+            .any(|p| p.rounding().is_some())
+    };
+    if round(a) || round(b) {
+        // A round part's polyhedron is its core or a bounding box: the
+        // support-function oracle of `sat_depth` measures the pair.
+        return 0.0;
+    }
     let (poses_a, poses_b) = (poses(a), poses(b));
     let mut deepest: f64 = 0.0;
     for (shape_a, pose_a) in shapes[a].iter().zip(&poses_a) {

@@ -22,8 +22,15 @@ const MAX_PARTS: usize = 8;
 
 fn small_shape(shape: &Shape) -> bool {
     match shape {
-        Shape::ConvexHull { points } => points.len() <= MAX_HULL_POINTS,
-        Shape::Cuboid { .. } => true,
+        Shape::ConvexHull { points } | Shape::RoundConvexHull { points, .. } => {
+            points.len() <= MAX_HULL_POINTS
+        }
+        Shape::Cuboid { .. }
+        | Shape::RoundCuboid { .. }
+        | Shape::Sphere { .. }
+        | Shape::Capsule { .. }
+        | Shape::Cylinder { .. }
+        | Shape::Cone { .. } => true,
         Shape::Compound { parts } => {
             parts.len() <= MAX_PARTS && parts.iter().all(|part| small_shape(&part.shape))
         }

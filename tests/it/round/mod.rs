@@ -1,0 +1,44 @@
+//! Round shapes (`docs/round-shapes.md`): spheres, capsules, rounded
+//! cuboids and hulls exactly, cylinders and cones within their stated
+//! deviation; closed forms, the support-function oracle
+//! (`dev_support::support_oracle`) and parry3d-f64's contact query.
+
+mod closed_forms;
+mod mass;
+mod oracle;
+mod scenes;
+
+use constraint_stabilization::body::Body;
+use constraint_stabilization::internals::contact::{self, BodyGeometry, PairQuery};
+use constraint_stabilization::internals::vclip::{VClip, VClipSettings};
+
+/// Part `k` of `body` at its current pose, as the narrow phase sees it.
+pub fn part_geometry(body: &Body, k: usize) -> BodyGeometry<'_> {
+    let part = &body.parts()[k];
+    BodyGeometry {
+        com_world: body.com_world(),
+        ..BodyGeometry::convex(part.polyhedron(), part.pose(body.com_pose()), None)
+    }
+    .rounded(part.rounding())
+}
+
+/// The library's answer for each part pair of two bodies (A the first).
+pub fn part_queries(a: &Body, b: &Body) -> Vec<PairQuery> {
+    let vclip = VClip::new(VClipSettings::default());
+    let mut answers = Vec::new();
+    for ka in 0..a.parts().len() {
+        for kb in 0..b.parts().len() {
+            let (ga, gb) = (part_geometry(a, ka), part_geometry(b, kb));
+            answers.push(contact::query(&vclip, &ga, &gb, None).expect("a valid query"));
+        }
+    }
+    answers
+}
+
+/// The library's signed distance of two bodies (least over part pairs).
+pub fn signed_distance(a: &Body, b: &Body) -> f64 {
+    part_queries(a, b)
+        .iter()
+        .map(PairQuery::signed_value)
+        .fold(f64::INFINITY, f64::min)
+}
