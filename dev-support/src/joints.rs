@@ -13,7 +13,7 @@ use crate::scene::{IDENTITY_XYZW, bystander_pair, cuboid, ground, xyzw};
 /// A joint's errors as the tests judge them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OracleJointErrors {
-    /// Largest `|(o_b - o_a) . l_k|` over the locked linear axes.
+    /// Norm of `(o_b - o_a) . l_k` over the locked linear axes.
     pub linear: f64,
     /// Distance between the anchor points.
     pub separation: f64,
@@ -36,8 +36,9 @@ pub fn oracle_joint_errors(scene: &Scene, joint: &Joint) -> OracleJointErrors {
     let locked = joint.kind.locked_axes();
     let linear = (0..3)
         .filter(|&k| locked.linear[k])
-        .map(|k| (fa.rotation * Vector3::ith(k, 1.0)).dot(&d).abs())
-        .fold(0.0, f64::max);
+        .map(|k| (fa.rotation * Vector3::ith(k, 1.0)).dot(&d).powi(2))
+        .sum::<f64>()
+        .sqrt();
     let angular = match joint.kind {
         JointKind::Revolute { .. } => {
             let (xa, xb) = (fa.rotation * Vector3::x(), fb.rotation * Vector3::x());

@@ -63,9 +63,9 @@ use serde_json::{Map, Value};
 use thiserror::Error;
 
 use super::object_reader::{Entry, ObjectReader};
+use super::round_shapes::{self, AxialOut, CoreOut};
 pub use super::scene_joints::MAX_JOINTS;
 use super::scene_joints::{self, FrameProblem, JointOut};
-use super::round_shapes::{self, AxialOut, CoreOut};
 use crate::body::{Body, BodyDesc, BodyError, MAX_COMPOUND_PARTS, MassSpec, Shape, ShapePart};
 use crate::joints::JointError;
 use crate::scene::Scene;

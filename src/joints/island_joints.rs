@@ -25,6 +25,32 @@ struct IslandJoint {
     ends: [End; 2],
     offsets: [Vector3<f64>; 2],
     constraints: Vec<JointConstraint>,
+    /// The weight of each constraint ([`equality_weights`]).
+    weights: Vec<f64>,
+}
+
+/// Each equality of a joint weighted by the square root of the number of
+/// its kind (locked translations, or locked rotations), limits by 1: then
+/// a joint whose weighted components are all within the tolerance has its
+/// anchor separation (the norm of the locked translations) and its
+/// misalignment within it too (`|v| <= sqrt(n) max_k |v_k|`), which is what
+/// the report and the call's stop rule measure ([`super::JointErrors`]).
+fn equality_weights(constraints: &[JointConstraint]) -> Vec<f64> {
+    let count = |linear: bool| {
+        constraints
+            .iter()
+            .filter(|c| c.is_equality() && c.is_angular() != linear)
+            .count() as f64
+    };
+    let (linear, angular) = (count(true).sqrt(), count(false).sqrt());
+    constraints
+        .iter()
+        .map(|c| match (c.is_equality(), c.is_angular()) {
+            (true, false) => linear,
+            (true, true) => angular,
+            (false, _) => 1.0,
+        })
+        .collect()
 }
 
 /// The joints of one island (module docs).
@@ -71,6 +97,7 @@ impl IslandJoints {
             };
             out.indices.push(index);
             out.joints.push(IslandJoint {
+                weights: equality_weights(&JointConstraint::of(&joint)),
                 constraints: JointConstraint::of(&joint),
                 joint,
                 ends: [end(&bodies[0]), end(&bodies[1])],
@@ -152,8 +179,11 @@ impl IslandJoints {
         let mut rows = Vec::new();
         for (j, joint) in self.joints.iter().enumerate() {
             let frames = self.frames(j, configuration);
-            for constraint in &joint.constraints {
-                let linearized = constraint.linearize(&frames, self.scale);
+            for (constraint, weight) in joint.constraints.iter().zip(&joint.weights) {
+                let mut linearized = constraint.linearize(&frames, self.scale);
+                linearized.value *= weight;
+                linearized.grad_a *= *weight;
+                linearized.grad_b *= *weight;
                 let equality = constraint.is_equality();
                 if !equality && linearized.value >= self.margin {
                     continue;
@@ -190,8 +220,8 @@ impl IslandJoints {
         let mut limits = Vec::new();
         for (j, joint) in self.joints.iter().enumerate() {
             let frames = self.frames(j, configuration);
-            for constraint in &joint.constraints {
-                let value = constraint.value(&frames, self.scale);
+            for (constraint, weight) in joint.constraints.iter().zip(&joint.weights) {
+                let value = weight * constraint.value(&frames, self.scale);
                 match constraint.is_equality() {
                     true => equalities.push(value),
                     false => limits.push(value),

@@ -9,9 +9,9 @@ use crate::body::Body;
 /// The errors of one joint at some poses.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct JointErrors {
-    /// Largest `|p_k|` over the locked linear axes (length units): for a
-    /// joint that locks every translation, the separation of the anchor
-    /// points up to the component on free axes.
+    /// Norm of `p` over the locked linear axes (length units): for a
+    /// joint that locks every translation, the distance between the anchor
+    /// points.
     pub linear: f64,
     /// Misalignment of the locked rotations, radians: the relative
     /// rotation's angle when all three are locked, the angle between the
@@ -33,7 +33,9 @@ impl JointErrors {
         let p = frames.relative_position();
         let linear = (0..3)
             .filter(|&k| locked.linear[k])
-            .fold(0.0, |m: f64, k| m.max(p[k].abs()));
+            .map(|k| p[k] * p[k])
+            .sum::<f64>()
+            .sqrt();
         let phi = frames.relative_rotation();
         let locked_angular = (0..3).filter(|&k| locked.angular[k]).count();
         let single_free = locked.single_free_angular();
@@ -42,7 +44,9 @@ impl JointErrors {
             (_, Some(free)) => frames.axis_misalignment(free),
             _ => (0..3)
                 .filter(|&k| locked.angular[k])
-                .fold(0.0, |m: f64, k| m.max(phi[k].abs())),
+                .map(|k| phi[k] * phi[k])
+                .sum::<f64>()
+                .sqrt(),
         };
         let excess = |value: f64, [min, max]: [f64; 2]| (min - value).max(value - max).max(0.0);
         let (mut travel_limit, mut angle_limit) = (0.0_f64, 0.0_f64);

@@ -456,9 +456,12 @@ impl Stabilizer {
     }
 }
 
-/// Whether the call's last detection is worse than its first: a deeper
-/// exact penetration, a joint error that rose beyond the tolerance, or a
-/// larger merit (penetrations' and joints' together).
+/// Whether the call's last detection is worse than its first: an exact
+/// penetration deeper than both the input's deepest and the tolerance, a
+/// joint error that rose beyond the tolerance, or a larger merit
+/// (penetrations' and joints' beyond the tolerance together). A contact
+/// within the tolerance may deepen within it: removing a joint's error may
+/// press a resting part a little into the ground.
 fn worse_than_input(
     report: &Report,
     joints_before: &[JointErrors],
@@ -470,7 +473,7 @@ fn worse_than_input(
     };
     let joint_before = largest_joint_error(joints_before, report.scale);
     let joint_after = largest_joint_error(joints_after, report.scale);
-    report.depth_after > report.depth_before
+    report.depth_after > report.depth_before.max(tolerance)
         || joint_after > joint_before.max(tolerance)
         || merit(&report.penetrations_after, joints_after)
             > merit(&report.penetrations_before, joints_before)
