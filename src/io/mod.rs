@@ -5,6 +5,7 @@
 pub mod lcp_file;
 #[cfg(feature = "serde")]
 mod object_reader;
+#[cfg(feature = "serde")]
 mod round_shapes;
 #[cfg(feature = "serde")]
 pub mod scene_file;

@@ -15,7 +15,9 @@ use rand_chacha::ChaCha8Rng;
 
 #[test]
 fn a_mixed_pile_is_resolved_by_the_oracle() {
-    for seed in 0..10u64 {
+    // Four seeds: ten took 36 s of CI's test run for nothing the first
+    // four do not exercise (every kind appears in each pile).
+    for seed in 0..4u64 {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut descs = vec![ground()];
         for i in 0..14 {
