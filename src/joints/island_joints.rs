@@ -96,9 +96,10 @@ impl IslandJoints {
                 None => End::Held(b.com_pose),
             };
             out.indices.push(index);
+            let constraints = JointConstraint::of(&joint);
             out.joints.push(IslandJoint {
-                weights: equality_weights(&JointConstraint::of(&joint)),
-                constraints: JointConstraint::of(&joint),
+                weights: equality_weights(&constraints),
+                constraints,
                 joint,
                 ends: [end(&bodies[0]), end(&bodies[1])],
                 offsets: [bodies[0].com_offset, bodies[1].com_offset],
