@@ -177,26 +177,15 @@ impl BenchArgs {
 }
 
 /// Every `tests/data/engine/*.json` by file stem, sorted (engine states
-/// of Rapier, MuJoCo and Bullet; see the notes there).
+/// of Rapier, MuJoCo and Bullet; see the notes there): the integration
+/// tests' reader, shared.
 #[cfg(feature = "serde")]
-pub fn engine_states() -> Vec<(String, Scene)> {
-    use constraint_stabilization::io::scene_file::read_scene;
-    let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/engine");
-    let mut paths: Vec<std::path::PathBuf> = std::fs::read_dir(&folder)
-        .expect("tests/data/engine")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
-    paths.sort();
-    paths
-        .iter()
-        .map(|p| {
-            let stem = p.file_stem().expect("stem").to_string_lossy().into_owned();
-            let scene = read_scene(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-            (stem, scene)
-        })
-        .collect()
-}
+#[path = "../../tests/it/support/engine_states.rs"]
+mod engine_state_files;
+// Each benchmark includes this module; not every one reads the states.
+#[cfg(feature = "serde")]
+#[allow(unused_imports)]
+pub use engine_state_files::engine_states;
 
 /// Directory of the result files (created on demand).
 pub fn results_dir() -> std::path::PathBuf {

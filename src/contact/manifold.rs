@@ -20,7 +20,10 @@
 //! two, then the one spanning the largest area on the other side of the
 //! first two (the quadrilateral of largest area that keeps the deepest).
 //! Points closer than [`MIN_SPACING_RELATIVE`] of the smaller body to a kept
-//! point are dropped first.
+//! point are dropped first. Distances and areas are measured between the
+//! midpoints of the contacts' two points in the plane normal to the
+//! contact, which do not depend on which body is A: the same pair gives the
+//! same contacts whatever the order of the scene's bodies.
 //!
 //! **Edge–edge contact**: one point, the closest points of the two edges
 //! (interior points: the foot of the minimum translation lies inside the
@@ -320,19 +323,19 @@ fn support_contact(axis: &ContactAxis, a: &BodyGeometry) -> ContactPoint {
 fn reduce(points: Vec<ContactPoint>, normal: &Vector3<f64>, spacing: f64) -> Vec<ContactPoint> {
     let mut distinct: Vec<ContactPoint> = Vec::with_capacity(points.len());
     for point in points {
-        let far =
-            |kept: &ContactPoint| (kept.point_a_world - point.point_a_world).norm() >= spacing;
-        if distinct.iter().all(far) {
+        if distinct.iter().all(|kept| apart(kept, &point, spacing)) {
             distinct.push(point);
         }
     }
     if distinct.len() <= MAX_POINTS {
         return distinct;
     }
-    let at = |i: usize| distinct[i].point_a_world;
+    let at = |i: usize| contact_location(&distinct[i]);
     let area = |i: usize, j: usize, k: usize| (at(j) - at(i)).cross(&(at(k) - at(i))).dot(normal);
     let first = 0;
-    let second = argmax(distinct.len(), |k| (at(k) - at(first)).norm_squared());
+    let second = argmax(distinct.len(), |k| {
+        in_plane(&(at(k) - at(first)), normal).norm_squared()
+    });
     let third = argmax(distinct.len(), |k| area(first, second, k).abs());
     let side = area(first, second, third).signum();
     let fourth = argmax(distinct.len(), |k| -side * area(first, second, k));
@@ -351,9 +354,27 @@ fn reduce(points: Vec<ContactPoint>, normal: &Vector3<f64>, spacing: f64) -> Vec
     chosen.into_iter().map(|i| distinct[i]).collect()
 }
 
-/// Whether two contact points are at least `spacing` apart (on body A).
+/// Whether two contact points are at least `spacing` apart, measured
+/// between their locations ([`contact_location`]) in the plane normal to
+/// their (common) normal.
 fn apart(p: &ContactPoint, q: &ContactPoint, spacing: f64) -> bool {
-    (p.point_a_world - q.point_a_world).norm() >= spacing
+    let offset = contact_location(p) - contact_location(q);
+    in_plane(&offset, &p.normal_world).norm() >= spacing
+}
+
+/// Where a contact is, for the reduction: the midpoint of its two points.
+/// Swapping the roles of A and B (and negating the normal) leaves it
+/// unchanged, and its component in the plane normal to the contact does
+/// not depend on which body carries the reference face (the two points
+/// differ along the normal only), so the kept points are those of the
+/// pair whatever the order of its bodies.
+fn contact_location(p: &ContactPoint) -> Point3<f64> {
+    nalgebra::center(&p.point_a_world, &p.point_b_world)
+}
+
+/// The component of `v` in the plane normal to the unit `normal`.
+fn in_plane(v: &Vector3<f64>, normal: &Vector3<f64>) -> Vector3<f64> {
+    v - normal * normal.dot(v)
 }
 
 /// The index in `0..count` with the largest `value` (the first on ties).

@@ -237,18 +237,11 @@ fn crossed_edges_are_separated_by_the_mass_weighted_split_of_the_depth() {
 #[test]
 #[cfg(feature = "serde")]
 fn engine_states_report_the_brute_force_deepest_penetration() {
-    use constraint_stabilization::io::scene_file::read_scene;
+    use crate::support::engine_states::engine_states;
     use dev_support::sat::sat_deepest;
-    let folder = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/engine");
-    let mut files: Vec<_> = std::fs::read_dir(folder)
-        .expect("engine states folder")
-        .map(|entry| entry.expect("entry").path())
-        .filter(|path| path.extension().is_some_and(|e| e == "json"))
-        .collect();
-    files.sort();
-    assert!(files.len() >= 14, "{files:?}");
-    for path in files {
-        let mut scene = read_scene(&path).expect("valid scene");
+    let states = engine_states();
+    assert!(states.len() >= 14, "{} states", states.len());
+    for (name, mut scene) in states {
         let (brute, _) = sat_deepest(&scene);
         let settings = {
             let mut settings = Settings::default();
@@ -260,7 +253,6 @@ fn engine_states_report_the_brute_force_deepest_penetration() {
             .stabilize(&mut scene)
             .expect("measured");
         assert_eq!(report.status, Status::NothingToDo);
-        let name = path.file_name().expect("file").to_string_lossy();
         println!(
             "{name}: reported {:.6e}, brute force {brute:.6e}",
             report.depth_before
@@ -353,4 +345,86 @@ fn a_box_a_hair_above_another_gets_the_face_manifold() {
         );
         assert!(point.separation < 10.0 * gap, "{point:?}");
     }
+}
+
+/// Agreement of one contact of a pair with the same contact of the pair in
+/// the other order: positions and separations relative to the smaller
+/// body's scale, normals absolute (unit vectors). Rounding of the two
+/// orders' arithmetic is about 1e-15; the ill-conditioned closest points of
+/// two nearly parallel edges reach 1e-9 of the scale.
+#[cfg(feature = "serde")]
+const PAIR_ORDER_AGREEMENT: f64 = 1e-8;
+
+/// Whether `p` (of the pair in one order) and `q` (the other order) are the
+/// same row: opposite normals, equal separations, the same location in
+/// the plane of the contact (the midpoint of the two points; the point on B
+/// may move along the normal, which leaves the row unchanged).
+#[cfg(feature = "serde")]
+fn same_row(p: &contact::ContactPoint, q: &contact::ContactPoint, scale: f64) -> bool {
+    let n = p.normal_world;
+    let offset = nalgebra::center(&p.point_a_world, &p.point_b_world)
+        - nalgebra::center(&q.point_a_world, &q.point_b_world);
+    let tolerance = PAIR_ORDER_AGREEMENT * scale;
+    (offset - n * n.dot(&offset)).norm() <= tolerance
+        && (p.separation - q.separation).abs() <= tolerance
+        && (p.normal_world + q.normal_world).norm() <= PAIR_ORDER_AGREEMENT
+}
+
+/// Every pair of polyhedra of every engine state within the contact margin gets the
+/// same rows in either order of its bodies: the manifold (reference face,
+/// clipping, reduction to four points, the edge–edge point of a face
+/// standing in for it) does not depend on which body is A. When the
+/// reduction measured distances between A's points, 16 of the 1,945 pairs
+/// within 1e-4 of their scale differed (a fifth point in one order, another
+/// fourth point), and whole calls on the permuted states differed by up to
+/// 5.8 cm.
+#[test]
+#[cfg(feature = "serde")]
+fn every_engine_pair_has_the_same_rows_in_either_order() {
+    use crate::support::engine_states::engine_states;
+    let vclip = VClip::new(VClipSettings::default());
+    let mut settings = Settings::default();
+    settings.contact_manifold = true;
+    let mut pairs = 0;
+    for (name, scene) in engine_states() {
+        let bodies = scene.bodies();
+        for i in 0..bodies.len() {
+            for j in i + 1..bodies.len() {
+                let plain = |k: usize| {
+                    let round = bodies[k].parts().iter().any(|p| p.rounding().is_some());
+                    bodies[k].polyhedron().filter(|_| !round)
+                };
+                let (Some(shape_i), Some(shape_j)) = (plain(i), plain(j)) else {
+                    continue;
+                };
+                let scale = shape_i.scale().min(shape_j.scale());
+                let margin = MARGIN * scale;
+                let g_i = BodyGeometry::convex(shape_i, *bodies[i].com_pose(), Some(0));
+                let g_j = BodyGeometry::convex(shape_j, *bodies[j].com_pose(), Some(1));
+                let points = |a: &BodyGeometry, b: &BodyGeometry| {
+                    let query = contact::query(&vclip, a, b, None).expect("valid query");
+                    contact::contact_points(&query, a, b, margin, &settings).points
+                };
+                let (forward, backward) = (points(&g_i, &g_j), points(&g_j, &g_i));
+                if forward.is_empty() && backward.is_empty() {
+                    continue;
+                }
+                pairs += 1;
+                let twinned = |these: &[contact::ContactPoint], those: &[contact::ContactPoint]| {
+                    these
+                        .iter()
+                        .all(|p| those.iter().any(|q| same_row(p, q, scale)))
+                };
+                assert!(
+                    forward.len() == backward.len()
+                        && twinned(&forward, &backward)
+                        && twinned(&backward, &forward),
+                    "{name}: {} and {}: {forward:?} against {backward:?}",
+                    bodies[i].name(),
+                    bodies[j].name()
+                );
+            }
+        }
+    }
+    assert!(pairs > 1000, "{pairs} pairs in contact");
 }

@@ -17,6 +17,8 @@ mod faults;
 mod friction;
 mod infeasible;
 mod minimal;
+#[cfg(feature = "serde")]
+mod permutation;
 mod projector_analytic;
 mod properties;
 mod scale_extremes;
