@@ -330,11 +330,11 @@ fn reduce(points: Vec<ContactPoint>, normal: &Vector3<f64>, spacing: f64) -> Vec
     if distinct.len() <= MAX_POINTS {
         return distinct;
     }
-    let at = |i: usize| contact_location(&distinct[i]);
-    let area = |i: usize, j: usize, k: usize| (at(j) - at(i)).cross(&(at(k) - at(i))).dot(normal);
+    let offset = |i: usize, j: usize| location_offset(&distinct[i], &distinct[j]);
+    let area = |i: usize, j: usize, k: usize| offset(j, i).cross(&offset(k, i)).dot(normal);
     let first = 0;
     let second = argmax(distinct.len(), |k| {
-        in_plane(&(at(k) - at(first)), normal).norm_squared()
+        in_plane(&offset(k, first), normal).norm_squared()
     });
     let third = argmax(distinct.len(), |k| area(first, second, k).abs());
     let side = area(first, second, third).signum();
@@ -355,21 +355,21 @@ fn reduce(points: Vec<ContactPoint>, normal: &Vector3<f64>, spacing: f64) -> Vec
 }
 
 /// Whether two contact points are at least `spacing` apart, measured
-/// between their locations ([`contact_location`]) in the plane normal to
+/// between their locations ([`location_offset`]) in the plane normal to
 /// their (common) normal.
 fn apart(p: &ContactPoint, q: &ContactPoint, spacing: f64) -> bool {
-    let offset = contact_location(p) - contact_location(q);
-    in_plane(&offset, &p.normal_world).norm() >= spacing
+    in_plane(&location_offset(p, q), &p.normal_world).norm() >= spacing
 }
 
-/// Where a contact is, for the reduction: the midpoint of its two points.
-/// Swapping the roles of A and B (and negating the normal) leaves it
-/// unchanged, and its component in the plane normal to the contact does
-/// not depend on which body carries the reference face (the two points
-/// differ along the normal only), so the kept points are those of the
-/// pair whatever the order of its bodies.
-fn contact_location(p: &ContactPoint) -> Point3<f64> {
-    nalgebra::center(&p.point_a_world, &p.point_b_world)
+/// Where contact `p` is from contact `q`, for the reduction: the offset of
+/// the midpoints of their two points (formed from differences, so that it
+/// overflows only where the points' differences do). Swapping the roles of
+/// A and B leaves it unchanged, and its component in the plane normal to
+/// the contact does not depend on which body carries the reference face
+/// (the two points of a contact differ along the normal only), so the kept
+/// points are those of the pair whatever the order of its bodies.
+fn location_offset(p: &ContactPoint, q: &ContactPoint) -> Vector3<f64> {
+    (p.point_a_world - q.point_a_world) * 0.5 + (p.point_b_world - q.point_b_world) * 0.5
 }
 
 /// The component of `v` in the plane normal to the unit `normal`.
