@@ -397,6 +397,8 @@ fn deepest(
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    // RUST_LOG=constraint_stabilization=info: one line per call.
+    let _ = env_logger::try_init();
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.iter().any(|a| a == "--help" || a == "-h") {
         println!(
