@@ -58,6 +58,8 @@
 
 #[path = "common/rapier_joint_scenes.rs"]
 mod joint_scenes;
+#[path = "common/rapier_round_scenes.rs"]
+mod round_scenes;
 #[path = "common/rapier_scenes.rs"]
 mod scenes;
 
@@ -169,12 +171,15 @@ fn joint_scenes() -> Vec<JointScene> {
         let (world, chain) = joint_scenes::chain_world(LINKS, f32::from(RATIO));
         (world, Some(chain))
     }
-    let scenes: [(&'static str, JointBuild); 6] = [
+    let scenes: [(&'static str, JointBuild); 7] = [
         ("chain20_1x", chain::<20, 1>),
         ("chain20_100x", chain::<20, 100>),
         ("chain20_1000x", chain::<20, 1000>),
         ("chain50_100x", chain::<50, 100>),
         ("ragdoll", || (joint_scenes::ragdoll_world(), None)),
+        ("capsule_ragdoll", || {
+            (round_scenes::capsule_ragdoll_world(), None)
+        }),
         ("lever", || (joint_scenes::lever_world(), None)),
     ];
     scenes
