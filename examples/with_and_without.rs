@@ -44,7 +44,9 @@
 //! Joint scenes (examples/common/rapier_joint_scenes.rs, issue 23): chains
 //! of 20 revolute links holding an end box 1, 100 and 1,000 times a link's
 //! mass, a chain of 50 links with 100 times, a ragdoll-like figure dropped
-//! on the ground, a hinged lever resting on a box; each run plain and with
+//! on the ground, the same of capsules and a ball
+//! (examples/common/rapier_round_scenes.rs, issue 25), a hinged lever
+//! resting on a box; each run plain and with
 //! a bridge call of `BridgeSettings::default()` after every step. Per step:
 //! the largest joint separation (the distance between a joint's two anchor
 //! points, in f64 from Rapier's f32 poses), the chain's stretch (summed
