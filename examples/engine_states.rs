@@ -10,7 +10,8 @@
 //! (step, time, bodies, Rapier's own deepest contact depth and number of
 //! contact points from its narrow phase, and parry's deepest penetration
 //! and penetrating pairs on the state as written), and with `--large` the
-//! settled pile of 1,000 to `PATH`.
+//! settled pile of 1,000 to `PATH`. `rp08_mixed_pile` is a pile of 60
+//! balls, capsules, cylinders and rounded boxes (issue 25) after 5 s.
 //!
 //! Z up, gravity -9.81, SI units, density 1000 kg/m^3 unless a mass is
 //! given; fixed seeds. Lengths are multiples of 2^-10 m, exact in f32 and
@@ -60,6 +61,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         pyramid("rp05_pyramid")?,
         thrown_box("rp06_thrown_box", 6)?,
         jumble("rp07_jumble_midfall", 7)?,
+        settled("rp08_mixed_pile", scenes::mixed_pile_world(60, 0.6, 8), 300)?,
     ];
     let mut notes = String::from(
         "file\tstep\ttime_s\tbodies\trapier_deepest\trapier_contacts\tparry_deepest\tparry_pairs\n",
@@ -111,7 +113,17 @@ fn settled_pile(
     steps: usize,
     seed: u64,
 ) -> Result<State, Box<dyn std::error::Error>> {
-    let mut world = scenes::pile_world(count, bin_half_width, seed);
+    settled(stem, scenes::pile_world(count, bin_half_width, seed), steps)
+}
+
+/// `world` simulated for `steps` steps (a pile dropped into a bin: of
+/// boxes and hulls, or of balls, capsules, cylinders and rounded boxes,
+/// `scenes::mixed_pile_world`).
+fn settled(
+    stem: &str,
+    mut world: PhysicsWorld,
+    steps: usize,
+) -> Result<State, Box<dyn std::error::Error>> {
     for _ in 0..steps {
         world.step();
     }

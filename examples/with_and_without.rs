@@ -44,7 +44,9 @@
 //! Joint scenes (examples/common/rapier_joint_scenes.rs, issue 23): chains
 //! of 20 revolute links holding an end box 1, 100 and 1,000 times a link's
 //! mass, a chain of 50 links with 100 times, a ragdoll-like figure dropped
-//! on the ground, a hinged lever resting on a box; each run plain and with
+//! on the ground, the same of capsules and a ball
+//! (examples/common/rapier_round_scenes.rs, issue 25), a hinged lever
+//! resting on a box; each run plain and with
 //! a bridge call of `BridgeSettings::default()` after every step. Per step:
 //! the largest joint separation (the distance between a joint's two anchor
 //! points, in f64 from Rapier's f32 poses), the chain's stretch (summed
@@ -58,6 +60,8 @@
 
 #[path = "common/rapier_joint_scenes.rs"]
 mod joint_scenes;
+#[path = "common/rapier_round_scenes.rs"]
+mod round_scenes;
 #[path = "common/rapier_scenes.rs"]
 mod scenes;
 
@@ -169,12 +173,15 @@ fn joint_scenes() -> Vec<JointScene> {
         let (world, chain) = joint_scenes::chain_world(LINKS, f32::from(RATIO));
         (world, Some(chain))
     }
-    let scenes: [(&'static str, JointBuild); 6] = [
+    let scenes: [(&'static str, JointBuild); 7] = [
         ("chain20_1x", chain::<20, 1>),
         ("chain20_100x", chain::<20, 100>),
         ("chain20_1000x", chain::<20, 1000>),
         ("chain50_100x", chain::<50, 100>),
         ("ragdoll", || (joint_scenes::ragdoll_world(), None)),
+        ("capsule_ragdoll", || {
+            (round_scenes::capsule_ragdoll_world(), None)
+        }),
         ("lever", || (joint_scenes::lever_world(), None)),
     ];
     scenes
@@ -397,6 +404,8 @@ fn deepest(
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    // RUST_LOG=constraint_stabilization=info: one line per call.
+    let _ = env_logger::try_init();
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.iter().any(|a| a == "--help" || a == "-h") {
         println!(

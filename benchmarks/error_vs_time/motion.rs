@@ -7,7 +7,10 @@
 //!   the world inertia before (`stabilizer::scene_displacement`): the norm
 //!   the library minimizes (to first order), so that the excess of a
 //!   method over the smallest is its cost in the library's own metric.
-//! - Largest motion: the largest distance any vertex of any body moved.
+//! - Largest motion: the largest distance any vertex of any body moved
+//!   (of each part's polyhedron; for a sphere or capsule part, the box
+//!   that holds it, whose vertices move at least as far as any point of
+//!   the solid).
 
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::stabilizer::scene_displacement;
@@ -29,8 +32,11 @@ pub fn motion(before: &Scene, after: &Scene) -> Motion {
     for (b0, b1) in before.bodies().iter().zip(after.bodies()) {
         let (p0, p1) = (b0.com_pose(), b1.com_pose());
         if p0 != p1 {
-            for v in b0.polyhedron().expect("a convex body").vertices() {
-                largest = largest.max(((p1 * v) - (p0 * v)).norm());
+            for part in b0.parts() {
+                let (q0, q1) = (part.pose(p0), part.pose(p1));
+                for v in part.polyhedron().vertices() {
+                    largest = largest.max(((q1 * v) - (q0 * v)).norm());
+                }
             }
         }
     }

@@ -154,17 +154,22 @@ pub fn separating_axis_depth(
 
 /// Penetration depth of bodies `a` and `b` of `scene` ([`sat_overlap`],
 /// 0 when some axis separates): for compound bodies, the deepest over their
-/// part pairs. A body with a round part (sphere, capsule, rounded cuboid
-/// or hull) is measured by the support-function oracle instead
-/// ([`crate::support_oracle`]); cylinders and cones by their polyhedra.
+/// part pairs. A body with a round or curved part (sphere, capsule,
+/// rounded cuboid or hull, cylinder, cone) is measured by the
+/// support-function oracle instead ([`crate::support_oracle`]): on the
+/// true shapes, not on the library's polyhedra of cylinders and cones
+/// (whose depths exceed the true ones by at most their
+/// `Shape::surface_deviation`).
 pub fn sat_depth(scene: &Scene, a: usize, b: usize) -> f64 {
     let (body_a, body_b) = (&scene.bodies()[a], &scene.bodies()[b]);
     let mut deepest: f64 = 0.0;
     let round = |body: &constraint_stabilization::body::Body| {
         body.parts().iter().any(|p| p.rounding().is_some())
+            || body.shape().surface_deviation() > 0.0
     };
     if round(body_a) || round(body_b) {
-        // Round parts are not polyhedra: the support-function oracle.
+        // Round and curved parts are not polyhedra: the support-function
+        // oracle.
         return crate::support_oracle::body_depth(body_a, body_b);
     }
     for (part_a, pose_a) in body_a.parts().iter().zip(body_a.part_poses()) {

@@ -11,9 +11,15 @@
 //! [`SAMPLES`] directions), then a local refinement of the best
 //! [`REFINED`] samples by a pattern search on the sphere (eight tangent
 //! directions, the step halved when none improves, down to
-//! [`FINEST_STEP`] rad). Its answer is an `o(n)` actually reached: never
-//! below the true minimum, so the depth it reports bounds the true depth
-//! from above, and is within the refinement's reach of it.
+//! [`FINEST_STEP`] rad; at most [`MOVES_PER_STEP`] moves at one step
+//! before it is halved, so that a search creeping along a narrow valley of
+//! the kinked overlap ends). Its answer is an `o(n)` actually reached:
+//! never below the true minimum, so the depth it reports bounds the true
+//! depth from above, and is within the refinement's reach of it.
+//!
+//! The depth alone ([`body_depth`]) needs no refinement when some sampled
+//! direction already separates (`o(n) <= 0`: a separating plane, depth 0,
+//! exactly); the direction between the solids' centres is tried first.
 //!
 //! The solids come from the bodies' [`Shape`] descriptions and user poses
 //! only (nothing of the library's polyhedra, cores or narrow phase):
@@ -37,6 +43,39 @@ pub const FIRST_STEP: f64 = 0.1;
 
 /// Last step of the refinement (rad).
 pub const FINEST_STEP: f64 = 1e-13;
+
+/// Improving moves at one step length before the step is halved anyway.
+/// Without a bound the pattern search crept along narrow valleys of the
+/// kinked overlap by steps of 1e-10 rad for seconds per pair (found by the
+/// Rapier pile of round shapes, `examples/with_and_without.rs`); a
+/// descent that needs more moves continues at the halved step, so the
+/// answer stays an overlap reached.
+pub const MOVES_PER_STEP: usize = 64;
+
+/// `(cos, sin)` of the eight compass directions of the pattern search,
+/// `k π/4`.
+const COMPASS: [(f64, f64); 8] = [
+    (1.0, 0.0),
+    (
+        std::f64::consts::FRAC_1_SQRT_2,
+        std::f64::consts::FRAC_1_SQRT_2,
+    ),
+    (0.0, 1.0),
+    (
+        -std::f64::consts::FRAC_1_SQRT_2,
+        std::f64::consts::FRAC_1_SQRT_2,
+    ),
+    (-1.0, 0.0),
+    (
+        -std::f64::consts::FRAC_1_SQRT_2,
+        -std::f64::consts::FRAC_1_SQRT_2,
+    ),
+    (0.0, -1.0),
+    (
+        std::f64::consts::FRAC_1_SQRT_2,
+        -std::f64::consts::FRAC_1_SQRT_2,
+    ),
+];
 
 /// One convex solid in the world frame.
 #[derive(Debug, Clone)]
@@ -128,12 +167,23 @@ impl Solid {
         let across = |v: Vector3<f64>| n.cross(&v).try_normalize(1e-15);
         match self {
             Solid::Points { points, .. } => {
-                let mut order: Vec<&Point3<f64>> = points.iter().collect();
-                order.sort_by(|p, q| n.dot(&q.coords).total_cmp(&n.dot(&p.coords)));
-                order
-                    .windows(2)
-                    .take(2)
-                    .filter_map(|w| across(w[0] - w[1]))
+                // The three highest points along `n`, highest first.
+                let mut top: [Option<&Point3<f64>>; 3] = [None; 3];
+                let height =
+                    |p: Option<&Point3<f64>>| p.map_or(f64::NEG_INFINITY, |p| n.dot(&p.coords));
+                for p in points {
+                    let mut carried = Some(p);
+                    for slot in &mut top {
+                        if height(carried) > height(*slot) {
+                            std::mem::swap(slot, &mut carried);
+                        }
+                    }
+                }
+                top.windows(2)
+                    .filter_map(|w| match (w[0], w[1]) {
+                        (Some(p), Some(q)) => across(p - q),
+                        _ => None,
+                    })
                     .collect()
             }
             Solid::Cylinder { axis, .. } | Solid::Cone { axis, .. } => {
@@ -223,32 +273,74 @@ fn overlap(a: &Solid, b: &Solid, n: &Vector3<f64>) -> f64 {
     b.support(n) + a.support(&-n)
 }
 
-/// The signed distance of `a` and `b` (distance, or minus the depth) and
-/// the direction that reaches it (from B towards A), module docs.
-pub fn signed_distance(a: &Solid, b: &Solid) -> (f64, Vector3<f64>) {
+/// The Fibonacci sphere of [`SAMPLES`] directions.
+fn sample_directions() -> impl Iterator<Item = Vector3<f64>> {
     let golden = PI * (3.0 - 5.0_f64.sqrt());
-    let mut samples: Vec<(f64, Vector3<f64>)> = (0..SAMPLES)
-        .map(|i| {
-            let z = 1.0 - 2.0 * (i as f64 + 0.5) / SAMPLES as f64;
-            let ring = (1.0 - z * z).sqrt();
-            let angle = golden * i as f64;
-            let n = Vector3::new(ring * angle.cos(), ring * angle.sin(), z);
-            (overlap(a, b, &n), n)
-        })
+    (0..SAMPLES).map(move |i| {
+        let z = 1.0 - 2.0 * (i as f64 + 0.5) / SAMPLES as f64;
+        let ring = (1.0 - z * z).sqrt();
+        let angle = golden * i as f64;
+        Vector3::new(ring * angle.cos(), ring * angle.sin(), z)
+    })
+}
+
+/// The sampled overlaps, least first.
+fn sampled(a: &Solid, b: &Solid) -> Vec<(f64, Vector3<f64>)> {
+    let mut samples: Vec<(f64, Vector3<f64>)> = sample_directions()
+        .map(|n| (overlap(a, b, &n), n))
         .collect();
     samples.sort_by(|x, y| x.0.total_cmp(&y.0));
-    let (value, n) = samples
+    samples
+}
+
+/// The least overlap after refining the best [`REFINED`] samples, and its
+/// direction.
+fn least_refined(a: &Solid, b: &Solid, samples: &[(f64, Vector3<f64>)]) -> (f64, Vector3<f64>) {
+    samples
         .iter()
         .take(REFINED)
         .map(|&(value, n)| refine(a, b, value, n))
         .min_by(|x, y| x.0.total_cmp(&y.0))
-        .unwrap_or((f64::INFINITY, Vector3::z()));
+        .unwrap_or((f64::INFINITY, Vector3::z()))
+}
+
+/// The signed distance of `a` and `b` (distance, or minus the depth) and
+/// the direction that reaches it (from B towards A), module docs.
+pub fn signed_distance(a: &Solid, b: &Solid) -> (f64, Vector3<f64>) {
+    let (value, n) = least_refined(a, b, &sampled(a, b));
     (-value, n)
+}
+
+/// A point inside the solid (the mean of its points, or its centre).
+fn inner_point(solid: &Solid) -> Point3<f64> {
+    match solid {
+        Solid::Points { points, .. } => {
+            let sum = points.iter().fold(Vector3::zeros(), |s, p| s + p.coords);
+            Point3::from(sum / points.len().max(1) as f64)
+        }
+        Solid::Cylinder { centre, .. } | Solid::Cone { centre, .. } => *centre,
+    }
+}
+
+/// The penetration depth of `a` and `b` (0 when apart or touching): as
+/// [`signed_distance`], but 0 as soon as a direction separates (the one
+/// between the solids' inner points first, then the samples), without
+/// refinement.
+pub fn depth(a: &Solid, b: &Solid) -> f64 {
+    let between = (inner_point(a) - inner_point(b)).try_normalize(0.0);
+    if between.is_some_and(|n| overlap(a, b, &n) <= 0.0) {
+        return 0.0;
+    }
+    if sample_directions().any(|n| overlap(a, b, &n) <= 0.0) {
+        return 0.0;
+    }
+    least_refined(a, b, &sampled(a, b)).0.max(0.0)
 }
 
 /// Pattern search on the sphere from `n` (module docs).
 fn refine(a: &Solid, b: &Solid, mut value: f64, mut n: Vector3<f64>) -> (f64, Vector3<f64>) {
     let mut step = FIRST_STEP;
+    let mut moves = 0;
     while step > FINEST_STEP {
         let helper = if n.x.abs() < 0.6 {
             Vector3::x()
@@ -257,28 +349,30 @@ fn refine(a: &Solid, b: &Solid, mut value: f64, mut n: Vector3<f64>) -> (f64, Ve
         };
         let t1 = n.cross(&helper).normalize();
         let t2 = n.cross(&t1);
-        let mut directions: Vec<Vector3<f64>> = (0..8)
-            .map(|k| {
-                let angle = PI / 4.0 * k as f64;
-                t1 * angle.cos() + t2 * angle.sin()
-            })
-            .collect();
-        for ridge in b.ridges(&n).into_iter().chain(a.ridges(&-n)) {
-            directions.extend([ridge, -ridge]);
-        }
-        let mut improved = false;
-        for direction in directions {
+        let compass = COMPASS.iter().map(|&(c, s)| t1 * c + t2 * s);
+        let ridges = b.ridges(&n).into_iter().chain(a.ridges(&-n));
+        let along_ridges = ridges.flat_map(|ridge| [ridge, -ridge]);
+        let improvement = compass.chain(along_ridges).find_map(|direction| {
             let trial = (n + direction * step).normalize();
             let trial_value = overlap(a, b, &trial);
-            if trial_value < value {
+            (trial_value < value).then_some((trial_value, trial))
+        });
+        match improvement {
+            Some((trial_value, trial)) if moves < MOVES_PER_STEP => {
                 value = trial_value;
                 n = trial;
-                improved = true;
-                break;
+                moves += 1;
             }
-        }
-        if !improved {
-            step /= 2.0;
+            Some((trial_value, trial)) => {
+                value = trial_value;
+                n = trial;
+                step /= 2.0;
+                moves = 0;
+            }
+            None => {
+                step /= 2.0;
+                moves = 0;
+            }
         }
     }
     (value, n)
@@ -300,5 +394,12 @@ pub fn body_signed_distance(a: &Body, b: &Body) -> f64 {
 /// The penetration depth of bodies `a` and `b` by this oracle (0 when
 /// apart).
 pub fn body_depth(a: &Body, b: &Body) -> f64 {
-    (-body_signed_distance(a, b)).max(0.0)
+    let (solids_a, solids_b) = (solids_of(a), solids_of(b));
+    let mut deepest: f64 = 0.0;
+    for sa in &solids_a {
+        for sb in &solids_b {
+            deepest = deepest.max(depth(sa, sb));
+        }
+    }
+    deepest
 }

@@ -448,24 +448,31 @@ fn round_contact_points(
                 // The manifold's axis is the widest facet axis, short of
                 // the distance when the closest features are a vertex and
                 // a vertex or an edge: the closest points then carry the
-                // single row.
+                // single row. When instead every manifold point is farther
+                // apart than the distance (its clipped face misses the
+                // closest points: a narrow side of a cylinder's prism),
+                // the closest points join it, so that some row carries
+                // the pair's signed distance.
                 let size = a.shape.scale().min(b.shape.scale());
                 let shallowest = core_points
                     .iter()
                     .map(|p| p.separation)
                     .fold(f64::INFINITY, f64::min);
                 let far_enough = *distance > NORMAL_FROM_WITNESS_MIN_RELATIVE * size;
-                if far_enough
-                    && *distance < raised
-                    && shallowest < distance - ROUND_AXIS_SHORTFALL_RELATIVE * size
-                {
+                let slack = ROUND_AXIS_SHORTFALL_RELATIVE * size;
+                if far_enough && *distance < raised {
                     let normal = (witness_a_world - witness_b_world) / *distance;
-                    core_points = vec![ContactPoint {
+                    let closest = ContactPoint {
                         point_a_world: *witness_a_world,
                         point_b_world: *witness_b_world,
                         normal_world: normal,
                         separation: *distance,
-                    }];
+                    };
+                    if shallowest < distance - slack {
+                        core_points = vec![closest];
+                    } else if shallowest > distance + slack {
+                        core_points.push(closest);
+                    }
                 }
             }
             core_points

@@ -33,7 +33,7 @@ use nalgebra::{Point3, Vector3};
 use super::segments::closest_points;
 use super::{CoreContact, CorePoint};
 use crate::contact::penetration::EDGE_PARALLEL_SINE;
-use crate::geometry::ConvexPolyhedron;
+use crate::geometry::{ConvexPolyhedron, Edge};
 
 /// Relative distance (to the pair's size) below which the closest points
 /// of a separated pair are too close to give a normal: the widest
@@ -112,6 +112,25 @@ fn least_overlap(s: &[Point3<f64>; 2], poly: &ConvexPolyhedron) -> Axis {
         }
     }
     best
+}
+
+/// The edge parallel to edge `e` on which `poly` reaches its support along
+/// `n` (perpendicular to `e`): the edge–segment axis is the same for every
+/// edge parallel to `e` (a prism's side edges), so the axis search keeps
+/// whichever came first, while the contact lies on the supporting one.
+fn supporting_parallel_edge<'p>(
+    poly: &'p ConvexPolyhedron,
+    e: usize,
+    n: &Vector3<f64>,
+) -> &'p Edge {
+    let direction = poly.edges()[e].direction;
+    let height = |edge: &Edge| n.dot(&poly.vertices()[edge.tail].coords);
+    poly.edges()
+        .iter()
+        .filter(|edge| edge.direction.cross(&direction).norm() < EDGE_PARALLEL_SINE)
+        .max_by(|x, y| height(x).total_cmp(&height(y)))
+        // Edge `e` itself passes the filter: the fallback is never taken.
+        .unwrap_or(&poly.edges()[e])
 }
 
 /// Whether `y` (on the face's plane) lies in the face polygon.
@@ -262,13 +281,19 @@ pub fn segment_polyhedron(s: &[Point3<f64>; 2], poly: &ConvexPolyhedron) -> Core
         }
         let n = axis.normal;
         let deepest = deepest_end(s, &n);
+        let whole_depth = (deepest, deepest + n * depth);
         let (on_a, on_b) = match axis.edge {
             Some(e) => {
-                let edge = &poly.edges()[e];
+                let edge = supporting_parallel_edge(poly, e, &n);
                 let (p, q) = (poly.vertices()[edge.tail], poly.vertices()[edge.head]);
-                closest_points(&s[0], &s[1], &p, &q)
+                let pair = closest_points(&s[0], &s[1], &p, &q);
+                // The pair realizes the depth when the origin's projection
+                // lies in the edge–segment facet; else (rounding at a
+                // facet's border) the deepest end carries the whole depth.
+                let realized = n.dot(&(pair.0 - pair.1)) <= -depth * (1.0 - CLIPPED_DEPTH_RELATIVE);
+                if realized { pair } else { whole_depth }
             }
-            None => (deepest, deepest + n * depth),
+            None => whole_depth,
         };
         return single(on_a, on_b, n, -depth);
     }

@@ -242,6 +242,14 @@ fn engine_states_report_the_brute_force_deepest_penetration() {
     let states = engine_states();
     assert!(states.len() >= 14, "{} states", states.len());
     for (name, mut scene) in states {
+        // Round and curved shapes are measured by the support-function
+        // oracle, to its own bound: tests/it/round/scenes.rs.
+        let curved = |b: &constraint_stabilization::body::Body| {
+            b.parts().iter().any(|p| p.rounding().is_some()) || b.shape().surface_deviation() > 0.0
+        };
+        if scene.bodies().iter().any(curved) {
+            continue;
+        }
         let (brute, _) = sat_deepest(&scene);
         let settings = {
             let mut settings = Settings::default();

@@ -142,3 +142,46 @@ fn a_compound_of_round_parts_is_lifted_whole() {
     assert!((moved.y - depth).abs() <= 1e-3 * depth, "{moved:?}");
     assert!(residual <= report.tolerance);
 }
+
+/// Agreement of the library's depth with the support-function oracle's on
+/// exact (round and polyhedral) pairs, relative to the scene's scale: the
+/// oracle's refinement, not the library, sets it.
+const ORACLE_AGREEMENT_RELATIVE: f64 = 1e-7;
+
+#[cfg(feature = "serde")]
+#[test]
+fn the_rapier_mixed_pile_state_is_measured_and_resolved_by_the_oracle() {
+    // A pile of 60 balls, capsules, cylinders and rounded boxes after 5 s
+    // of Rapier (tests/data/engine/rp08_mixed_pile.json). The depth the
+    // library reports before the call is the oracle's on the true shapes,
+    // above it by at most the cylinders' stated deviation (their
+    // circumscribed polyhedra hold the true solids); after the call the
+    // oracle's depth is within the tolerance.
+    use constraint_stabilization::io::scene_file::read_scene;
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/engine/rp08_mixed_pile.json"
+    );
+    let mut scene = read_scene(std::path::Path::new(path)).expect("valid scene");
+    let (before, _) = dev_support::sat::sat_deepest(&scene);
+    let deviation = scene
+        .bodies()
+        .iter()
+        .map(|b| b.shape().surface_deviation())
+        .fold(0.0, f64::max);
+    assert!(deviation > 0.0, "the pile holds cylinders");
+    let (report, residual) = stabilize_with(&mut scene, Settings::default());
+    println!("{}", describe("rp08_mixed_pile", &report, residual));
+    println!("oracle before {before:.6e}, largest deviation {deviation:.3e}");
+    let slack = ORACLE_AGREEMENT_RELATIVE * report.scale;
+    assert!(
+        report.depth_before >= before - slack && report.depth_before <= before + deviation + slack,
+        "reported {:e}, oracle {before:e}",
+        report.depth_before
+    );
+    assert_eq!(report.status, Status::Converged);
+    assert!(
+        residual <= report.tolerance,
+        "oracle depth after {residual:e}"
+    );
+}
