@@ -91,52 +91,49 @@ fn parry_query((sa, pa): &ParryPlaced, (sb, pb): &ParryPlaced) -> Option<f64> {
 /// A body's shape as parry's (cylinders and cones turned from parry's `y`
 /// axis to the library's `z`).
 fn parry_shape(body: &Body) -> Option<ParryPlaced> {
-    let shape = |body: &Body| -> Option<ParryPlaced> {
-        let pose = body.user_pose();
-        let y_to_z = pose * Isometry3::rotation(Vector3::x() * std::f64::consts::FRAC_PI_2);
-        let hull = |points: &[Point3<f64>]| {
-            let points: Vec<_> = points.iter().map(point_to_parry).collect();
-            ParryHull::from_convex_hull(&points)
-        };
-        Some(match body.shape() {
-            Shape::Sphere { radius } => (Box::new(Ball::new(*radius)), pose),
-            Shape::Capsule {
-                half_height,
-                radius,
-            } => (Box::new(Capsule::new_z(*half_height, *radius)), pose),
-            Shape::Cuboid { half_extents } => {
-                (Box::new(Cuboid::new(vector_to_parry(half_extents))), pose)
-            }
-            Shape::RoundCuboid {
-                half_extents,
-                radius,
-            } => (
-                Box::new(RoundShape {
-                    inner_shape: Cuboid::new(vector_to_parry(half_extents)),
-                    border_radius: *radius,
-                }),
-                pose,
-            ),
-            Shape::ConvexHull { points } => (Box::new(hull(points)?), pose),
-            Shape::RoundConvexHull { points, radius } => (
-                Box::new(RoundShape {
-                    inner_shape: hull(points)?,
-                    border_radius: *radius,
-                }),
-                pose,
-            ),
-            Shape::Cylinder {
-                half_height,
-                radius,
-            } => (Box::new(Cylinder::new(*half_height, *radius)), y_to_z),
-            Shape::Cone {
-                half_height,
-                radius,
-            } => (Box::new(Cone::new(*half_height, *radius)), y_to_z),
-            Shape::Compound { .. } => return None,
-        })
+    let pose = body.user_pose();
+    let y_to_z = pose * Isometry3::rotation(Vector3::x() * std::f64::consts::FRAC_PI_2);
+    let hull = |points: &[Point3<f64>]| {
+        let points: Vec<_> = points.iter().map(point_to_parry).collect();
+        ParryHull::from_convex_hull(&points)
     };
-    shape(body)
+    Some(match body.shape() {
+        Shape::Sphere { radius } => (Box::new(Ball::new(*radius)), pose),
+        Shape::Capsule {
+            half_height,
+            radius,
+        } => (Box::new(Capsule::new_z(*half_height, *radius)), pose),
+        Shape::Cuboid { half_extents } => {
+            (Box::new(Cuboid::new(vector_to_parry(half_extents))), pose)
+        }
+        Shape::RoundCuboid {
+            half_extents,
+            radius,
+        } => (
+            Box::new(RoundShape {
+                inner_shape: Cuboid::new(vector_to_parry(half_extents)),
+                border_radius: *radius,
+            }),
+            pose,
+        ),
+        Shape::ConvexHull { points } => (Box::new(hull(points)?), pose),
+        Shape::RoundConvexHull { points, radius } => (
+            Box::new(RoundShape {
+                inner_shape: hull(points)?,
+                border_radius: *radius,
+            }),
+            pose,
+        ),
+        Shape::Cylinder {
+            half_height,
+            radius,
+        } => (Box::new(Cylinder::new(*half_height, *radius)), y_to_z),
+        Shape::Cone {
+            half_height,
+            radius,
+        } => (Box::new(Cone::new(*half_height, *radius)), y_to_z),
+        Shape::Compound { .. } => return None,
+    })
 }
 
 /// One random pair of kinds `(ka, kb)`, overlapping or close.
