@@ -35,6 +35,23 @@ pub fn part_queries(a: &Body, b: &Body) -> Vec<PairQuery> {
     answers
 }
 
+/// The least separation over the contact rows of two single-part bodies
+/// (contact margin `margin`), and the pair's signed distance: the rows
+/// must carry it (a row asking less than the pair's penetration lets the
+/// call stall on a penetration no row sees).
+pub fn shallowest_row(a: &Body, b: &Body, margin: f64) -> (f64, f64) {
+    let (ga, gb) = (part_geometry(a, 0), part_geometry(b, 0));
+    let vclip = VClip::new(VClipSettings::default());
+    let query = contact::query(&vclip, &ga, &gb, None).expect("a valid query");
+    let settings = constraint_stabilization::Settings::default();
+    let points = contact::contact_points(&query, &ga, &gb, margin, &settings).points;
+    let least = points
+        .iter()
+        .map(|p| p.separation)
+        .fold(f64::INFINITY, f64::min);
+    (least, query.signed_value())
+}
+
 /// The library's signed distance of two bodies (least over part pairs).
 pub fn signed_distance(a: &Body, b: &Body) -> f64 {
     part_queries(a, b)

@@ -143,11 +143,6 @@ fn a_compound_of_round_parts_is_lifted_whole() {
     assert!(residual <= report.tolerance);
 }
 
-/// Agreement of the library's depth with the support-function oracle's on
-/// exact (round and polyhedral) pairs, relative to the scene's scale: the
-/// oracle's refinement, not the library, sets it.
-const ORACLE_AGREEMENT_RELATIVE: f64 = 1e-7;
-
 #[cfg(feature = "serde")]
 #[test]
 fn the_rapier_mixed_pile_state_is_measured_and_resolved_by_the_oracle() {
@@ -158,6 +153,10 @@ fn the_rapier_mixed_pile_state_is_measured_and_resolved_by_the_oracle() {
     // circumscribed polyhedra hold the true solids); after the call the
     // oracle's depth is within the tolerance.
     use constraint_stabilization::io::scene_file::read_scene;
+    /// Agreement of the library's depth with the oracle's on exact (round
+    /// and polyhedral) pairs, relative to the scene's scale: the oracle's
+    /// refinement, not the library, sets it.
+    const ORACLE_AGREEMENT_RELATIVE: f64 = 1e-7;
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/tests/data/engine/rp08_mixed_pile.json"
