@@ -126,6 +126,12 @@ pub struct BridgeSettings {
     /// and calls cost more; with friction on the change the 1:1000 stack
     /// falls.
     pub velocity_friction: VelocityFriction,
+    /// Resting calls (`rapier_bridge/rest.rs`): when every awake body
+    /// passed Rapier's own sleep test since the last call, a call of
+    /// [`CouplingMode::ClosedContacts`] accepts Rapier's allowed linear
+    /// error, so that a scene Rapier holds at rest is not written and
+    /// falls asleep. Default true.
+    pub resting_calls: bool,
 }
 
 impl Default for BridgeSettings {
@@ -143,6 +149,7 @@ impl BridgeSettings {
             coupling: CouplingMode::default(),
             collider_friction: true,
             velocity_friction: VelocityFriction::None,
+            resting_calls: true,
         }
     }
 
