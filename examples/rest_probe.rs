@@ -4,7 +4,7 @@
 //! step made and the part the call made, with Rapier's sleep test.
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example rest_probe -- [--scene pyramid|pile|compound] [--steps N] [--from S] [--coupling closed|velocity|positions|plain] [--every K]
+//! cargo run --release --features rapier,serde --example rest_probe -- [--scene pyramid|pile|compound] [--steps N] [--from S] [--coupling closed|velocity|positions|plain] [--every K] [--velocity-friction none|velocity]
 //! ```
 //!
 //! Every `K` steps from step `S` (default 60, every 20) it prints: the
@@ -20,6 +20,7 @@
 mod scenes;
 
 use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
+use constraint_stabilization::stabilizer::VelocityFriction;
 use rapier3d::prelude::*;
 
 /// Largest displacement of a point at distance `reach` from the body
@@ -53,8 +54,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some("plain") => None,
         Some(other) => return Err(format!("unknown coupling {other}").into()),
     };
+    let velocity_friction = match value("--velocity-friction").as_deref() {
+        None => BridgeSettings::default().velocity_friction,
+        Some("none") => VelocityFriction::None,
+        Some("velocity") => VelocityFriction::OnVelocity,
+        Some(other) => return Err(format!("unknown velocity friction {other}").into()),
+    };
     let mut bridge = RapierBridge::with_settings(BridgeSettings {
         coupling: coupling.unwrap_or_default(),
+        velocity_friction,
         ..BridgeSettings::default()
     })?;
     let mut measure = RapierBridge::with_settings(BridgeSettings::default())?;
