@@ -2,7 +2,8 @@
 //!
 //! Rapier derives a rigid body's mass properties from its colliders'
 //! densities (or masses) and any additional mass properties:
-//! `RigidBody::mass_properties().local_mprops` holds the mass, the centre
+//! `RigidBody::mass()` is the mass and
+//! `RigidBody::mass_properties().local_mprops` holds the centre
 //! of mass `c_B` in the body frame and the principal inertia `d` in a
 //! principal frame `Q` (body frame from principal frame). The scene body's
 //! shape frame is the collider frame `P` for one collider and the body
@@ -71,7 +72,7 @@ impl EngineMass {
         .to_rotation_matrix();
         let principal = Matrix3::from_diagonal(&Vector3::from(inverse.map(|i| 1.0 / i)));
         Some(EngineMass {
-            mass: 1.0 / inverse_mass,
+            mass: f64::from(body.mass()),
             com_body: vector_to_f64(local.local_com),
             inertia_body: frame.matrix() * principal * frame.matrix().transpose(),
         })
