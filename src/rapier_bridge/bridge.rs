@@ -9,12 +9,15 @@
 //!    starts of the others to their new indices), append the new ones; then
 //!    set every scene body's user pose to its collider's world pose
 //!    `U = B P`, in one batch;
-//! 3. choose the call's lengths ([`super::round_off`], and the allowed
-//!    penetration of the coupling mode, [`super::settings`]) and stabilize
+//! 3. hold the bodies Rapier put to sleep still (obstacles, never written);
+//!    choose the call's lengths ([`super::round_off`], and the allowed
+//!    penetration of the coupling mode, [`super::settings`], Rapier's
+//!    allowed linear error in a resting call, `super::rest`) and stabilize
 //!    with the kept [`Stabilizer`] (warm starts from the previous call); on
 //!    error nothing is written;
 //! 4. write back the dynamic bodies whose pose changed, `B' = U' P^-1`,
-//!    rounded to f32, without touching velocities or waking bodies.
+//!    rounded to f32, without waking bodies, and move their colliders with
+//!    them; in the velocity modes, project and write the velocities.
 
 use std::collections::HashMap;
 
