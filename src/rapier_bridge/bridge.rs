@@ -38,7 +38,7 @@ use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::joints::{JointReadReport, JointSkipReason, RapierJoint, SkippedJoint, read_joints};
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
-use super::rest::{dynamic_poses, is_resting};
+use super::rest::{RestPoses, dynamic_poses, is_resting};
 use super::round_off::{own_lengths, raised_lengths, write_back_round_off_bound};
 use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
 use crate::body::{BodyDesc, MassSpec};
@@ -54,6 +54,9 @@ pub struct RapierBridge {
     stabilizer: Stabilizer,
     scene: Scene,
     map: BodyMap,
+    /// The awake dynamic bodies' poses as the last call left them
+    /// (`super::rest`).
+    last_output: RestPoses,
 }
 
 /// A user pose as stored: translation and `[x, y, z, w]`, compared bit for
@@ -75,6 +78,7 @@ impl RapierBridge {
             settings,
             scene: Scene::new(),
             map: BodyMap::default(),
+            last_output: RestPoses::default(),
         })
     }
 
@@ -187,10 +191,10 @@ impl RapierBridge {
         multibody_joints: &MultibodyJointSet,
         parameters: &IntegrationParameters,
     ) -> Result<BridgeReport, BridgeError> {
-        let previous = dynamic_poses(&self.scene, &self.map);
         let sync = self.sync(bodies, colliders)?;
         let joints = self.sync_joints(impulse_joints, multibody_joints)?;
         let asleep = self.hold_sleeping(bodies);
+        let previous = std::mem::take(&mut self.last_output);
         let resting = self.settings.resting_calls
             && is_resting(&previous, &self.scene, &self.map, bodies, parameters);
         let own = own_lengths(&self.settings.stabilizer, &self.scene);
@@ -227,6 +231,7 @@ impl RapierBridge {
         report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
         let (moved, round_off) = self.write_back(bodies, &before);
         bodies.propagate_modified_body_positions_to_colliders(colliders);
+        self.last_output = dynamic_poses(&self.scene, &self.map);
         report.bodies_written = moved.len();
         report.write_back_round_off = round_off;
         if self.settings.coupling.projects_velocities() && !moved.is_empty() {

@@ -15,8 +15,9 @@
 //!
 //! # The rule
 //!
-//! A call is *resting* when every awake dynamic body moved, since the
-//! pose the last call left it at, by less than Rapier's own sleep test
+//! A call is *resting* when every awake dynamic body moved, in Rapier's
+//! step since the pose the last call left it at (kept by the bridge,
+//! whatever was read in between), by less than Rapier's own sleep test
 //! allows in one step: with `d = |t' - t| + 2 |sin(theta / 2)| r` the
 //! displacement of its farthest point (`r` the reach of its shape from
 //! its shape-frame origin, `theta` the rotation angle),
