@@ -31,13 +31,14 @@ fn point_motion(a: &Pose, b: &Pose, reach: f32) -> f64 {
     f64::from(translation + angle * reach)
 }
 
+/// The word after `flag` on the command line.
+fn flag_value(args: &[String], flag: &str) -> Option<String> {
+    args.windows(2).find(|w| w[0] == flag).map(|w| w[1].clone())
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let value = |flag: &str| {
-        args.iter()
-            .position(|a| a == flag)
-            .and_then(|i| args.get(i + 1).cloned())
-    };
+    let value = |flag: &str| flag_value(&args, flag);
     let steps: usize = value("--steps").map_or(Ok(300), |s| s.parse())?;
     let from: usize = value("--from").map_or(Ok(60), |s| s.parse())?;
     let every: usize = value("--every").map_or(Ok(20), |s| s.parse())?;
@@ -119,7 +120,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 creep_call[i][1] += f64::from(c.y);
             }
         }
-        if step >= from && (step - from) % every == 0 {
+        if step >= from && (step - from).is_multiple_of(every) {
             let asleep = handles
                 .iter()
                 .filter(|&&h| world.bodies[h].is_sleeping())
