@@ -4,7 +4,7 @@
 //! step made and the part the call made, with Rapier's sleep test.
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example rest_probe -- [--scene pyramid|pile|compound] [--steps N] [--from S] [--coupling closed|velocity|positions|plain] [--every K] [--velocity-friction none|velocity]
+//! cargo run --release --features rapier,serde --example rest_probe -- [--scene pyramid|pile|compound] [--steps N] [--from S] [--coupling closed|velocity|positions|plain] [--every K] [--velocity-friction none|velocity] [--no-resting]
 //! ```
 //!
 //! Every `K` steps from step `S` (default 60, every 20) it prints: the
@@ -14,7 +14,9 @@
 //! at 60 Hz), the horizontal displacement summed since `S` (signed, the
 //! creep) by the steps and by the calls for the body that moved most, the
 //! bodies asleep, the bodies whose sleep timer is running, the bodies the
-//! call wrote, and the exact depth Rapier's step left.
+//! call wrote, whether the call was a resting one, and the exact depth
+//! Rapier's step left. `--no-resting` turns the bridge's resting calls off
+//! (`BridgeSettings::resting_calls`).
 
 #[path = "common/rapier_scenes.rs"]
 mod scenes;
@@ -64,6 +66,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut bridge = RapierBridge::with_settings(BridgeSettings {
         coupling: coupling.unwrap_or_default(),
         velocity_friction,
+        resting_calls: !args.iter().any(|a| a == "--no-resting"),
         ..BridgeSettings::default()
     })?;
     let mut measure = RapierBridge::with_settings(BridgeSettings::default())?;
