@@ -65,6 +65,12 @@ pub enum CouplingMode {
     /// [`CouplingMode::VelocityConsistency`], every call converging. Its
     /// cost: the contacts it corrects are left sunk by about one tolerance,
     /// within the tolerance each call states.
+    ///
+    /// Its *resting calls* ([`BridgeSettings::resting_calls`],
+    /// `rapier_bridge/rest.rs`): when every awake body moved in Rapier's
+    /// step by less than Rapier's sleep test allows, the call accepts
+    /// Rapier's allowed linear error instead, so a scene Rapier holds at
+    /// rest is not written and falls asleep.
     #[default]
     ClosedContacts,
 }
