@@ -38,7 +38,7 @@ use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::joints::{JointReadReport, JointSkipReason, RapierJoint, SkippedJoint, read_joints};
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
-use super::rest::{RestPoses, dynamic_poses, is_resting};
+use super::rest::{RESTING_STREAK, RestPoses, dynamic_poses, is_resting};
 use super::round_off::{own_lengths, raised_lengths, write_back_round_off_bound};
 use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
 use crate::body::{BodyDesc, MassSpec};
@@ -57,6 +57,8 @@ pub struct RapierBridge {
     /// The awake dynamic bodies' poses as the last call left them
     /// (`super::rest`).
     last_output: RestPoses,
+    /// Consecutive calls whose step passed the rest test.
+    rest_streak: usize,
 }
 
 /// A user pose as stored: translation and `[x, y, z, w]`, compared bit for
@@ -79,6 +81,7 @@ impl RapierBridge {
             scene: Scene::new(),
             map: BodyMap::default(),
             last_output: RestPoses::default(),
+            rest_streak: 0,
         })
     }
 
@@ -195,8 +198,11 @@ impl RapierBridge {
         let joints = self.sync_joints(impulse_joints, multibody_joints)?;
         let asleep = self.hold_sleeping(bodies);
         let previous = std::mem::take(&mut self.last_output);
-        let resting = self.settings.resting_calls
-            && is_resting(&previous, &self.scene, &self.map, bodies, parameters);
+        self.rest_streak = match is_resting(&previous, &self.scene, &self.map, bodies, parameters) {
+            true => self.rest_streak + 1,
+            false => 0,
+        };
+        let resting = self.settings.resting_calls && self.rest_streak >= RESTING_STREAK;
         let own = own_lengths(&self.settings.stabilizer, &self.scene);
         let round_off_bound = write_back_round_off_bound(&self.scene, &self.map, &own);
         let mut report = BridgeReport {
