@@ -43,7 +43,7 @@
 //! whose pose the user writes and the bodies touching it, so a settled
 //! scene sleeps only if the calls stop writing it: in the default coupling
 //! a *resting call* (every awake body passed Rapier's own sleep test in
-//! its step) accepts Rapier's allowed linear error (`rest.rs`,
+//! its last three steps) accepts Rapier's allowed linear error (`rest.rs`,
 //! [`BridgeSettings::resting_calls`]).
 //!
 //! # Frames

@@ -71,8 +71,8 @@ pub struct BridgeReport {
     /// neither solved nor written, and left asleep.
     pub bodies_left_asleep: usize,
     /// Whether the call was a resting one (`rapier_bridge/rest.rs`): every
-    /// awake body passed Rapier's sleep test since the last call, and
-    /// Rapier's allowed linear error was accepted.
+    /// awake body passed Rapier's sleep test in Rapier's last three steps,
+    /// and Rapier's allowed linear error was accepted.
     pub resting: bool,
     /// f32 rounding of the written poses, as measured.
     pub write_back_round_off: WriteBackRoundOff,

@@ -68,7 +68,7 @@ pub enum CouplingMode {
     ///
     /// Its *resting calls* ([`BridgeSettings::resting_calls`],
     /// `rapier_bridge/rest.rs`): when every awake body moved in Rapier's
-    /// step by less than Rapier's sleep test allows, the call accepts
+    /// last three steps by less than Rapier's sleep test allows, the call accepts
     /// Rapier's allowed linear error instead, so a scene Rapier holds at
     /// rest is not written and falls asleep.
     #[default]
@@ -133,8 +133,8 @@ pub struct BridgeSettings {
     /// falls.
     pub velocity_friction: VelocityFriction,
     /// Resting calls (`rapier_bridge/rest.rs`): when every awake body
-    /// passed Rapier's own sleep test since the last call, a call of
-    /// [`CouplingMode::ClosedContacts`] accepts Rapier's allowed linear
+    /// passed Rapier's own sleep test in Rapier's last three steps, a call
+    /// of [`CouplingMode::ClosedContacts`] accepts Rapier's allowed linear
     /// error, so that a scene Rapier holds at rest is not written and
     /// falls asleep. Default true.
     pub resting_calls: bool,
