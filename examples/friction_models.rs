@@ -62,7 +62,7 @@ fn recorded_stack(steps: usize) -> Result<Vec<Input>, Box<dyn std::error::Error>
         });
         bridge.stabilize(
             &mut world.bodies,
-            &world.colliders,
+            &mut world.colliders,
             &world.impulse_joints,
             &world.multibody_joints,
             &world.integration_parameters,

@@ -269,7 +269,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let report = match coupling {
             Some(_) => Some(bridge.stabilize(
                 &mut world.bodies,
-                &world.colliders,
+                &mut world.colliders,
                 &world.impulse_joints,
                 &world.multibody_joints,
                 &world.integration_parameters,

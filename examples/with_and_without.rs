@@ -3,9 +3,11 @@
 //! simulation, measured.
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example with_and_without -- [--steps N] [--only NAME] [--scenes A,B,...] [--out DIR]
+//! cargo run --release --features rapier,serde --example with_and_without -- [--steps N] [--only NAME] [--scenes A,B,...] [--runs A,B] [--out DIR]
 //! ```
 //!
+//! `--runs A,B` runs only the runs whose name contains `A` or `B`
+//! (`plain`, `default`, `closed`, `velocity`, `allowed`, `positions`).
 //! `--only NAME` runs the scenes whose name contains `NAME`; `--scenes`
 //! runs the scenes listed, each entry a scene's name or the part of names
 //! before an underscore (`chain20` is `chain20_1x`, `chain20_100x` and
@@ -237,6 +239,9 @@ enum Run {
     /// Velocity consistency (frictionless velocity projection) with the
     /// corrected contacts left closed (`CouplingMode::ClosedContacts`).
     Closed,
+    /// The same without resting calls (`BridgeSettings::resting_calls`
+    /// off): every call closes the contacts.
+    ClosedEveryCall,
     /// Rapier's allowed penetration respected, with the colliders'
     /// friction, positions only.
     Allowed,
@@ -248,11 +253,12 @@ enum Run {
 }
 
 impl Run {
-    const ALL: [Run; 6] = [
+    const ALL: [Run; 7] = [
         Run::Plain,
         Run::Velocity(VelocityFriction::OnVelocity),
         Run::Velocity(VelocityFriction::None),
         Run::Closed,
+        Run::ClosedEveryCall,
         Run::Allowed,
         Run::Positions,
     ];
@@ -277,6 +283,7 @@ impl Run {
                 let marker = if default { "default: " } else { "" };
                 format!("{marker}closed contacts+friction")
             }
+            Run::ClosedEveryCall => "closed contacts, no resting calls".into(),
             Run::Allowed => "allowed+friction".into(),
             Run::Positions => "positions (seed)".into(),
             Run::Default => "bridge default".into(),
@@ -289,6 +296,7 @@ impl Run {
             Run::Velocity(VelocityFriction::OnVelocity) => RGBColor(30, 110, 200),
             Run::Velocity(_) => RGBColor(150, 80, 190),
             Run::Closed => RGBColor(230, 150, 20),
+            Run::ClosedEveryCall => RGBColor(120, 60, 0),
             Run::Allowed => RGBColor(40, 160, 60),
             Run::Positions => RGBColor(120, 120, 120),
             Run::Default => RGBColor(30, 110, 200),
@@ -308,6 +316,13 @@ impl Run {
                 coupling: CouplingMode::ClosedContacts,
                 collider_friction: true,
                 velocity_friction: VelocityFriction::None,
+                ..BridgeSettings::default()
+            },
+            Run::ClosedEveryCall => BridgeSettings {
+                coupling: CouplingMode::ClosedContacts,
+                collider_friction: true,
+                velocity_friction: VelocityFriction::None,
+                resting_calls: false,
                 ..BridgeSettings::default()
             },
             Run::Allowed => BridgeSettings {
@@ -338,6 +353,11 @@ struct StepRecord {
     call_failed: bool,
     top_z: f64,
     drift: f64,
+    /// Dynamic bodies asleep after the step and the call, of `dynamic`.
+    asleep: usize,
+    dynamic: usize,
+    /// Bodies the call wrote (0 without a call).
+    written: usize,
 }
 
 /// One bridge call after a step, timed.
@@ -352,6 +372,8 @@ struct Call {
     tolerance: f64,
     /// The call's bound on the f32 rounding of a written pose (0 on error).
     round_off_bound: f64,
+    /// Bodies whose pose the call wrote.
+    written: usize,
 }
 
 /// One call of `bridge` on the world after its step, timed.
@@ -373,6 +395,7 @@ fn call(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> Call {
                 resolved,
                 tolerance,
                 round_off_bound: report.round_off_bound,
+                written: report.bodies_written,
             }
         }
         Err(_) => Call {
@@ -381,8 +404,18 @@ fn call(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> Call {
             resolved: false,
             tolerance: f64::INFINITY,
             round_off_bound: 0.0,
+            written: 0,
         },
     }
+}
+
+/// Dynamic bodies asleep, and dynamic bodies.
+fn sleeping(world: &PhysicsWorld) -> (usize, usize) {
+    let dynamic = world.bodies.iter().filter(|(_, b)| b.is_dynamic());
+    let (asleep, all) = dynamic.fold((0, 0), |(a, n), (_, b)| {
+        (a + usize::from(b.is_sleeping()), n + 1)
+    });
+    (asleep, all)
 }
 
 /// One Rapier step, its time in ms.
@@ -414,6 +447,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
              --only NAME     the scenes whose name contains NAME\n\
              --scenes A,B    the scenes named, or named by the part before an underscore\n\
              --out DIR       where the md, csv and svg files go (default benchmarks/results)\n\
+             --runs A,B      only the runs whose name contains one of A, B (default all)\n\
              scenes: {}",
             scenes()
                 .iter()
@@ -463,10 +497,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut table = String::new();
     for scene in contact_scenes.iter().filter(|s| selection.wants(s.name)) {
         if table.is_empty() {
-            table += "| scene | run | deepest after step 1 (m) | deepest, median over steps (m) | deepest, max over the last 100 steps (m) | top: start -> end z (m) | max horizontal drift (mm) | failed calls | steps deeper than the call's tolerance | Rapier step ms (median) | call ms (median / max) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+            table += "| scene | run | deepest after step 1 (m) | deepest, median over steps (m) | deepest, max over the last 100 steps (m) | top: start -> end z (m) | max horizontal drift (mm) | failed calls | steps deeper than the call's tolerance | Rapier step ms (median) | call ms (median / max) | all asleep: first step / stays from | asleep at the end | bodies written while all asleep | call ms while all asleep / Rapier step ms while awake (medians) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
         }
         let mut runs = Vec::new();
-        for run in Run::ALL {
+        let wanted_runs = value("--runs");
+        let runs_wanted = Run::ALL.into_iter().filter(|run| {
+            wanted_runs
+                .as_deref()
+                .is_none_or(|list| list.split(',').any(|part| run.name().contains(part)))
+        });
+        for run in runs_wanted {
             let records = simulate(scene, run, steps)?;
             for r in &records {
                 let _ = writeln!(
@@ -571,13 +611,15 @@ fn simulate(
     for step in 1..=steps {
         let rapier_ms = timed_step(&mut world);
         let (mut call_ms, mut call_failed) = (0.0, false);
-        let mut call_tolerance = f64::INFINITY;
+        let (mut call_tolerance, mut written) = (f64::INFINITY, 0);
         if let Some(bridge) = bridge.as_mut() {
             let call = call(bridge, &mut world);
             call_ms = call.ms;
             call_failed = !call.resolved;
             call_tolerance = call.tolerance;
+            written = call.written;
         }
+        let (asleep, dynamic) = sleeping(&world);
         let depth = deepest(&mut measure, &world)?;
         if step == scene.drift_from {
             start = tracked
@@ -607,6 +649,9 @@ fn simulate(
             call_failed,
             top_z,
             drift,
+            asleep,
+            dynamic,
+            written,
         });
     }
     Ok(records)
@@ -753,14 +798,73 @@ fn summary(scene: &str, run: Run, records: &[StepRecord]) -> String {
         .filter(|r| r.depth > r.call_tolerance)
         .count();
     let drift = records.last().map_or(0.0, |r| r.drift);
+    let sleep = Sleep::of(records);
     format!(
-        "| {scene} | {} | {first:.2e} | {:.2e} | {tail:.2e} | {start_z:.4} -> {end_z:.4} | {:.2} | {failed} | {beyond} | {:.3} | {:.2} / {max_call:.1} |\n",
+        "| {scene} | {} | {first:.2e} | {:.2e} | {tail:.2e} | {start_z:.4} -> {end_z:.4} | {:.2} | {failed} | {beyond} | {:.3} | {:.2} / {max_call:.1} | {} |\n",
         run.name(),
         median(depths),
         drift * 1e3,
         median(records.iter().map(|r| r.rapier_ms).collect()),
         median(calls),
+        sleep.cells(),
     )
+}
+
+/// How a run falls asleep: the first step at which every dynamic body is
+/// asleep, the step from which they all stay asleep, the bodies asleep at
+/// the end, the bodies written from that step on, and the median call on
+/// the sleeping scene against Rapier's median step while awake.
+struct Sleep {
+    first: Option<usize>,
+    stays_from: Option<usize>,
+    asleep_at_end: (usize, usize),
+    written_asleep: usize,
+    call_asleep_ms: Option<f64>,
+    rapier_awake_ms: Option<f64>,
+}
+
+impl Sleep {
+    fn of(records: &[StepRecord]) -> Sleep {
+        let all_asleep = |r: &StepRecord| r.dynamic > 0 && r.asleep == r.dynamic;
+        let first = records.iter().find(|r| all_asleep(r)).map(|r| r.step);
+        let awake_tail = records.iter().rposition(|r| !all_asleep(r));
+        let stays_from = match awake_tail {
+            None => records.first().map(|r| r.step),
+            Some(i) => records.get(i + 1).map(|r| r.step),
+        };
+        let asleep: Vec<&StepRecord> = records.iter().filter(|r| all_asleep(r)).collect();
+        let awake: Vec<f64> = records
+            .iter()
+            .filter(|r| !all_asleep(r))
+            .map(|r| r.rapier_ms)
+            .collect();
+        Sleep {
+            first,
+            stays_from,
+            asleep_at_end: records.last().map_or((0, 0), |r| (r.asleep, r.dynamic)),
+            written_asleep: asleep.iter().map(|r| r.written).sum(),
+            call_asleep_ms: (!asleep.is_empty())
+                .then(|| median(asleep.iter().map(|r| r.call_ms).collect())),
+            rapier_awake_ms: (!awake.is_empty()).then(|| median(awake)),
+        }
+    }
+
+    /// The table's cells: all asleep first / from; asleep at the end;
+    /// written while asleep; call while asleep (ms) / Rapier awake (ms).
+    fn cells(&self) -> String {
+        let step = |s: Option<usize>| s.map_or("-".to_string(), |s| s.to_string());
+        let ms = |m: Option<f64>| m.map_or("-".to_string(), |m| format!("{m:.4}"));
+        format!(
+            "{} / {} | {}/{} | {} | {} / {}",
+            step(self.first),
+            step(self.stays_from),
+            self.asleep_at_end.0,
+            self.asleep_at_end.1,
+            self.written_asleep,
+            ms(self.call_asleep_ms),
+            ms(self.rapier_awake_ms),
+        )
+    }
 }
 
 /// One line of a plot: a value per step, from step 1.

@@ -43,6 +43,7 @@ use thiserror::Error;
 
 use crate::geometry::{ConvexPolyhedron, GeometryError, Rounding, curved};
 
+mod engine_mass;
 mod part_solid;
 mod parts;
 mod state;
@@ -325,6 +326,9 @@ pub struct Body {
     origin_offset: Vector3<f64>,
     mass_spec: MassSpec,
     mass: Option<BodyMass>,
+    /// The mass properties of a dynamic body held still
+    /// ([`Body::hold_fixed`]); `None` otherwise.
+    held_mass: Option<BodyMass>,
     translation_user: Vector3<f64>,
     rotation_user_xyzw: [f64; 4],
     com_pose: Isometry3<f64>,
@@ -376,6 +380,7 @@ impl Body {
             rotation_user_xyzw: desc.rotation_xyzw,
             com_pose,
             friction: None,
+            held_mass: None,
         })
     }
 

@@ -102,6 +102,13 @@ impl BodyPart {
         }
     }
 
+    /// Moves the part by `shift` in the body frame (the body frame's
+    /// origin moved by `-shift`, `body::engine_mass`).
+    pub(super) fn shift(&mut self, shift: &Vector3<f64>) {
+        let moved = Translation3::from(*shift) * self.offset.unwrap_or_else(Isometry3::identity);
+        self.offset = Some(moved);
+    }
+
     /// Largest distance of a vertex of the part from the body's centre of
     /// mass.
     pub fn reach(&self) -> f64 {

@@ -6,7 +6,7 @@
 //! (the collider set's order within one call); a dynamic body with several
 //! colliders is one scene body, a compound, keyed by its first collider. A mapped collider keeps its
 //! shape (built once) and its V-Clip warm starts as long as it is read
-//! again unchanged: same parent, same body type and mass, same offset `P`
+//! again unchanged: same parent, same body type, mass and mass properties, same offset `P`
 //! in its body, same shape signature. A collider that is no longer read
 //! (removed, disabled, now skipped) has its body removed; one that changed
 //! has its body removed and a new one appended. Removal keeps the order of
@@ -20,6 +20,7 @@ use rapier3d::dynamics::RigidBodyHandle;
 use rapier3d::geometry::ColliderHandle;
 
 use super::collider_shape::{ReadCollider, ReadPart, ShapeSignature};
+use super::engine_mass::EngineMass;
 use crate::scene::IndexMap;
 
 /// The Rapier collider behind one scene body (or, for a compound, the
@@ -37,6 +38,7 @@ pub struct MappedCollider {
     /// collider's (identity without parent, and for a compound, whose
     /// frame is the Rapier body's).
     pub collider_in_body: Isometry3<f64>,
+    engine_mass: Option<EngineMass>,
     signature: ShapeSignature,
     parts: Vec<ReadPart>,
 }
@@ -48,6 +50,7 @@ impl MappedCollider {
             body: read.body,
             dynamic_mass: read.dynamic_mass,
             collider_in_body: read.collider_in_body,
+            engine_mass: read.engine_mass,
             signature: read.signature,
             parts: read.parts.clone(),
         }
@@ -71,6 +74,7 @@ impl MappedCollider {
         self.body == read.body
             && self.dynamic_mass.map(f64::to_bits) == read.dynamic_mass.map(f64::to_bits)
             && self.collider_in_body == read.collider_in_body
+            && self.engine_mass == read.engine_mass
             && self.signature == read.signature
             && self.parts == read.parts
     }

@@ -9,12 +9,15 @@
 //!    starts of the others to their new indices), append the new ones; then
 //!    set every scene body's user pose to its collider's world pose
 //!    `U = B P`, in one batch;
-//! 3. choose the call's lengths ([`super::round_off`], and the allowed
-//!    penetration of the coupling mode, [`super::settings`]) and stabilize
+//! 3. hold the bodies Rapier put to sleep still (obstacles, never written);
+//!    choose the call's lengths ([`super::round_off`], and the allowed
+//!    penetration of the coupling mode, [`super::settings`], Rapier's
+//!    allowed linear error in a resting call, `super::rest`) and stabilize
 //!    with the kept [`Stabilizer`] (warm starts from the previous call); on
 //!    error nothing is written;
 //! 4. write back the dynamic bodies whose pose changed, `B' = U' P^-1`,
-//!    rounded to f32, without touching velocities or waking bodies.
+//!    rounded to f32, without waking bodies, and move their colliders with
+//!    them; in the velocity modes, project and write the velocities.
 
 use std::collections::HashMap;
 
@@ -35,6 +38,7 @@ use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::joints::{JointReadReport, JointSkipReason, RapierJoint, SkippedJoint, read_joints};
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
+use super::rest::{RESTING_STREAK, RestPoses, dynamic_poses, is_resting};
 use super::round_off::{own_lengths, raised_lengths, write_back_round_off_bound};
 use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
 use crate::body::{BodyDesc, MassSpec};
@@ -50,6 +54,11 @@ pub struct RapierBridge {
     stabilizer: Stabilizer,
     scene: Scene,
     map: BodyMap,
+    /// The awake dynamic bodies' poses as the last call left them
+    /// (`super::rest`).
+    last_output: RestPoses,
+    /// Consecutive calls whose step passed the rest test.
+    rest_streak: usize,
 }
 
 /// A user pose as stored: translation and `[x, y, z, w]`, compared bit for
@@ -71,6 +80,8 @@ impl RapierBridge {
             settings,
             scene: Scene::new(),
             map: BodyMap::default(),
+            last_output: RestPoses::default(),
+            rest_streak: 0,
         })
     }
 
@@ -162,7 +173,7 @@ impl RapierBridge {
     ) -> Result<BridgeReport, BridgeError> {
         self.stabilize(
             &mut world.bodies,
-            &world.colliders,
+            &mut world.colliders,
             &world.impulse_joints,
             &world.multibody_joints,
             &world.integration_parameters,
@@ -178,13 +189,20 @@ impl RapierBridge {
     pub fn stabilize(
         &mut self,
         bodies: &mut RigidBodySet,
-        colliders: &ColliderSet,
+        colliders: &mut ColliderSet,
         impulse_joints: &ImpulseJointSet,
         multibody_joints: &MultibodyJointSet,
         parameters: &IntegrationParameters,
     ) -> Result<BridgeReport, BridgeError> {
         let sync = self.sync(bodies, colliders)?;
         let joints = self.sync_joints(impulse_joints, multibody_joints)?;
+        let asleep = self.hold_sleeping(bodies);
+        let previous = std::mem::take(&mut self.last_output);
+        self.rest_streak = match is_resting(&previous, &self.scene, &self.map, bodies, parameters) {
+            true => self.rest_streak + 1,
+            false => 0,
+        };
+        let resting = self.settings.resting_calls && self.rest_streak >= RESTING_STREAK;
         let own = own_lengths(&self.settings.stabilizer, &self.scene);
         let round_off_bound = write_back_round_off_bound(&self.scene, &self.map, &own);
         let mut report = BridgeReport {
@@ -192,6 +210,8 @@ impl RapierBridge {
             joints,
             stabilizer: None,
             bodies_written: 0,
+            bodies_left_asleep: asleep,
+            resting: false,
             write_back_round_off: WriteBackRoundOff::default(),
             round_off_bound,
             velocities: None,
@@ -204,15 +224,20 @@ impl RapierBridge {
             .settings
             .allowed_penetration(f64::from(parameters.allowed_linear_error()));
         let raised = raised_lengths(&own, round_off_bound);
+        let engine_allowed = f64::from(parameters.allowed_linear_error());
         let allowed = match self.settings.coupling {
+            CouplingMode::ClosedContacts if resting => allowed.max(engine_allowed),
             CouplingMode::ClosedContacts => allowed.max(closed_contact_allowance(&raised)),
             _ => allowed,
         };
+        report.resting = resting;
         self.stabilizer
             .set_call_lengths(Some(raised.allowing(allowed)));
         let before: Vec<UserPose> = self.scene.bodies().iter().map(user_pose_of).collect();
         report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
         let (moved, round_off) = self.write_back(bodies, &before);
+        bodies.propagate_modified_body_positions_to_colliders(colliders);
+        self.last_output = dynamic_poses(&self.scene, &self.map);
         report.bodies_written = moved.len();
         report.write_back_round_off = round_off;
         if self.settings.coupling.projects_velocities() && !moved.is_empty() {
@@ -221,6 +246,31 @@ impl RapierBridge {
             report.velocities_written = count;
         }
         Ok(report)
+    }
+
+    /// Holds every dynamic scene body whose Rapier body sleeps still (an
+    /// obstacle for the awake ones, never read as moving nor written) and
+    /// releases the awake ones; returns how many are held. Rapier wakes a
+    /// sleeping body that an awake one touches during its step, so a
+    /// sleeping body is touched only by sleeping or fixed ones, unless the
+    /// user moved a body into it without waking it.
+    fn hold_sleeping(&mut self, bodies: &RigidBodySet) -> usize {
+        let mut held = 0;
+        for (entry, body) in self.map.entries().iter().zip(self.scene.bodies_mut()) {
+            let asleep = entry.is_dynamic()
+                && entry
+                    .body
+                    .and_then(|h| bodies.get(h))
+                    .is_some_and(RigidBody::is_sleeping);
+            match asleep {
+                true => {
+                    body.hold_fixed();
+                    held += 1;
+                }
+                false => body.release(),
+            }
+        }
+        held
     }
 
     /// Velocity consistency: reads the velocities of the dynamic bodies,
@@ -299,6 +349,15 @@ impl RapierBridge {
             .scene
             .add_body(desc)
             .map_err(|e| SkipReason::Invalid(e.to_string()))?;
+        if let Some(engine_mass) = &read.engine_mass {
+            let body = self
+                .scene
+                .body_mut(index)
+                .map_err(|e| SkipReason::Invalid(e.to_string()))?;
+            engine_mass
+                .apply(body, &read.collider_in_body)
+                .map_err(|e| SkipReason::Invalid(e.to_string()))?;
+        }
         if self.settings.collider_friction {
             // A compound's coefficient is the mean of its colliders'.
             let handles = entry.colliders();

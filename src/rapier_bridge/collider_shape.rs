@@ -19,6 +19,7 @@ use rapier3d::dynamics::{RigidBodyHandle, RigidBodySet};
 use rapier3d::geometry::{Collider, ColliderHandle, ColliderSet};
 
 use super::convert::{pose_to_f64, vector_to_f64, xyzw};
+use super::engine_mass::EngineMass;
 use super::report::SkipReason;
 use super::round_collider::{PlacedShape, round_shape_of, round_signature};
 use crate::body::{Shape, ShapePart};
@@ -58,6 +59,9 @@ pub(crate) struct ReadCollider {
     /// The body's mass (f32 exactly as f64) if the parent is dynamic;
     /// `None` for a fixed, kinematic or missing parent.
     pub dynamic_mass: Option<f64>,
+    /// The dynamic parent's own mass properties (`super::engine_mass`);
+    /// `None` for a fixed body, or when Rapier's are not usable.
+    pub engine_mass: Option<EngineMass>,
     /// `P`: the collider frame in the body frame (identity without parent,
     /// and for a compound, whose frame is the body's).
     pub collider_in_body: Isometry3<f64>,
@@ -86,6 +90,7 @@ pub(crate) fn read_collider(
             collider: handle,
             body: None,
             dynamic_mass: None,
+            engine_mass: None,
             collider_in_body: Isometry3::identity(),
             signature: own_signature,
             parts: Vec::new(),
@@ -99,6 +104,7 @@ pub(crate) fn read_collider(
         collider: handle,
         body: Some(body_handle),
         dynamic_mass: body.is_dynamic().then(|| f64::from(body.mass())),
+        engine_mass: body.is_dynamic().then(|| EngineMass::of(body)).flatten(),
         collider_in_body: offset_in_body(collider),
         signature: own_signature,
         parts: Vec::new(),
@@ -146,6 +152,7 @@ pub(crate) fn read_compound(
         collider: first.collider,
         body: Some(handle),
         dynamic_mass: Some(f64::from(body.mass())),
+        engine_mass: EngineMass::of(body),
         collider_in_body: Isometry3::identity(),
         signature: first.signature,
         parts,

@@ -8,8 +8,13 @@
 //! writes the corrected poses of the dynamic bodies back to Rapier. In the
 //! default coupling ([`CouplingMode::ClosedContacts`]) it then removes
 //! the approach velocities of the contacts it corrected and writes those
-//! velocities back; in the position modes velocities are untouched. Sleep
-//! states and everything else in the world are never touched.
+//! velocities back; in the position modes velocities are untouched. The
+//! written bodies' colliders are moved with them before the call returns
+//! (`RigidBodySet::propagate_modified_body_positions_to_colliders`), so
+//! scene queries between the call and the next step see the corrected
+//! world. Bodies Rapier has put to sleep are held still: obstacles, never
+//! written (`rest.rs`, "At rest" below). Sleep states and everything else
+//! in the world are never touched.
 //! How a call couples with the engine is chosen in [`BridgeSettings`]
 //! ([`CouplingMode`]); [`RapierBridge::new`] takes the stabilizer's
 //! settings alone and the default coupling.
@@ -18,18 +23,28 @@
 //!
 //! | Rapier | scene body |
 //! |---|---|
-//! | dynamic body with exactly one enabled, non-sensor collider, a cuboid, a convex polyhedron, a ball, a capsule, a rounded cuboid or convex polyhedron, a cylinder or a cone (`round_collider`) | a body of mass `RigidBody::mass()` (uniform density over the shape) |
-//! | dynamic body with several enabled, non-sensor colliders, each of those shapes | one compound body ([`crate::body::Shape::Compound`]) in the rigid body's frame, a part per collider at its offset `P_i`, of mass `RigidBody::mass()` (uniform density over the parts); its friction coefficient is the mean of its colliders' |
+//! | dynamic body with exactly one enabled, non-sensor collider, a cuboid, a convex polyhedron, a ball, a capsule, a rounded cuboid or convex polyhedron, a cylinder or a cone (`round_collider`) | a body with Rapier's mass properties: `RigidBody::mass()`, the centre of mass and inertia of `RigidBody::mass_properties()` (`engine_mass.rs`) |
+//! | dynamic body with several enabled, non-sensor colliders, each of those shapes | one compound body ([`crate::body::Shape::Compound`]) in the rigid body's frame, a part per collider at its offset `P_i`, with Rapier's mass properties (from the colliders' densities); its friction coefficient is the mean of its colliders' |
 //! | each such collider of a fixed or kinematic (position- or velocity-based) body (any number per body) | a fixed body: an obstacle, never written; its pose is read again each call |
 //! | each such collider without a parent body | a fixed body |
 //! | anything else (rounded cylinders and cones, meshes, heightfields, ..., sensors, disabled colliders or bodies) | skipped, and counted in [`BridgeReport::skipped`]; a dynamic body with one such collider among several is skipped whole |
 //!
 //! A compound moves as one body: its parts never collide with each other,
 //! its rows act on the rigid body's six degrees of freedom about the
-//! compound's centre of mass, and the rigid body's pose is written back.
-//! The centre of mass and inertia are those of a uniform density over the
-//! parts; Rapier's differ when the colliders have different densities
-//! (the velocity projection then works about a slightly different point).
+//! compound's centre of mass (Rapier's), and the rigid body's pose is
+//! written back.
+//!
+//! # At rest
+//!
+//! A dynamic body Rapier has put to sleep is held still for the call
+//! ([`crate::body::Body::hold_fixed`]): never solved as moving nor written,
+//! left asleep ([`BridgeReport::bodies_left_asleep`]); with every body
+//! asleep the stabilizer is not called. Rapier wakes (strongly) every body
+//! whose pose the user writes and the bodies touching it, so a settled
+//! scene sleeps only if the calls stop writing it: in the default coupling
+//! a *resting call* (every awake body passed Rapier's own sleep test in
+//! its last three steps) accepts Rapier's allowed linear error (`rest.rs`,
+//! [`BridgeSettings::resting_calls`]).
 //!
 //! # Frames
 //!
@@ -86,7 +101,8 @@
 //!   starts with them touching: Rapier solves separated contact points
 //!   rigidly and penetrating ones softly, and a contact opened to a tiny
 //!   gap sits on that switch (the heavy stacks' sideways drift,
-//!   `docs/coupling.md`). The default.
+//!   `docs/coupling.md`). The default; its resting calls accept Rapier's
+//!   allowed linear error (`rest.rs`).
 //!
 //! # Rounding
 //!
@@ -107,6 +123,8 @@
 //! - `settings.rs`: [`BridgeSettings`], [`CouplingMode`].
 //! - `round_off.rs`: the f32 write-back bound and the call's lengths.
 //! - `bridge.rs`: [`RapierBridge`]: read, stabilize, write back.
+//! - `engine_mass.rs`: Rapier's mass properties in the scene body's frame.
+//! - `rest.rs`: resting calls (Rapier's sleep test on the step's motion).
 //! - `report.rs`: [`BridgeReport`], [`SkippedCollider`], [`SkipReason`].
 //! - `error.rs`: [`BridgeError`].
 //! - `world.rs`: [`world_from_scene`]: the Rapier world of a scene (the
@@ -117,9 +135,11 @@ mod body_map;
 mod bridge;
 mod collider_shape;
 mod convert;
+mod engine_mass;
 mod error;
 mod joints;
 mod report;
+mod rest;
 mod round_collider;
 pub mod round_off;
 mod settings;
@@ -128,6 +148,7 @@ mod world;
 pub use body_map::{BodyMap, MappedCollider};
 pub use bridge::RapierBridge;
 pub use convert::{pose_from_f64, pose_to_f64};
+pub use engine_mass::ENGINE_COM_ROUNDING;
 pub use error::BridgeError;
 pub use joints::{JointReadReport, JointSkipReason, RapierJoint, SkippedJoint};
 pub use report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};

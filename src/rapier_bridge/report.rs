@@ -64,8 +64,16 @@ pub struct BridgeReport {
     /// The stabilizer's report; `None` when the scene has no dynamic body
     /// (nothing to do, the stabilizer is not called).
     pub stabilizer: Option<Report>,
-    /// Rapier bodies whose pose was written back.
+    /// Rapier bodies whose pose was written back (awake bodies the call
+    /// moved; none when nothing awake penetrates beyond the tolerance).
     pub bodies_written: usize,
+    /// Dynamic bodies Rapier had put to sleep: held still as obstacles,
+    /// neither solved nor written, and left asleep.
+    pub bodies_left_asleep: usize,
+    /// Whether the call was a resting one (`rapier_bridge/rest.rs`): every
+    /// awake body passed Rapier's sleep test in Rapier's last three steps,
+    /// and Rapier's allowed linear error was accepted.
+    pub resting: bool,
     /// f32 rounding of the written poses, as measured.
     pub write_back_round_off: WriteBackRoundOff,
     /// `delta`: the most any collider point of a dynamic body can move when

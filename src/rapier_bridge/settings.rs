@@ -65,6 +65,12 @@ pub enum CouplingMode {
     /// [`CouplingMode::VelocityConsistency`], every call converging. Its
     /// cost: the contacts it corrects are left sunk by about one tolerance,
     /// within the tolerance each call states.
+    ///
+    /// Its *resting calls* ([`BridgeSettings::resting_calls`],
+    /// `rapier_bridge/rest.rs`): when every awake body moved in Rapier's
+    /// last three steps by less than Rapier's sleep test allows, the call accepts
+    /// Rapier's allowed linear error instead, so a scene Rapier holds at
+    /// rest is not written and falls asleep.
     #[default]
     ClosedContacts,
 }
@@ -126,6 +132,12 @@ pub struct BridgeSettings {
     /// and calls cost more; with friction on the change the 1:1000 stack
     /// falls.
     pub velocity_friction: VelocityFriction,
+    /// Resting calls (`rapier_bridge/rest.rs`): when every awake body
+    /// passed Rapier's own sleep test in Rapier's last three steps, a call
+    /// of [`CouplingMode::ClosedContacts`] accepts Rapier's allowed linear
+    /// error, so that a scene Rapier holds at rest is not written and
+    /// falls asleep. Default true.
+    pub resting_calls: bool,
 }
 
 impl Default for BridgeSettings {
@@ -143,6 +155,7 @@ impl BridgeSettings {
             coupling: CouplingMode::default(),
             collider_friction: true,
             velocity_friction: VelocityFriction::None,
+            resting_calls: true,
         }
     }
 

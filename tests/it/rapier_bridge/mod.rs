@@ -9,6 +9,7 @@ mod compound;
 mod coupling;
 mod joints;
 mod kept_scene;
+mod rest;
 mod round;
 mod round_off;
 
@@ -69,7 +70,7 @@ fn run(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> BridgeReport {
     bridge
         .stabilize(
             &mut world.bodies,
-            &world.colliders,
+            &mut world.colliders,
             &world.impulse_joints,
             &world.multibody_joints,
             &world.integration_parameters,
@@ -333,7 +334,7 @@ fn blown_up_pose_is_a_typed_error_and_nothing_is_written() {
     world.bodies[body].set_translation(Vector::new(f32::NAN, 0.0, 0.0), false);
     let result = bridge.stabilize(
         &mut world.bodies,
-        &world.colliders,
+        &mut world.colliders,
         &world.impulse_joints,
         &world.multibody_joints,
         &world.integration_parameters,

@@ -1,0 +1,106 @@
+//! Resting calls: when Rapier holds every awake body still, a call of the
+//! default coupling accepts Rapier's own resting depth.
+//!
+//! # Why
+//!
+//! Rapier's contacts are soft: from a contact the call left closed (depth
+//! about one tolerance, ~1e-6 m) Rapier's next step sinks it again by
+//! about 1.5e-4 m on the settled pyramid of 55 (`examples/rest_probe.rs`),
+//! towards its own resting depth (about 1.5 mm there, below its allowed
+//! linear error of 5 mm). A call that corrects that sink writes every body
+//! at every step, and Rapier treats a written pose as a user change: its
+//! narrow phase wakes the body and every body touching it *strongly*
+//! (sleep timer reset). Nothing can fall asleep, and the correction and the
+//! sink alternate for ever: the settled scene creeps.
+//!
+//! # The rule
+//!
+//! A call is *resting* when every awake dynamic body moved, in Rapier's
+//! step since the pose the last call left it at (kept by the bridge,
+//! whatever was read in between), by less than Rapier's own sleep test
+//! allows in one step: with `d = |t' - t| + 2 |sin(theta / 2)| r` the
+//! displacement of its farthest point (`r` the reach of its shape from
+//! its shape-frame origin, `theta` the rotation angle),
+//!
+//! ```text
+//! d / 2 < normalized_linear_threshold * length_unit * dt
+//! ```
+//!
+//! (`RigidBodyActivation`, 0.05 m/s by default: `d` below 1.67 mm at 60
+//! Hz), in [`RESTING_STREAK`] consecutive steps (one step let the 1:100
+//! heavy stack of `examples/with_and_without.rs` alternate between resting
+//! and closing calls: 17.1 mm of drift against 11.3 with three; ten
+//! delayed the compound pile's sleep from step 125 to 213). A resting call of [`super::CouplingMode::ClosedContacts`] takes
+//! Rapier's allowed linear error as its allowed penetration (so its stated
+//! tolerance includes it): contacts within it are left as Rapier holds
+//! them, deeper ones are brought back to it. Nothing is written while
+//! Rapier's resting depth stays within its allowed error, so the scene is
+//! a fixed point and falls asleep when Rapier alone would. A body that
+//! moves more (falling, sliding, pushed) makes the call an ordinary one.
+//! A body appearing since the last call makes it ordinary too.
+
+use std::collections::HashMap;
+
+use nalgebra::Isometry3;
+use rapier3d::dynamics::{IntegrationParameters, RigidBodySet};
+use rapier3d::geometry::ColliderHandle;
+
+use super::body_map::BodyMap;
+use crate::scene::Scene;
+
+/// Consecutive steps that must pass the rest test before a call rests
+/// (measured: module docs).
+pub(crate) const RESTING_STREAK: usize = 3;
+
+/// The user poses of the dynamic scene bodies, by collider (kept from one
+/// call to the next).
+pub(crate) type RestPoses = HashMap<ColliderHandle, Isometry3<f64>>;
+
+/// The user poses of the awake dynamic bodies of the scene, by collider.
+pub(crate) fn dynamic_poses(scene: &Scene, map: &BodyMap) -> RestPoses {
+    map.entries()
+        .iter()
+        .zip(scene.bodies())
+        .filter(|(entry, body)| entry.is_dynamic() && !body.is_fixed())
+        .map(|(entry, body)| (entry.collider, body.user_pose()))
+        .collect()
+}
+
+/// Whether every awake dynamic body passes Rapier's sleep test on its
+/// motion since `previous` (module docs); false when there is none.
+pub(crate) fn is_resting(
+    previous: &RestPoses,
+    scene: &Scene,
+    map: &BodyMap,
+    bodies: &RigidBodySet,
+    parameters: &IntegrationParameters,
+) -> bool {
+    let dt = f64::from(parameters.dt);
+    let length_unit = f64::from(parameters.length_unit);
+    let mut awake = map
+        .entries()
+        .iter()
+        .zip(scene.bodies())
+        .filter(|(entry, body)| entry.is_dynamic() && !body.is_fixed())
+        .peekable();
+    if awake.peek().is_none() {
+        return false;
+    }
+    awake.all(|(entry, body)| {
+        let (Some(before), Some(rigid_body)) = (
+            previous.get(&entry.collider),
+            entry.body.and_then(|h| bodies.get(h)),
+        ) else {
+            return false;
+        };
+        let threshold = f64::from(rigid_body.activation().normalized_linear_threshold);
+        // The farthest point from the shape-frame origin, about which the
+        // user pose turns.
+        let reach = body.reach() + body.com_offset().norm();
+        let now = body.user_pose();
+        let half_angle = before.rotation.angle_to(&now.rotation) / 2.0;
+        let motion = (now.translation.vector - before.translation.vector).norm()
+            + 2.0 * half_angle.sin().abs() * reach;
+        threshold >= 0.0 && 0.5 * motion < threshold * length_unit * dt
+    })
+}
