@@ -61,6 +61,9 @@ use std::cell::OnceCell;
 
 use nalgebra::DVector;
 
+use std::time::Instant;
+
+use super::augmented_lagrangian::{self, AugmentedLagrangianSettings, Start};
 use super::clarabel_qp::{self, ClarabelSettings};
 use super::closed_form::solve_single_row;
 use super::cross_check::{CrossCheck, CrossCheckOutcome, differences};
@@ -83,6 +86,9 @@ pub enum SolverChoice {
     /// Trivial / closed form / Lemke / clarabel by problem size.
     #[default]
     Auto,
+    /// The augmented Lagrangian method with semismooth Newton
+    /// ([`super::augmented_lagrangian`]).
+    AugmentedLagrangian,
     /// clarabel on the primal QP.
     Clarabel,
     /// clarabel on the dual QP (the LCP as a QP).
@@ -96,18 +102,21 @@ pub enum SolverChoice {
 impl SolverChoice {
     /// All choices, with [`SolverChoice::name`] as in scene files and on
     /// the command line.
-    pub const ALL: [SolverChoice; 5] = [
+    pub const ALL: [SolverChoice; 6] = [
         SolverChoice::Auto,
+        SolverChoice::AugmentedLagrangian,
         SolverChoice::Clarabel,
         SolverChoice::ClarabelDual,
         SolverChoice::Lemke,
         SolverChoice::Pgs,
     ];
 
-    /// The name in files: `auto`, `clarabel`, `clarabel_dual`, `lemke`, `pgs`.
+    /// The name in files: `auto`, `augmented_lagrangian`, `clarabel`,
+    /// `clarabel_dual`, `lemke`, `pgs`.
     pub fn name(self) -> &'static str {
         match self {
             SolverChoice::Auto => "auto",
+            SolverChoice::AugmentedLagrangian => "augmented_lagrangian",
             SolverChoice::Clarabel => "clarabel",
             SolverChoice::ClarabelDual => "clarabel_dual",
             SolverChoice::Lemke => "lemke",
@@ -158,6 +167,11 @@ pub struct SolverSettings {
     /// friction pyramid, which wedged bodies can make infeasible and which
     /// are then solved again without friction.
     pub stop_on_infeasible: bool,
+    /// Every solver gives up at this instant (the caller's time budget);
+    /// `None`: no limit. Default `None`.
+    pub deadline: Option<Instant>,
+    /// Augmented Lagrangian settings.
+    pub augmented_lagrangian: AugmentedLagrangianSettings,
     /// clarabel settings (both forms).
     pub clarabel: ClarabelSettings,
     /// Lemke settings.
@@ -175,6 +189,8 @@ impl Default for SolverSettings {
             auto_lemke_max_rows: 160,
             fall_back: true,
             stop_on_infeasible: false,
+            deadline: None,
+            augmented_lagrangian: AugmentedLagrangianSettings::default(),
             clarabel: ClarabelSettings::default(),
             lemke: LemkeSettings::default(),
             pgs: PgsSettings::default(),
@@ -198,9 +214,15 @@ pub struct ProjectionSolution {
     pub residuals: ProjectionResiduals,
     /// The cross-check, when asked for.
     pub cross_check: Option<CrossCheck>,
-    /// Interior-point iterations, pivots or sweeps of the solver that
-    /// succeeded.
+    /// Interior-point iterations, pivots, sweeps or Newton steps of the
+    /// solver that succeeded.
     pub iterations: usize,
+    /// Numeric factorizations of the augmented Lagrangian's Newton matrix
+    /// (0 for the other solvers).
+    pub factorizations: usize,
+    /// The solver that answered started from given multipliers
+    /// ([`solve_projection_warm`]).
+    pub warm_started: bool,
     /// The problem had friction cones and the solver that answered takes
     /// linear rows only: `dq` is the answer of the cones' pyramid, and the
     /// residuals are checked on it (module docs).
@@ -226,6 +248,18 @@ pub fn solve_projection(
     qp: &ProjectionQp,
     settings: &SolverSettings,
 ) -> Result<ProjectionSolution, SolverError> {
+    solve_projection_warm(qp, settings, None)
+}
+
+/// [`solve_projection`] with multipliers to start from (`warm`, one per
+/// row of `qp.rows`, e.g. those of the previous pass): the augmented
+/// Lagrangian starts from them and returns them with zero iterations when
+/// they already pass the acceptance test; the other solvers ignore them.
+pub fn solve_projection_warm(
+    qp: &ProjectionQp,
+    settings: &SolverSettings,
+    warm: Option<&DVector<f64>>,
+) -> Result<ProjectionSolution, SolverError> {
     let metric = qp.validate()?;
     check_zero_rows(qp, settings.tol_residual)?;
     let pyramid_qp = (!qp.cones.is_empty()).then(|| qp.pyramid().0);
@@ -235,6 +269,7 @@ pub fn solve_projection(
         lcp: OnceCell::new(),
         settings,
         pyramid: None,
+        warm,
     });
     let problem = Problem {
         qp,
@@ -242,6 +277,7 @@ pub fn solve_projection(
         lcp: OnceCell::new(),
         settings,
         pyramid: pyramid.as_ref(),
+        warm,
     };
     let mut fallbacks = Vec::new();
     let order = solver_order(qp, settings);
@@ -268,6 +304,8 @@ pub fn solve_projection(
                     residuals,
                     cross_check,
                     iterations: candidate.iterations,
+                    factorizations: candidate.factorizations,
+                    warm_started: warm.is_some() && kind == SolverKind::AugmentedLagrangian,
                     pyramid_of_cones: problem.on_pyramid(kind),
                 });
             }
@@ -335,6 +373,7 @@ fn nothing_violated(qp: &ProjectionQp, tol_residual: f64) -> bool {
 fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind> {
     let first = match settings.choice {
         SolverChoice::Auto => auto_choice(qp, settings),
+        SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
         SolverChoice::Clarabel => SolverKind::Clarabel,
         SolverChoice::ClarabelDual => SolverKind::ClarabelDual,
         SolverChoice::Lemke => SolverKind::Lemke,
@@ -400,6 +439,8 @@ struct Problem<'a> {
     lcp: OnceCell<Option<Lcp>>,
     settings: &'a SolverSettings,
     pyramid: Option<&'a Problem<'a>>,
+    /// Multipliers to start from (rows of the original problem first).
+    warm: Option<&'a DVector<f64>>,
 }
 
 impl Problem<'_> {
@@ -485,8 +526,18 @@ impl Problem<'_> {
                 dq: DVector::zeros(self.qp.num_dofs()),
                 lambda: DVector::zeros(self.qp.num_multipliers()),
                 iterations: 0,
+                factorizations: 0,
             }),
             SolverKind::ClosedForm => solve_single_row(self.qp, self.metric),
+            SolverKind::AugmentedLagrangian => {
+                let start = Start {
+                    warm: self.warm,
+                    tolerance: s.tol_residual,
+                    deadline: s.deadline,
+                };
+                augmented_lagrangian::solve(self.qp, self.metric, &s.augmented_lagrangian, &start)
+                    .map_err(FailureReason::AugmentedLagrangian)
+            }
             SolverKind::Clarabel => clarabel_qp::primal::solve(self.qp, self.metric, &s.clarabel),
             SolverKind::ClarabelDual => {
                 let sol = clarabel_qp::dual::solve_lcp_unchecked(self.lcp()?, &s.clarabel)?;
@@ -525,6 +576,7 @@ impl Problem<'_> {
             dq,
             lambda,
             iterations,
+            factorizations: 0,
         }
     }
 

@@ -2,6 +2,7 @@
 //! rows, the friction cone, Lemke, PGS, and the Siconos LCP test problems.
 
 mod acceptance;
+mod augmented_lagrangian;
 mod active_set_oracle;
 mod equality_rows;
 mod friction_cone;

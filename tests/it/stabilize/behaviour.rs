@@ -247,6 +247,7 @@ fn expected_solver(choice: SolverChoice, rows: usize) -> SolverKind {
         SolverChoice::ClarabelDual => SolverKind::ClarabelDual,
         SolverChoice::Lemke => SolverKind::Lemke,
         SolverChoice::Pgs => SolverKind::Pgs,
+        SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
     }
 }
 
