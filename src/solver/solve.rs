@@ -154,6 +154,20 @@ pub struct SolverSettings {
     /// crossover lies between 150 and 200 rows). Lemke's dense tableau
     /// grows as `n^3`, clarabel's sparse factorization about linearly.
     pub auto_lemke_max_rows: usize,
+    /// Under `Auto`, the augmented Lagrangian for problems without cones
+    /// of at least this many rows (before Lemke and clarabel). Default
+    /// `usize::MAX` (never): solved cold, it is measured slower than Lemke
+    /// below about 200 rows and than clarabel above
+    /// (`benchmarks/results/solvers.md`: each change of its active set
+    /// costs a factorization, 40 on 1,000 rows), so `Auto` keeps the
+    /// choice between Lemke and clarabel until warm starts are measured
+    /// to pay.
+    pub auto_augmented_lagrangian_min_rows: usize,
+    /// The dense solvers (Lemke's tableau, PGS on the assembled
+    /// `A = J M^-1 J^T`) are never run on more rows than this, not even
+    /// as a fallback: their time grows as `n^3` and `n^2` per sweep (3,630
+    /// pyramid rows kept Lemke running for minutes). Default 1,000.
+    pub dense_max_rows: usize,
     /// When the first solver fails, try the others (in the order of the
     /// module docs). Default true. The stabilizer turns it off for the
     /// trial regions of an island, whose failure only means that the
@@ -187,6 +201,8 @@ impl Default for SolverSettings {
             cross_check: false,
             tol_residual: 1e-6,
             auto_lemke_max_rows: 160,
+            auto_augmented_lagrangian_min_rows: usize::MAX,
+            dense_max_rows: 1000,
             fall_back: true,
             stop_on_infeasible: false,
             deadline: None,
@@ -389,6 +405,13 @@ fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind>
     };
     let mut order = vec![first];
     order.extend(fallbacks.iter().copied().filter(|&k| k != first));
+    let dense = |k: SolverKind| matches!(k, SolverKind::Lemke | SolverKind::Pgs);
+    if qp.num_rows() > settings.dense_max_rows {
+        order.retain(|&k| !dense(k));
+        if order.is_empty() {
+            order.push(SolverKind::Clarabel);
+        }
+    }
     order
 }
 
@@ -404,6 +427,10 @@ fn choice_reason(qp: &ProjectionQp, settings: &SolverSettings) -> String {
         (SolverChoice::Auto, SolverKind::Clarabel) if !qp.cones.is_empty() => {
             "auto: friction cones, which only clarabel solves".into()
         }
+        (SolverChoice::Auto, SolverKind::AugmentedLagrangian) => format!(
+            "auto: the warm-startable Newton method from {} rows",
+            settings.auto_augmented_lagrangian_min_rows
+        ),
         (SolverChoice::Auto, SolverKind::Lemke) => format!(
             "auto: dense pivoting is fastest up to {} rows",
             settings.auto_lemke_max_rows
@@ -424,6 +451,8 @@ fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
         SolverKind::Clarabel
     } else if n == 1 {
         SolverKind::ClosedForm
+    } else if n >= settings.auto_augmented_lagrangian_min_rows {
+        SolverKind::AugmentedLagrangian
     } else if n <= settings.auto_lemke_max_rows {
         SolverKind::Lemke
     } else {

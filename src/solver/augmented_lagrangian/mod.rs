@@ -265,13 +265,27 @@ impl<'a> State<'a> {
         })
     }
 
-    /// The active set at the current `dq`.
-    fn active(&self) -> Vec<bool> {
+    /// The active set at the current `dq`. A row whose
+    /// `lambda_i - rho_i w_i` is within rounding of 0 keeps its state in
+    /// `previous` (both states give a valid generalized Hessian there; a
+    /// flip by rounding would cost a factorization for nothing).
+    fn active(&self, previous: Option<&[bool]>) -> Vec<bool> {
         let w = self.w(&self.dq);
+        let length = self.b.amax();
         (0..w.len())
             .map(|i| {
-                self.rho[i] > 0.0
-                    && (self.qp.is_equality(i) || self.lambda[i] - self.rho[i] * w[i] > 0.0)
+                if self.rho[i] == 0.0 {
+                    return false;
+                }
+                if self.qp.is_equality(i) {
+                    return true;
+                }
+                let p = self.lambda[i] - self.rho[i] * w[i];
+                let undecided = p.abs() <= ACTIVE_SWITCH_REL * self.rho[i] * length;
+                match previous {
+                    Some(previous) if undecided => previous[i],
+                    _ => p > 0.0,
+                }
             })
             .collect()
     }
@@ -280,7 +294,7 @@ impl<'a> State<'a> {
     /// multipliers (semismooth Newton with exact line search).
     fn minimize_inner(&mut self, newton: &mut NewtonMatrix) -> Result<(), AugmentedLagrangianFailure> {
         for _ in 0..self.settings.max_newton {
-            let active = self.active();
+            let active = self.active(self.factored.as_deref());
             if self.factored.as_ref() != Some(&active) {
                 newton
                     .factor(self.qp, self.metric, &self.rho, &active)
@@ -311,8 +325,14 @@ impl<'a> State<'a> {
             };
             self.dq += &d * t;
             // A full Newton step that kept the active set lands on the
-            // minimizer of that quadratic piece.
-            if (t - 1.0).abs() <= NEWTON_UNIT_STEP_REL && self.active() == active {
+            // minimizer of that quadratic piece; a step lost in the
+            // rounding of dq changes nothing more.
+            let full = (t - 1.0).abs() <= NEWTON_UNIT_STEP_REL;
+            if full && self.active(Some(&active)) == active {
+                return Ok(());
+            }
+            let step = t.abs() * direction.m_d.max(0.0).sqrt();
+            if step <= NEGLIGIBLE_STEP_REL * m_inner(self.metric, &self.dq, &self.dq).sqrt() {
                 return Ok(());
             }
         }
@@ -324,6 +344,15 @@ impl<'a> State<'a> {
 /// fraction of the previous one, within the tolerance, has reached the
 /// rounding floor: the solver stops there.
 const STALL_RATIO: f64 = 0.5;
+
+/// `|lambda_i - rho_i w_i|` at most this times `rho_i ||b||_inf` is within
+/// rounding of the switch of row `i` (the rounding of `w_i` is about
+/// `u ||b||_inf`, with some room for the sum over a row's blocks).
+const ACTIVE_SWITCH_REL: f64 = 1e-13;
+
+/// A Newton step whose M-norm is at most this fraction of `||dq||_M`
+/// is rounding: the inner minimization stops.
+const NEGLIGIBLE_STEP_REL: f64 = 1e-14;
 
 /// A step this close to 1 counts as the full Newton step (rounding of the
 /// line search's root).
