@@ -54,8 +54,8 @@ use constraint_stabilization::internals::contact::islands;
 use constraint_stabilization::io::scene_file::read_scene;
 use constraint_stabilization::rapier_bridge::{GRAVITY_Z_UP, world_from_scene};
 use constraint_stabilization::scene::Scene;
-use constraint_stabilization::stabilizer::StageTimes;
 use constraint_stabilization::solver::SolverChoice;
+use constraint_stabilization::stabilizer::StageTimes;
 use constraint_stabilization::{Report, Settings, Stabilizer};
 
 /// Rapier steps timed per repeat, from the state.

@@ -31,7 +31,6 @@ use constraint_stabilization::solver::Candidate;
 use constraint_stabilization::solver::augmented_lagrangian::{
     self, AugmentedLagrangianSettings, Start,
 };
-use nalgebra::DVector;
 use constraint_stabilization::solver::clarabel_qp::{ClarabelSettings, dual, primal};
 use constraint_stabilization::solver::lemke::{self, LemkeSettings};
 use constraint_stabilization::solver::pgs::{self, PgsSettings, PgsStatus};
@@ -39,6 +38,7 @@ use constraint_stabilization::solver::residuals::projection_residuals;
 use constraint_stabilization::solver::{Lcp, ProjectionQp};
 use constraint_stabilization::solver::{dq_from_lambda, projection_to_lcp};
 use dev_support::solver::{StackSpec, random_stacks};
+use nalgebra::DVector;
 
 const SIZES: [usize; 5] = [1, 10, 100, 500, 1000];
 const SEEDS: u64 = 3;
@@ -50,6 +50,9 @@ const MAX_ROUNDS: usize = 30;
 /// The O(n^3)-per-pivot variant is only run up to this size (at 100 rows it
 /// is already two orders of magnitude slower).
 const REFACTOR_MAX_N: usize = 100;
+/// The augmented Lagrangian with a dense `H` is only run up to this size
+/// (at 1,000 rows one solve takes seconds).
+const DENSE_H_MAX_N: usize = 300;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Method {
@@ -350,6 +353,7 @@ fn main() {
             let methods: Vec<Method> = METHODS
                 .into_iter()
                 .filter(|&m| m != Method::LemkeRefactorEvery || n <= REFACTOR_MAX_N)
+                .filter(|&m| m != Method::AugmentedLagrangianDense || n <= DENSE_H_MAX_N)
                 .collect();
             for row in measure_interleaved(&p, n, seed, &methods) {
                 let _ = writeln!(

@@ -87,8 +87,7 @@ impl BlockMetric {
     /// `M_k` as a 6x6 matrix: `blockdiag(m_k I3, I_k)`.
     pub fn matrix(&self) -> nalgebra::Matrix6<f64> {
         let mut m = nalgebra::Matrix6::zeros();
-        m.fixed_view_mut::<3, 3>(0, 0)
-            .fill_diagonal(self.mass);
+        m.fixed_view_mut::<3, 3>(0, 0).fill_diagonal(self.mass);
         m.fixed_view_mut::<3, 3>(3, 3).copy_from(&self.inertia);
         m
     }

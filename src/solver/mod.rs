@@ -55,6 +55,6 @@ pub use projection::{BodyMetric, JacobianRow, ProjectionQp};
 pub use projection_lcp::{dq_from_lambda, lcp_matrix, projection_to_lcp};
 pub use residuals::ProjectionResiduals;
 pub use solve::{
-    ProjectionSolution, SolverChoice, SolverSettings, cross_check_projection,
-    solve_projection, solve_projection_warm,
+    ProjectionSolution, SolverChoice, SolverSettings, cross_check_projection, solve_projection,
+    solve_projection_warm,
 };

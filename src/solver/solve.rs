@@ -11,7 +11,16 @@
 //! `auto_lemke_max_rows` rows clarabel -> Lemke -> PGS; above, clarabel ->
 //! PGS -> Lemke, so that the dense tableau of Lemke, `O(n^2)` per pivot
 //! and about `n` pivots on hundreds of rows, is the last resort, after the
-//! sparse interior point and the `O(n^2)` sweeps.
+//! sparse interior point and the `O(n^2)` sweeps. Above
+//! [`SolverSettings::dense_max_rows`] rows neither Lemke nor PGS runs at
+//! all, not even as a fallback (their dense matrices grow as `n^2`).
+//!
+//! **The augmented Lagrangian** ([`SolverKind::AugmentedLagrangian`],
+//! [`super::augmented_lagrangian`]) runs first when named, or under
+//! `Auto` from [`SolverSettings::auto_augmented_lagrangian_min_rows`] rows
+//! (default never: measured slower cold than Lemke and clarabel); clarabel
+//! and the others follow it on failure. It alone uses the multipliers of
+//! [`solve_projection_warm`], and stops at [`SolverSettings::deadline`].
 //!
 //! **Lemke's own residual test** ([`LemkeSettings::tol_residual`], 1e-9 on
 //! the scaled LCP) is that of a standalone LCP solver. Here every candidate
@@ -309,6 +318,13 @@ pub fn solve_projection_warm(
     for kind in order {
         match problem.run_checked(kind) {
             Ok((candidate, residuals)) => {
+                let warm_started = warm.is_some() && kind == SolverKind::AugmentedLagrangian;
+                log::debug!(
+                    "  answered by {kind:?} ({}): {} iterations, {} factorizations",
+                    if warm_started { "warm" } else { "cold" },
+                    candidate.iterations,
+                    candidate.factorizations
+                );
                 let cross_check = settings
                     .cross_check
                     .then(|| problem.cross_check(kind, &candidate));
@@ -321,7 +337,7 @@ pub fn solve_projection_warm(
                     cross_check,
                     iterations: candidate.iterations,
                     factorizations: candidate.factorizations,
-                    warm_started: warm.is_some() && kind == SolverKind::AugmentedLagrangian,
+                    warm_started,
                     pyramid_of_cones: problem.on_pyramid(kind),
                 });
             }

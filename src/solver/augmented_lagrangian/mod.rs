@@ -249,7 +249,14 @@ impl<'a> State<'a> {
             iterations: self.newton_steps,
             factorizations: self.factorizations,
         };
-        (candidate, if acceptance.is_nan() { f64::INFINITY } else { acceptance })
+        (
+            candidate,
+            if acceptance.is_nan() {
+                f64::INFINITY
+            } else {
+                acceptance
+            },
+        )
     }
 
     fn w(&self, dq: &DVector<f64>) -> DVector<f64> {
@@ -261,7 +268,11 @@ impl<'a> State<'a> {
         let w = self.w(&self.dq);
         DVector::from_fn(w.len(), |i, _| {
             let p = self.lambda[i] - self.rho[i] * w[i];
-            if self.qp.is_equality(i) { p } else { p.max(0.0) }
+            if self.qp.is_equality(i) {
+                p
+            } else {
+                p.max(0.0)
+            }
         })
     }
 
@@ -292,7 +303,10 @@ impl<'a> State<'a> {
 
     /// Minimizes the augmented Lagrangian over `dq` for the current
     /// multipliers (semismooth Newton with exact line search).
-    fn minimize_inner(&mut self, newton: &mut NewtonMatrix) -> Result<(), AugmentedLagrangianFailure> {
+    fn minimize_inner(
+        &mut self,
+        newton: &mut NewtonMatrix,
+    ) -> Result<(), AugmentedLagrangianFailure> {
         for _ in 0..self.settings.max_newton {
             let active = self.active(self.factored.as_deref());
             if self.factored.as_ref() != Some(&active) {

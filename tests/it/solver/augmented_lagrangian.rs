@@ -51,7 +51,10 @@ fn agrees_with_clarabel_and_lemke_on_random_stacks() {
                 let context = format!("{spec:?}");
                 let ours = solve(&qp, SolverChoice::AugmentedLagrangian);
                 assert_eq!(ours.solver, SolverKind::AugmentedLagrangian, "{context}");
-                assert!(ours.factorizations >= 1, "{context}: cold solve factored nothing");
+                assert!(
+                    ours.factorizations >= 1,
+                    "{context}: cold solve factored nothing"
+                );
                 assert_kkt(&qp, &ours.dq, &ours.lambda, &context);
                 let mut references = vec![SolverChoice::Clarabel];
                 if rows <= SolverSettings::default().auto_lemke_max_rows {
@@ -137,7 +140,11 @@ fn warm_start_from_the_answer_costs_nothing() {
         )
         .unwrap();
         assert!(warm.warm_started);
-        assert_eq!((warm.iterations, warm.factorizations), (0, 0), "{rows} rows");
+        assert_eq!(
+            (warm.iterations, warm.factorizations),
+            (0, 0),
+            "{rows} rows"
+        );
         assert_eq!(warm.dq, cold.dq);
     }
 }

@@ -2,8 +2,8 @@
 //! rows, the friction cone, Lemke, PGS, and the Siconos LCP test problems.
 
 mod acceptance;
-mod augmented_lagrangian;
 mod active_set_oracle;
+mod augmented_lagrangian;
 mod equality_rows;
 mod friction_cone;
 mod lcp_siconos;
