@@ -38,7 +38,10 @@
 //!
 //! Run: `cargo bench --features rapier,serde --bench engine_states`
 //! (`-- --quick`: fewer repeats, no pile of 1,000, for a smoke run;
-//! `-- --only STEM`: the states whose file stem contains STEM).
+//! `-- --only STEM`: the states whose file stem contains STEM). The
+//! environment variable `ENGINE_STATES_SOLVER=NAME` (a
+//! `SolverChoice::name`, e.g. `augmented_lagrangian`) sets the solver of
+//! every call, to compare solvers on the same states.
 
 mod common;
 
@@ -51,6 +54,7 @@ use constraint_stabilization::internals::contact::islands;
 use constraint_stabilization::io::scene_file::read_scene;
 use constraint_stabilization::rapier_bridge::{GRAVITY_Z_UP, world_from_scene};
 use constraint_stabilization::scene::Scene;
+use constraint_stabilization::solver::SolverChoice;
 use constraint_stabilization::stabilizer::StageTimes;
 use constraint_stabilization::{Report, Settings, Stabilizer};
 
@@ -185,10 +189,21 @@ fn rayon_threads() -> usize {
 /// (the behaviour before regions).
 fn whole_islands() -> Settings {
     {
-        let mut settings = Settings::default();
+        let mut settings = call_settings();
         settings.solve_whole_islands = true;
         settings
     }
+}
+
+/// The default settings, with the solver of `ENGINE_STATES_SOLVER` when
+/// set (module docs).
+fn call_settings() -> Settings {
+    let mut settings = Settings::default();
+    if let Ok(name) = std::env::var("ENGINE_STATES_SOLVER") {
+        settings.solver.choice = SolverChoice::from_name(&name)
+            .unwrap_or_else(|| panic!("ENGINE_STATES_SOLVER: no solver named {name}"));
+    }
+    settings
 }
 
 /// One call (fresh stabilizer, fresh copy): result, outer wall time, scene.
@@ -213,7 +228,7 @@ fn steps(scene: &Scene) -> Vec<f64> {
 }
 
 fn measure(case: &Case, quick: bool) -> Row {
-    let (report, first_seconds, after) = call(&case.scene, Settings::default());
+    let (report, first_seconds, after) = call(&case.scene, call_settings());
     let whole_passes = call(&case.scene, whole_islands())
         .0
         .map_or(0, |report| report.passes);
@@ -239,7 +254,7 @@ fn measure(case: &Case, quick: bool) -> Row {
         if r % 2 == 1 {
             time_steps();
         }
-        let (report, seconds, _) = call(&case.scene, Settings::default());
+        let (report, seconds, _) = call(&case.scene, call_settings());
         calls.push(seconds);
         whole_calls.push(call(&case.scene, whole_islands()).1);
         if let Ok(report) = report {

@@ -45,5 +45,6 @@ pub fn solve_single_row(
         dq,
         lambda,
         iterations: 0,
+        factorizations: 0,
     })
 }

@@ -84,6 +84,14 @@ impl BlockMetric {
         stack(&lin, &ang)
     }
 
+    /// `M_k` as a 6x6 matrix: `blockdiag(m_k I3, I_k)`.
+    pub fn matrix(&self) -> nalgebra::Matrix6<f64> {
+        let mut m = nalgebra::Matrix6::zeros();
+        m.fixed_view_mut::<3, 3>(0, 0).fill_diagonal(self.mass);
+        m.fixed_view_mut::<3, 3>(3, 3).copy_from(&self.inertia);
+        m
+    }
+
     /// `M_k^-1 v`.
     pub fn apply_inv(&self, v: &Vector6<f64>) -> Vector6<f64> {
         let lin = v.fixed_rows::<3>(0) / self.mass;

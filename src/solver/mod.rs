@@ -14,6 +14,9 @@
 //! friction cones ([`friction_cone`]; clarabel's primal form solves them,
 //! the others their pyramid). Solvers:
 //! - `closed_form`: one row;
+//! - [`augmented_lagrangian`]: the augmented Lagrangian method with a
+//!   semismooth Newton inner solve on `H = M + rho J_A^T J_A` (sparse
+//!   Cholesky), warm-startable from multipliers;
 //! - [`clarabel_qp::primal`]: clarabel on the primal QP (sparse);
 //! - [`clarabel_qp::dual`]: clarabel on the dual QP `min 1/2 z^T A z + b^T z, z >= 0`;
 //! - [`lemke`]: Lemke's complementary pivoting (also general LCPs, [`Lcp`];
@@ -24,6 +27,7 @@
 //! on failure, checks every answer with the metrics of [`residuals`] and
 //! can cross-check two solvers (`cross_check`).
 
+pub mod augmented_lagrangian;
 pub mod clarabel_qp;
 pub(crate) mod closed_form;
 pub(crate) mod cone_residuals;
@@ -52,4 +56,5 @@ pub use projection_lcp::{dq_from_lambda, lcp_matrix, projection_to_lcp};
 pub use residuals::ProjectionResiduals;
 pub use solve::{
     ProjectionSolution, SolverChoice, SolverSettings, cross_check_projection, solve_projection,
+    solve_projection_warm,
 };

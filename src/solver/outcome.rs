@@ -5,6 +5,7 @@ use std::fmt;
 
 use nalgebra::DVector;
 
+use super::augmented_lagrangian::AugmentedLagrangianFailure;
 use super::clarabel_qp::ClarabelFailure;
 use super::lemke::LemkeStatus;
 use super::pgs::PgsStatus;
@@ -19,6 +20,9 @@ pub enum SolverKind {
     Trivial,
     /// One row: `lambda = max(0, -b/a)` (`-b/a` for an equality row).
     ClosedForm,
+    /// The augmented Lagrangian method with semismooth Newton on the
+    /// body-space matrix ([`super::augmented_lagrangian`]).
+    AugmentedLagrangian,
     /// clarabel on the primal QP (variables `dq`).
     Clarabel,
     /// clarabel on the dual QP `min 1/2 z^T A z + b^T z, z >= 0`.
@@ -36,8 +40,12 @@ pub struct Candidate {
     pub dq: DVector<f64>,
     /// The multipliers `lambda` (one per row; free for equality rows).
     pub lambda: DVector<f64>,
-    /// Interior-point iterations, pivots or sweeps.
+    /// Interior-point iterations, pivots, sweeps or Newton steps.
     pub iterations: usize,
+    /// Numeric factorizations of a Newton matrix (the augmented
+    /// Lagrangian's; 0 for the other solvers, whose factorizations are
+    /// internal to them).
+    pub factorizations: usize,
 }
 
 /// Why one solver did not deliver a solution.
@@ -57,6 +65,8 @@ pub enum FailureReason {
     Lemke(LemkeStatus),
     /// PGS did not reach the tolerance.
     Pgs(PgsStatus),
+    /// The augmented Lagrangian solver gave up.
+    AugmentedLagrangian(AugmentedLagrangianFailure),
     /// The solver returned a solution whose residual, checked by us against
     /// the original problem, is above the tolerance.
     ResidualTooLarge {
@@ -93,6 +103,7 @@ impl fmt::Display for FailureReason {
             Self::Clarabel(c) => write!(f, "clarabel: {c:?}"),
             Self::Lemke(s) => write!(f, "lemke: {s:?}"),
             Self::Pgs(s) => write!(f, "pgs: {s:?}"),
+            Self::AugmentedLagrangian(s) => write!(f, "augmented Lagrangian: {s:?}"),
             Self::ResidualTooLarge {
                 residual,
                 tolerance,

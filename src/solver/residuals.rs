@@ -89,7 +89,7 @@
 //! `super::cone_residuals`. The length scale `l` then includes the cones'
 //! `|b_c|`.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Vector6};
 
 use super::cone_residuals::{ConeAtCandidate, cones_at, projected_multipliers};
 use super::metric::BlockMetric;
@@ -241,12 +241,26 @@ pub fn m_inner(metric: &[BlockMetric], u: &DVector<f64>, v: &DVector<f64>) -> f6
         .sum()
 }
 
+/// `M v`.
+pub fn m_apply(metric: &[BlockMetric], v: &DVector<f64>) -> DVector<f64> {
+    per_block(metric, v, BlockMetric::apply)
+}
+
 /// `M^-1 v`.
 pub fn m_inv(metric: &[BlockMetric], v: &DVector<f64>) -> DVector<f64> {
+    per_block(metric, v, BlockMetric::apply_inv)
+}
+
+/// `f(M_k, v_k)` for every body's six entries `v_k`.
+fn per_block(
+    metric: &[BlockMetric],
+    v: &DVector<f64>,
+    f: impl Fn(&BlockMetric, &Vector6<f64>) -> Vector6<f64>,
+) -> DVector<f64> {
     let mut out = DVector::zeros(v.len());
     for (k, b) in metric.iter().enumerate() {
         let vk = v.fixed_rows::<6>(6 * k).into_owned();
-        out.fixed_rows_mut::<6>(6 * k).copy_from(&b.apply_inv(&vk));
+        out.fixed_rows_mut::<6>(6 * k).copy_from(&f(b, &vk));
     }
     out
 }

@@ -11,7 +11,16 @@
 //! `auto_lemke_max_rows` rows clarabel -> Lemke -> PGS; above, clarabel ->
 //! PGS -> Lemke, so that the dense tableau of Lemke, `O(n^2)` per pivot
 //! and about `n` pivots on hundreds of rows, is the last resort, after the
-//! sparse interior point and the `O(n^2)` sweeps.
+//! sparse interior point and the `O(n^2)` sweeps. Above
+//! [`SolverSettings::dense_max_rows`] rows neither Lemke nor PGS runs at
+//! all, not even as a fallback (their dense matrices grow as `n^2`).
+//!
+//! **The augmented Lagrangian** ([`SolverKind::AugmentedLagrangian`],
+//! [`super::augmented_lagrangian`]) runs first when named, or under
+//! `Auto` from [`SolverSettings::auto_augmented_lagrangian_min_rows`] rows
+//! (default never: measured slower cold than Lemke and clarabel); clarabel
+//! and the others follow it on failure. It alone uses the multipliers of
+//! [`solve_projection_warm`], and stops at [`SolverSettings::deadline`].
 //!
 //! **Lemke's own residual test** ([`LemkeSettings::tol_residual`], 1e-9 on
 //! the scaled LCP) is that of a standalone LCP solver. Here every candidate
@@ -61,6 +70,9 @@ use std::cell::OnceCell;
 
 use nalgebra::DVector;
 
+use std::time::Instant;
+
+use super::augmented_lagrangian::{self, AugmentedLagrangianSettings, Start};
 use super::clarabel_qp::{self, ClarabelSettings};
 use super::closed_form::solve_single_row;
 use super::cross_check::{CrossCheck, CrossCheckOutcome, differences};
@@ -83,6 +95,9 @@ pub enum SolverChoice {
     /// Trivial / closed form / Lemke / clarabel by problem size.
     #[default]
     Auto,
+    /// The augmented Lagrangian method with semismooth Newton
+    /// ([`super::augmented_lagrangian`]).
+    AugmentedLagrangian,
     /// clarabel on the primal QP.
     Clarabel,
     /// clarabel on the dual QP (the LCP as a QP).
@@ -96,18 +111,21 @@ pub enum SolverChoice {
 impl SolverChoice {
     /// All choices, with [`SolverChoice::name`] as in scene files and on
     /// the command line.
-    pub const ALL: [SolverChoice; 5] = [
+    pub const ALL: [SolverChoice; 6] = [
         SolverChoice::Auto,
+        SolverChoice::AugmentedLagrangian,
         SolverChoice::Clarabel,
         SolverChoice::ClarabelDual,
         SolverChoice::Lemke,
         SolverChoice::Pgs,
     ];
 
-    /// The name in files: `auto`, `clarabel`, `clarabel_dual`, `lemke`, `pgs`.
+    /// The name in files: `auto`, `augmented_lagrangian`, `clarabel`,
+    /// `clarabel_dual`, `lemke`, `pgs`.
     pub fn name(self) -> &'static str {
         match self {
             SolverChoice::Auto => "auto",
+            SolverChoice::AugmentedLagrangian => "augmented_lagrangian",
             SolverChoice::Clarabel => "clarabel",
             SolverChoice::ClarabelDual => "clarabel_dual",
             SolverChoice::Lemke => "lemke",
@@ -145,6 +163,20 @@ pub struct SolverSettings {
     /// crossover lies between 150 and 200 rows). Lemke's dense tableau
     /// grows as `n^3`, clarabel's sparse factorization about linearly.
     pub auto_lemke_max_rows: usize,
+    /// Under `Auto`, the augmented Lagrangian for problems without cones
+    /// of at least this many rows (before Lemke and clarabel). Default
+    /// `usize::MAX` (never): solved cold, it is measured slower than Lemke
+    /// below about 200 rows and than clarabel above
+    /// (`benchmarks/results/solvers.md`: each change of its active set
+    /// costs a factorization, 40 on 1,000 rows), so `Auto` keeps the
+    /// choice between Lemke and clarabel until warm starts are measured
+    /// to pay.
+    pub auto_augmented_lagrangian_min_rows: usize,
+    /// The dense solvers (Lemke's tableau, PGS on the assembled
+    /// `A = J M^-1 J^T`) are never run on more rows than this, not even
+    /// as a fallback: their time grows as `n^3` and `n^2` per sweep (3,630
+    /// pyramid rows kept Lemke running for minutes). Default 1,000.
+    pub dense_max_rows: usize,
     /// When the first solver fails, try the others (in the order of the
     /// module docs). Default true. The stabilizer turns it off for the
     /// trial regions of an island, whose failure only means that the
@@ -158,6 +190,11 @@ pub struct SolverSettings {
     /// friction pyramid, which wedged bodies can make infeasible and which
     /// are then solved again without friction.
     pub stop_on_infeasible: bool,
+    /// Every solver gives up at this instant (the caller's time budget);
+    /// `None`: no limit. Default `None`.
+    pub deadline: Option<Instant>,
+    /// Augmented Lagrangian settings.
+    pub augmented_lagrangian: AugmentedLagrangianSettings,
     /// clarabel settings (both forms).
     pub clarabel: ClarabelSettings,
     /// Lemke settings.
@@ -173,8 +210,12 @@ impl Default for SolverSettings {
             cross_check: false,
             tol_residual: 1e-6,
             auto_lemke_max_rows: 160,
+            auto_augmented_lagrangian_min_rows: usize::MAX,
+            dense_max_rows: 1000,
             fall_back: true,
             stop_on_infeasible: false,
+            deadline: None,
+            augmented_lagrangian: AugmentedLagrangianSettings::default(),
             clarabel: ClarabelSettings::default(),
             lemke: LemkeSettings::default(),
             pgs: PgsSettings::default(),
@@ -198,9 +239,15 @@ pub struct ProjectionSolution {
     pub residuals: ProjectionResiduals,
     /// The cross-check, when asked for.
     pub cross_check: Option<CrossCheck>,
-    /// Interior-point iterations, pivots or sweeps of the solver that
-    /// succeeded.
+    /// Interior-point iterations, pivots, sweeps or Newton steps of the
+    /// solver that succeeded.
     pub iterations: usize,
+    /// Numeric factorizations of the augmented Lagrangian's Newton matrix
+    /// (0 for the other solvers).
+    pub factorizations: usize,
+    /// The solver that answered started from given multipliers
+    /// ([`solve_projection_warm`]).
+    pub warm_started: bool,
     /// The problem had friction cones and the solver that answered takes
     /// linear rows only: `dq` is the answer of the cones' pyramid, and the
     /// residuals are checked on it (module docs).
@@ -226,6 +273,18 @@ pub fn solve_projection(
     qp: &ProjectionQp,
     settings: &SolverSettings,
 ) -> Result<ProjectionSolution, SolverError> {
+    solve_projection_warm(qp, settings, None)
+}
+
+/// [`solve_projection`] with multipliers to start from (`warm`, one per
+/// row of `qp.rows`, e.g. those of the previous pass): the augmented
+/// Lagrangian starts from them and returns them with zero iterations when
+/// they already pass the acceptance test; the other solvers ignore them.
+pub fn solve_projection_warm(
+    qp: &ProjectionQp,
+    settings: &SolverSettings,
+    warm: Option<&DVector<f64>>,
+) -> Result<ProjectionSolution, SolverError> {
     let metric = qp.validate()?;
     check_zero_rows(qp, settings.tol_residual)?;
     let pyramid_qp = (!qp.cones.is_empty()).then(|| qp.pyramid().0);
@@ -235,6 +294,7 @@ pub fn solve_projection(
         lcp: OnceCell::new(),
         settings,
         pyramid: None,
+        warm,
     });
     let problem = Problem {
         qp,
@@ -242,6 +302,7 @@ pub fn solve_projection(
         lcp: OnceCell::new(),
         settings,
         pyramid: pyramid.as_ref(),
+        warm,
     };
     let mut fallbacks = Vec::new();
     let order = solver_order(qp, settings);
@@ -257,6 +318,13 @@ pub fn solve_projection(
     for kind in order {
         match problem.run_checked(kind) {
             Ok((candidate, residuals)) => {
+                let warm_started = warm.is_some() && kind == SolverKind::AugmentedLagrangian;
+                log::debug!(
+                    "  answered by {kind:?} ({}): {} iterations, {} factorizations",
+                    if warm_started { "warm" } else { "cold" },
+                    candidate.iterations,
+                    candidate.factorizations
+                );
                 let cross_check = settings
                     .cross_check
                     .then(|| problem.cross_check(kind, &candidate));
@@ -268,6 +336,8 @@ pub fn solve_projection(
                     residuals,
                     cross_check,
                     iterations: candidate.iterations,
+                    factorizations: candidate.factorizations,
+                    warm_started,
                     pyramid_of_cones: problem.on_pyramid(kind),
                 });
             }
@@ -335,6 +405,7 @@ fn nothing_violated(qp: &ProjectionQp, tol_residual: f64) -> bool {
 fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind> {
     let first = match settings.choice {
         SolverChoice::Auto => auto_choice(qp, settings),
+        SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
         SolverChoice::Clarabel => SolverKind::Clarabel,
         SolverChoice::ClarabelDual => SolverKind::ClarabelDual,
         SolverChoice::Lemke => SolverKind::Lemke,
@@ -350,6 +421,13 @@ fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind>
     };
     let mut order = vec![first];
     order.extend(fallbacks.iter().copied().filter(|&k| k != first));
+    let dense = |k: SolverKind| matches!(k, SolverKind::Lemke | SolverKind::Pgs);
+    if qp.num_rows() > settings.dense_max_rows {
+        order.retain(|&k| !dense(k));
+        if order.is_empty() {
+            order.push(SolverKind::Clarabel);
+        }
+    }
     order
 }
 
@@ -365,6 +443,10 @@ fn choice_reason(qp: &ProjectionQp, settings: &SolverSettings) -> String {
         (SolverChoice::Auto, SolverKind::Clarabel) if !qp.cones.is_empty() => {
             "auto: friction cones, which only clarabel solves".into()
         }
+        (SolverChoice::Auto, SolverKind::AugmentedLagrangian) => format!(
+            "auto: the warm-startable Newton method from {} rows",
+            settings.auto_augmented_lagrangian_min_rows
+        ),
         (SolverChoice::Auto, SolverKind::Lemke) => format!(
             "auto: dense pivoting is fastest up to {} rows",
             settings.auto_lemke_max_rows
@@ -385,6 +467,8 @@ fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
         SolverKind::Clarabel
     } else if n == 1 {
         SolverKind::ClosedForm
+    } else if n >= settings.auto_augmented_lagrangian_min_rows {
+        SolverKind::AugmentedLagrangian
     } else if n <= settings.auto_lemke_max_rows {
         SolverKind::Lemke
     } else {
@@ -400,6 +484,8 @@ struct Problem<'a> {
     lcp: OnceCell<Option<Lcp>>,
     settings: &'a SolverSettings,
     pyramid: Option<&'a Problem<'a>>,
+    /// Multipliers to start from (rows of the original problem first).
+    warm: Option<&'a DVector<f64>>,
 }
 
 impl Problem<'_> {
@@ -485,8 +571,18 @@ impl Problem<'_> {
                 dq: DVector::zeros(self.qp.num_dofs()),
                 lambda: DVector::zeros(self.qp.num_multipliers()),
                 iterations: 0,
+                factorizations: 0,
             }),
             SolverKind::ClosedForm => solve_single_row(self.qp, self.metric),
+            SolverKind::AugmentedLagrangian => {
+                let start = Start {
+                    warm: self.warm,
+                    tolerance: s.tol_residual,
+                    deadline: s.deadline,
+                };
+                augmented_lagrangian::solve(self.qp, self.metric, &s.augmented_lagrangian, &start)
+                    .map_err(FailureReason::AugmentedLagrangian)
+            }
             SolverKind::Clarabel => clarabel_qp::primal::solve(self.qp, self.metric, &s.clarabel),
             SolverKind::ClarabelDual => {
                 let sol = clarabel_qp::dual::solve_lcp_unchecked(self.lcp()?, &s.clarabel)?;
@@ -525,6 +621,7 @@ impl Problem<'_> {
             dq,
             lambda,
             iterations,
+            factorizations: 0,
         }
     }
 

@@ -183,6 +183,14 @@ pub struct IslandReport {
     pub solver: Option<SolverKind>,
     /// Solvers that failed first, in order.
     pub fallbacks: Vec<Fallback>,
+    /// Iterations (interior-point iterations, pivots, sweeps or Newton
+    /// steps) of the solver that answered.
+    pub solver_iterations: usize,
+    /// Numeric factorizations of the augmented Lagrangian's Newton matrix
+    /// (0 for the other solvers).
+    pub factorizations: usize,
+    /// The solver that answered started from given multipliers.
+    pub warm_started: bool,
     /// The clarabel/Lemke comparison, when the cross-check is on.
     pub cross_check: Option<CrossCheck>,
     /// Moved, stalled, failed, or nothing to do.

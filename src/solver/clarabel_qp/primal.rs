@@ -159,6 +159,7 @@ pub fn solve(
             dq: DVector::zeros(n),
             lambda: DVector::zeros(qp.num_multipliers()),
             iterations: 0,
+            factorizations: 0,
         });
     }
     let (a, rhs) = white.constraints(n);
@@ -236,5 +237,6 @@ fn unscale(
         dq,
         lambda,
         iterations,
+        factorizations: 0,
     }
 }

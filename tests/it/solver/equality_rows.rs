@@ -28,6 +28,10 @@ const DQ_TOL: f64 = 1e-10;
 /// PGS stops on its natural map (1e-10 scaled), which bounds `dq` only
 /// through the conditioning of the problem (measured: at most 3e-10).
 const PGS_DQ_TOL: f64 = 1e-7;
+/// The augmented Lagrangian stops once its acceptance measure is below
+/// half the tolerance 1e-6: its `dq` is certified to about that, not to
+/// rounding like a pivoting method's.
+const AUGMENTED_LAGRANGIAN_DQ_TOL: f64 = 1e-6;
 /// Agreement of the closed forms (one row, minimum norm) with the oracle:
 /// a few roundings of the data.
 const CLOSED_FORM_TOL: f64 = 1e-12;
@@ -64,6 +68,7 @@ fn kind_of(choice: SolverChoice) -> SolverKind {
         SolverChoice::ClarabelDual => SolverKind::ClarabelDual,
         SolverChoice::Lemke => SolverKind::Lemke,
         SolverChoice::Pgs => SolverKind::Pgs,
+        SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
         SolverChoice::Auto => unreachable!("only named choices here"),
     }
 }
@@ -189,6 +194,13 @@ fn random_mixed_problems_match_the_active_set_oracle() {
                     (0..equalities).filter(|&i| sol.lambda[i] < 0.0).count();
             }
             assert_solves(&qp, SolverChoice::Pgs, &oracle, PGS_DQ_TOL, &context);
+            assert_solves(
+                &qp,
+                SolverChoice::AugmentedLagrangian,
+                &oracle,
+                AUGMENTED_LAGRANGIAN_DQ_TOL,
+                &context,
+            );
             let auto = assert_solves(&qp, SolverChoice::Auto, &oracle, DQ_TOL, &context);
             assert_eq!(auto.solver, SolverKind::Lemke, "{context}: auto");
         }

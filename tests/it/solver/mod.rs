@@ -3,6 +3,8 @@
 
 mod acceptance;
 mod active_set_oracle;
+mod augmented_lagrangian;
+mod dense_limit;
 mod equality_rows;
 mod friction_cone;
 mod lcp_siconos;

@@ -53,6 +53,7 @@ fn first_solver(qp: &ProjectionQp, choice: SolverChoice) -> SolverKind {
         SolverChoice::ClarabelDual => SolverKind::ClarabelDual,
         SolverChoice::Lemke => SolverKind::Lemke,
         SolverChoice::Pgs => SolverKind::Pgs,
+        SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
     }
 }
 

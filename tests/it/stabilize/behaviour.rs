@@ -202,6 +202,7 @@ fn every_solver_choice_converges_to_the_same_poses() {
         SolverChoice::ClarabelDual,
         SolverChoice::Lemke,
         SolverChoice::Pgs,
+        SolverChoice::AugmentedLagrangian,
     ];
     let mut results: Vec<(SolverChoice, Scene)> = Vec::new();
     for choice in choices {
@@ -247,6 +248,7 @@ fn expected_solver(choice: SolverChoice, rows: usize) -> SolverKind {
         SolverChoice::ClarabelDual => SolverKind::ClarabelDual,
         SolverChoice::Lemke => SolverKind::Lemke,
         SolverChoice::Pgs => SolverKind::Pgs,
+        SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
     }
 }
 

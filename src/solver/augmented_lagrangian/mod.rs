@@ -1,0 +1,373 @@
+//! A warm-startable primal solver of the projection QP: the augmented
+//! Lagrangian method with a semismooth Newton inner solve on the body-space
+//! matrix.
+//!
+//! The problem (`super::projection`) is
+//!
+//! ```text
+//! minimize 1/2 dq^T M dq   s.t.  w_i = b_i + J_i dq  = 0  (i in E, the first num_equalities rows)
+//!                                w_i               >= 0  (i in I)
+//! ```
+//!
+//! with `b = phi - target`. For multipliers `lambda` (`lambda_I >= 0`) and
+//! penalties `rho_i > 0` its augmented Lagrangian is the convex, `C^1`,
+//! piecewise quadratic function of `dq`
+//!
+//! ```text
+//! L(dq) = 1/2 dq^T M dq + sum_E ( -lambda_i w_i + rho_i/2 w_i^2 )
+//!                       + sum_I ( max(0, lambda_i - rho_i w_i)^2 - lambda_i^2 ) / (2 rho_i)
+//! ```
+//!
+//! Its gradient is `M dq - J^T mu` with the updated multipliers
+//! `mu_E = lambda_E - rho_E w_E`, `mu_I = max(0, lambda_I - rho_I w_I)`, and
+//! its generalized Hessian is
+//!
+//! ```text
+//! H = M + sum_{i in A} rho_i J_i^T J_i,     A = E u { i in I : lambda_i - rho_i w_i > 0 }
+//! ```
+//!
+//! `H >= M` is positive definite whatever the rows are: four coplanar
+//! contacts of a box on a face, a contact listed twice or a closed loop of
+//! joints make `J_A` rank-deficient and the dual matrix `J M^-1 J^T`
+//! singular, but never `H`. This is the matrix of Drake's SAP and of
+//! MuJoCo's Newton solver, in positions.
+//!
+//! **Outer iteration** (the method of multipliers, a proximal point method
+//! on the dual): minimize `L` over `dq` for the current `lambda`, then set
+//! `lambda <- mu`. On the dual the step is
+//! `lambda_{k+1} = argmax_lambda D(lambda) - sum_i (lambda_i - lambda_k,i)^2 / (2 rho_i)`,
+//! so the dual error contracts on every iteration by at least
+//! `1 / (1 + kappa sigma)` with `sigma` the smallest nonzero eigenvalue of
+//! the Jacobi-scaled dual matrix on the active rows, when the penalties are
+//! `rho_i = kappa / a_i` (`a_i = J_i M^-1 J_i^T`, so that every row's
+//! penalty is the same dimensionless `kappa`: the method is invariant under
+//! a rescaling of masses, lengths or of a single row).
+//!
+//! **Inner iteration** (semismooth Newton): `d = -H^-1 (M dq - J^T mu)`,
+//! then the exact line search along `d` (`line_search`). `L` is piecewise
+//! quadratic, so once the active set at the new point is the one `H` was
+//! built with and the full step was taken, `dq` is the exact minimizer and
+//! the inner iteration stops. Within one active set every Newton step and
+//! every outer iteration reuses the same factor: a change of the active set
+//! costs one numeric factorization, the symbolic analysis of the sparse
+//! factor is done once per problem (`hessian`).
+//!
+//! **Answer**: `lambda = mu` and `dq = M^-1 J^T lambda` (stationarity
+//! exact), accepted by the same test as every other solver
+//! ([`super::residuals`]: feasibility and duality gap of `dq`, at most the
+//! tolerance). A **warm start** (multipliers of a previous, similar
+//! problem) is first checked as it is: if `M^-1 J^T lambda_0` already
+//! passes, the solver returns it with zero iterations and no
+//! factorization. Otherwise the method starts from it.
+//!
+//! **Infeasible problems** (rows no correction can satisfy) make `lambda`
+//! grow without bound; the method stops at its iteration limit with
+//! [`AugmentedLagrangianFailure::NotConverged`] and the caller's fallback
+//! (clarabel) certifies the infeasibility.
+
+mod hessian;
+mod line_search;
+
+use std::time::Instant;
+
+use nalgebra::DVector;
+
+use super::metric::BlockMetric;
+use super::outcome::Candidate;
+use super::projection::ProjectionQp;
+use super::projection_lcp::dq_from_lambda;
+use super::residuals::{m_apply, m_inner, projection_residuals, row_diagonal};
+use hessian::NewtonMatrix;
+use line_search::{Direction, exact_step};
+
+/// Settings of the augmented Lagrangian solver.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AugmentedLagrangianSettings {
+    /// The dimensionless penalty `kappa`: `rho_i = kappa / a_i` (module
+    /// docs). Larger contracts the dual error faster per outer iteration
+    /// (by `1 / (1 + kappa sigma)`) but raises the condition number of `H`
+    /// (about `kappa` times the number of rows on one body). Default 1e6.
+    pub penalty: f64,
+    /// Outer (multiplier) iterations before giving up. Default 200.
+    pub max_outer: usize,
+    /// Newton steps in one inner minimization. Default 50.
+    pub max_newton: usize,
+    /// Dense Cholesky up to this many entries of `dq` (six per body),
+    /// sparse above. Default 96 (16 bodies), chosen by measurement
+    /// (`benchmarks/results/solvers.md`).
+    pub dense_max_dofs: usize,
+    /// The solver stops once the acceptance measure is at most this
+    /// fraction of the tolerance (default 1e-3: a `dq` well inside the
+    /// tolerance costs a few more outer iterations, each usually one
+    /// solve with the kept factor), or once it is within the tolerance and
+    /// an outer iteration no longer halves it (the rounding floor).
+    pub stop_fraction: f64,
+}
+
+impl Default for AugmentedLagrangianSettings {
+    fn default() -> Self {
+        Self {
+            penalty: 1e6,
+            max_outer: 200,
+            max_newton: 50,
+            dense_max_dofs: 96,
+            stop_fraction: 1e-3,
+        }
+    }
+}
+
+/// Why the augmented Lagrangian solver gave up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum AugmentedLagrangianFailure {
+    /// The outer iteration limit (an infeasible problem, or a dual error
+    /// that contracts too slowly).
+    NotConverged,
+    /// A Cholesky factorization of `H` failed (rounding).
+    Factorization,
+    /// The deadline passed.
+    Deadline,
+}
+
+/// The inputs of one solve beside the problem.
+pub struct Start<'a> {
+    /// Multipliers to start from, one per row (missing entries are 0;
+    /// inequality entries are clamped at 0).
+    pub warm: Option<&'a DVector<f64>>,
+    /// Stop with the acceptance measure at most this.
+    pub tolerance: f64,
+    /// Give up at this instant.
+    pub deadline: Option<Instant>,
+}
+
+/// Solves `qp` (linear rows only; the caller passes the pyramid of a
+/// problem with cones). `Candidate::iterations` counts Newton steps.
+pub fn solve(
+    qp: &ProjectionQp,
+    metric: &[BlockMetric],
+    settings: &AugmentedLagrangianSettings,
+    start: &Start<'_>,
+) -> Result<Candidate, AugmentedLagrangianFailure> {
+    let mut state = State::new(qp, metric, settings, start);
+    let target = settings.stop_fraction * start.tolerance;
+    // The warm start as it is: accepted at the caller's tolerance.
+    let (warm, mut previous) = state.candidate();
+    if previous <= start.tolerance && start.warm.is_some() {
+        log::trace!("augmented Lagrangian: warm start accepted as it is");
+        return Ok(warm);
+    }
+    let mut newton = NewtonMatrix::new(qp, settings.dense_max_dofs);
+    for outer in 0..settings.max_outer {
+        if start.deadline.is_some_and(|d| Instant::now() >= d) {
+            return Err(AugmentedLagrangianFailure::Deadline);
+        }
+        state.minimize_inner(&mut newton)?;
+        state.lambda = state.mu();
+        let (candidate, acceptance) = state.candidate();
+        let stalled = acceptance <= start.tolerance && acceptance > STALL_RATIO * previous;
+        previous = acceptance;
+        if acceptance <= target || stalled {
+            log::trace!(
+                "augmented Lagrangian: {} outer iterations, {} Newton steps, \
+                 {} factorizations ({})",
+                outer + 1,
+                state.newton_steps,
+                state.factorizations,
+                if newton.is_dense() { "dense" } else { "sparse" }
+            );
+            return Ok(candidate);
+        }
+    }
+    Err(AugmentedLagrangianFailure::NotConverged)
+}
+
+/// The iterate of one solve.
+struct State<'a> {
+    qp: &'a ProjectionQp,
+    metric: &'a [BlockMetric],
+    settings: &'a AugmentedLagrangianSettings,
+    b: DVector<f64>,
+    rho: Vec<f64>,
+    lambda: DVector<f64>,
+    dq: DVector<f64>,
+    /// The active set `H` was last factored with.
+    factored: Option<Vec<bool>>,
+    newton_steps: usize,
+    factorizations: usize,
+}
+
+impl<'a> State<'a> {
+    fn new(
+        qp: &'a ProjectionQp,
+        metric: &'a [BlockMetric],
+        settings: &'a AugmentedLagrangianSettings,
+        start: &Start<'_>,
+    ) -> Self {
+        let m = qp.num_rows();
+        // A row no body moves (a_i = 0) holds or was rejected before
+        // (`solve::check_zero_rows`): it gets no penalty and no force.
+        let rho = row_diagonal(qp, metric)
+            .iter()
+            .map(|&a| if a > 0.0 { settings.penalty / a } else { 0.0 })
+            .collect();
+        let lambda = DVector::from_fn(m, |i, _| {
+            let value = start
+                .warm
+                .and_then(|w| w.get(i).copied())
+                .filter(|x| x.is_finite())
+                .unwrap_or(0.0);
+            if qp.is_equality(i) {
+                value
+            } else {
+                value.max(0.0)
+            }
+        });
+        let dq = dq_from_lambda(qp, metric, &lambda);
+        Self {
+            qp,
+            metric,
+            settings,
+            b: qp.b(),
+            rho,
+            lambda,
+            dq,
+            factored: None,
+            newton_steps: 0,
+            factorizations: 0,
+        }
+    }
+
+    /// The candidate of the current multipliers and its acceptance
+    /// measure (NaN counts as infinite).
+    fn candidate(&self) -> (Candidate, f64) {
+        let dq = dq_from_lambda(self.qp, self.metric, &self.lambda);
+        let residuals = projection_residuals(self.qp, self.metric, &dq, &self.lambda);
+        let acceptance = residuals.acceptance();
+        let candidate = Candidate {
+            dq,
+            lambda: self.lambda.clone(),
+            iterations: self.newton_steps,
+            factorizations: self.factorizations,
+        };
+        (
+            candidate,
+            if acceptance.is_nan() {
+                f64::INFINITY
+            } else {
+                acceptance
+            },
+        )
+    }
+
+    fn w(&self, dq: &DVector<f64>) -> DVector<f64> {
+        &self.b + self.qp.apply_j(dq)
+    }
+
+    /// `mu` at the current `dq` (module docs).
+    fn mu(&self) -> DVector<f64> {
+        let w = self.w(&self.dq);
+        DVector::from_fn(w.len(), |i, _| {
+            let p = self.lambda[i] - self.rho[i] * w[i];
+            if self.qp.is_equality(i) {
+                p
+            } else {
+                p.max(0.0)
+            }
+        })
+    }
+
+    /// The active set at the current `dq`. A row whose
+    /// `lambda_i - rho_i w_i` is within rounding of 0 keeps its state in
+    /// `previous` (both states give a valid generalized Hessian there; a
+    /// flip by rounding would cost a factorization for nothing).
+    fn active(&self, previous: Option<&[bool]>) -> Vec<bool> {
+        let w = self.w(&self.dq);
+        let length = self.b.amax();
+        (0..w.len())
+            .map(|i| {
+                if self.rho[i] == 0.0 {
+                    return false;
+                }
+                if self.qp.is_equality(i) {
+                    return true;
+                }
+                let p = self.lambda[i] - self.rho[i] * w[i];
+                let undecided = p.abs() <= ACTIVE_SWITCH_REL * self.rho[i] * length;
+                match previous {
+                    Some(previous) if undecided => previous[i],
+                    _ => p > 0.0,
+                }
+            })
+            .collect()
+    }
+
+    /// Minimizes the augmented Lagrangian over `dq` for the current
+    /// multipliers (semismooth Newton with exact line search).
+    fn minimize_inner(
+        &mut self,
+        newton: &mut NewtonMatrix,
+    ) -> Result<(), AugmentedLagrangianFailure> {
+        for _ in 0..self.settings.max_newton {
+            let active = self.active(self.factored.as_deref());
+            if self.factored.as_ref() != Some(&active) {
+                newton
+                    .factor(self.qp, self.metric, &self.rho, &active)
+                    .map_err(|_| AugmentedLagrangianFailure::Factorization)?;
+                self.factorizations += 1;
+                self.factored = Some(active.clone());
+            }
+            let m_dq = m_apply(self.metric, &self.dq);
+            let gradient = &m_dq - self.qp.apply_jt(&self.mu());
+            let Some(d) = newton.solve(&(-&gradient)) else {
+                return Err(AugmentedLagrangianFailure::Factorization);
+            };
+            self.newton_steps += 1;
+            let w = self.w(&self.dq);
+            let s = self.qp.apply_j(&d);
+            let direction = Direction {
+                m_dq: d.dot(&m_dq),
+                m_d: m_inner(self.metric, &d, &d),
+                w: w.as_slice(),
+                s: s.as_slice(),
+                lambda: self.lambda.as_slice(),
+                rho: &self.rho,
+                num_equalities: self.qp.num_equalities,
+            };
+            // No descent left: the minimizer up to rounding.
+            let Some(t) = exact_step(&direction) else {
+                return Ok(());
+            };
+            self.dq += &d * t;
+            // A full Newton step that kept the active set lands on the
+            // minimizer of that quadratic piece; a step lost in the
+            // rounding of dq changes nothing more.
+            let full = (t - 1.0).abs() <= NEWTON_UNIT_STEP_REL;
+            if full && self.active(Some(&active)) == active {
+                return Ok(());
+            }
+            let step = t.abs() * direction.m_d.max(0.0).sqrt();
+            if step <= NEGLIGIBLE_STEP_REL * m_inner(self.metric, &self.dq, &self.dq).sqrt() {
+                return Ok(());
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An outer iteration that leaves the acceptance measure above this
+/// fraction of the previous one, within the tolerance, has reached the
+/// rounding floor: the solver stops there.
+const STALL_RATIO: f64 = 0.5;
+
+/// `|lambda_i - rho_i w_i|` at most this times `rho_i ||b||_inf` is within
+/// rounding of the switch of row `i` (the rounding of `w_i` is about
+/// `u ||b||_inf`, with some room for the sum over a row's blocks).
+const ACTIVE_SWITCH_REL: f64 = 1e-13;
+
+/// A Newton step whose M-norm is at most this fraction of `||dq||_M`
+/// is rounding: the inner minimization stops.
+const NEGLIGIBLE_STEP_REL: f64 = 1e-14;
+
+/// A step this close to 1 counts as the full Newton step (rounding of the
+/// line search's root).
+const NEWTON_UNIT_STEP_REL: f64 = 1e-12;

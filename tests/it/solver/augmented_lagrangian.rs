@@ -1,0 +1,178 @@
+//! The augmented Lagrangian solver against clarabel and Lemke on random
+//! contact-like stacks (redundant coplanar rows, singular `A`), on
+//! degenerate rows (a row listed twice) and on infeasible rows, and its
+//! warm start: zero iterations on an unchanged problem, the same answer as
+//! a cold solve on a changed one.
+
+use crate::support::solver_oracle::{assert_kkt, relative_metric_distance};
+use constraint_stabilization::solver::augmented_lagrangian::AugmentedLagrangianFailure;
+use constraint_stabilization::solver::{
+    FailureReason, ProjectionQp, ProjectionSolution, SolverChoice, SolverError, SolverKind,
+    SolverSettings, solve_projection, solve_projection_warm,
+};
+use dev_support::solver::{StackSpec, random_stacks};
+use nalgebra::DVector;
+
+/// Agreement of the augmented Lagrangian's `dq` with clarabel's and
+/// Lemke's, relative in the M-norm: each answer is certified by the
+/// acceptance test, and the augmented Lagrangian stops at half its
+/// tolerance 1e-6.
+const DQ_AGREEMENT_TOL: f64 = 1e-6;
+
+fn settings(choice: SolverChoice) -> SolverSettings {
+    SolverSettings {
+        choice,
+        fall_back: false,
+        ..SolverSettings::default()
+    }
+}
+
+fn solve(qp: &ProjectionQp, choice: SolverChoice) -> ProjectionSolution {
+    solve_projection(qp, &settings(choice)).unwrap_or_else(|e| panic!("{choice:?}: {e}"))
+}
+
+/// Random stacks from 10 to about 250 rows (dense and sparse Newton
+/// matrices), at unit and extreme scales: the augmented Lagrangian answers
+/// every one itself, passes the KKT oracle, and agrees with clarabel and
+/// (up to Lemke's size) with Lemke.
+#[test]
+fn agrees_with_clarabel_and_lemke_on_random_stacks() {
+    let scales = [(1.0, 1.0, 2.0), (1e-3, 1e3, 4.0)];
+    for rows in [10, 60, 250] {
+        for (length_scale, mass_scale, mass_decades) in scales {
+            for seed in 0..2 {
+                let spec = StackSpec {
+                    length_scale,
+                    mass_scale,
+                    mass_decades,
+                    ..StackSpec::new(rows, seed)
+                };
+                let qp = random_stacks(&spec);
+                let context = format!("{spec:?}");
+                let ours = solve(&qp, SolverChoice::AugmentedLagrangian);
+                assert_eq!(ours.solver, SolverKind::AugmentedLagrangian, "{context}");
+                assert!(
+                    ours.factorizations >= 1,
+                    "{context}: cold solve factored nothing"
+                );
+                assert_kkt(&qp, &ours.dq, &ours.lambda, &context);
+                let mut references = vec![SolverChoice::Clarabel];
+                if rows <= SolverSettings::default().auto_lemke_max_rows {
+                    references.push(SolverChoice::Lemke);
+                }
+                for reference in references {
+                    let theirs = solve(&qp, reference);
+                    let distance = relative_metric_distance(&qp, &ours.dq, &theirs.dq);
+                    assert!(
+                        distance <= DQ_AGREEMENT_TOL,
+                        "{context}: {distance:e} from {reference:?}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// A problem with every row listed twice (the multipliers split anyhow
+/// between the copies): the same `dq` as the problem with each row once.
+#[test]
+fn duplicated_rows_leave_dq_unchanged() {
+    let qp = random_stacks(&StackSpec::new(40, 7));
+    let mut doubled = qp.clone();
+    doubled.rows.extend(qp.rows.iter().cloned());
+    doubled.phi.extend(qp.phi.iter().copied());
+    doubled.target.extend(qp.target.iter().copied());
+    let once = solve(&qp, SolverChoice::Clarabel);
+    let twice = solve(&doubled, SolverChoice::AugmentedLagrangian);
+    let distance = relative_metric_distance(&qp, &once.dq, &twice.dq);
+    assert!(distance <= DQ_AGREEMENT_TOL, "{distance:e}");
+}
+
+/// Two opposite rows on one body that both ask to move it the same way
+/// (`x >= 1` and `-x >= 1`): no correction satisfies both. The augmented
+/// Lagrangian stops at its iteration limit with a typed failure and
+/// clarabel then certifies the infeasibility, as with any other first
+/// solver.
+#[test]
+fn infeasible_rows_fail_typed_and_clarabel_certifies() {
+    let mut qp = random_stacks(&StackSpec::new(20, 3));
+    let mut opposite = qp.rows[0].clone();
+    for (_, g) in &mut opposite.blocks {
+        *g = -*g;
+    }
+    qp.rows.push(opposite);
+    qp.phi.push(qp.phi[0]);
+    qp.target.push(qp.target[0]);
+    qp.phi[0] = -1.0;
+    let last = qp.phi.len() - 1;
+    qp.phi[last] = -1.0;
+    let settings = SolverSettings {
+        choice: SolverChoice::AugmentedLagrangian,
+        stop_on_infeasible: true,
+        ..SolverSettings::default()
+    };
+    let Err(SolverError::AllSolversFailed(fallbacks)) = solve_projection(&qp, &settings) else {
+        panic!("an infeasible problem was solved");
+    };
+    let reasons: Vec<_> = fallbacks.iter().map(|f| (f.solver, &f.reason)).collect();
+    assert_eq!(
+        reasons[0],
+        (
+            SolverKind::AugmentedLagrangian,
+            &FailureReason::AugmentedLagrangian(AugmentedLagrangianFailure::NotConverged)
+        )
+    );
+    assert_eq!(fallbacks[1].solver, SolverKind::Clarabel);
+    assert!(fallbacks[1].reason.certifies_infeasibility(), "{reasons:?}");
+}
+
+/// Started from its own answer, the solver returns it with no iteration
+/// and no factorization.
+#[test]
+fn warm_start_from_the_answer_costs_nothing() {
+    for rows in [30, 250] {
+        let qp = random_stacks(&StackSpec::new(rows, 11));
+        let cold = solve(&qp, SolverChoice::AugmentedLagrangian);
+        let warm = solve_projection_warm(
+            &qp,
+            &settings(SolverChoice::AugmentedLagrangian),
+            Some(&cold.lambda),
+        )
+        .unwrap();
+        assert!(warm.warm_started);
+        assert_eq!(
+            (warm.iterations, warm.factorizations),
+            (0, 0),
+            "{rows} rows"
+        );
+        assert_eq!(warm.dq, cold.dq);
+    }
+}
+
+/// Warm-started from the answer of a neighbouring problem (every `phi`
+/// moved by up to a fifth of its own size, as between two passes), the
+/// solver gives the cold answer of the new problem; a warm start of the
+/// wrong length or with non-finite entries only costs iterations.
+#[test]
+fn warm_start_from_a_neighbouring_problem_gives_the_cold_answer() {
+    let qp = random_stacks(&StackSpec::new(120, 5));
+    let before = solve(&qp, SolverChoice::AugmentedLagrangian);
+    let mut moved = qp.clone();
+    for (i, phi) in moved.phi.iter_mut().enumerate() {
+        *phi *= 1.0 + 0.2 * ((i % 7) as f64 / 7.0 - 0.5);
+    }
+    let cold = solve(&moved, SolverChoice::Clarabel);
+    let stale_short = DVector::from_element(3, 1.0);
+    let mut stale_nan = before.lambda.clone();
+    stale_nan[0] = f64::NAN;
+    for warm in [&before.lambda, &stale_short, &stale_nan] {
+        let sol = solve_projection_warm(
+            &moved,
+            &settings(SolverChoice::AugmentedLagrangian),
+            Some(warm),
+        )
+        .unwrap();
+        let distance = relative_metric_distance(&moved, &sol.dq, &cold.dq);
+        assert!(distance <= DQ_AGREEMENT_TOL, "{distance:e}");
+    }
+}
