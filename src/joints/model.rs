@@ -13,7 +13,7 @@
 //! ```
 //!
 //! A *locked* linear axis `k` asks `p_k = 0`; locked angular axes ask the
-//! frames' axes to coincide (see [`super::measure`] for the exact
+//! frames' axes to coincide (see [`super::constraints`] for the exact
 //! measures). A *limit* on a free axis asks `min <= value <= max`: the
 //! travel `p_k` on a free linear axis, the angle about the free angular
 //! axis when exactly one is free. Every joint type is such a set of locked
