@@ -113,6 +113,33 @@ pub mod internals {
     pub mod vclip {
         pub use crate::vclip::*;
     }
+    /// Private parts of the public `stabilizer` module.
+    pub mod stabilizer {
+        /// The Gauss-Seidel method's sweeps, points and joint rows.
+        pub mod gauss_seidel {
+            pub use crate::stabilizer::gauss_seidel::{joints, point, sweep};
+        }
+        /// Regions of an island.
+        pub mod region {
+            pub use crate::stabilizer::region::*;
+        }
+        /// One island's pass.
+        pub mod solve_island {
+            pub use crate::stabilizer::solve_island::*;
+        }
+    }
+    /// Private parts of the public `rapier_bridge` module.
+    #[cfg(feature = "rapier")]
+    pub mod rapier_bridge {
+        /// Round-off of poses written to Rapier.
+        pub mod round_off {
+            pub use crate::rapier_bridge::round_off::*;
+        }
+        /// A Rapier world built from a scene.
+        pub mod world {
+            pub use crate::rapier_bridge::world::*;
+        }
+    }
 }
 
 /// The README's examples, compiled and run as doctests.

@@ -36,7 +36,7 @@
 //!   configuration) and `warm_start` (V-Clip's last feature pairs, kept
 //!   across calls).
 
-mod contact_row;
+pub mod contact_row;
 mod detection;
 pub mod gauss_map;
 pub mod island;

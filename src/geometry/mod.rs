@@ -38,7 +38,7 @@ mod hull;
 mod mass;
 mod parry_bridge;
 mod plane;
-mod polyhedron;
+pub mod polyhedron;
 pub mod round;
 pub mod round_mass;
 mod shapes;

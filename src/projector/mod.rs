@@ -31,7 +31,7 @@ mod consistent_equalities;
 pub mod friction;
 mod line_search;
 mod step;
-mod trust_region;
+pub mod trust_region;
 
 pub use line_search::{LineSearchOutcome, line_search};
 pub use step::{

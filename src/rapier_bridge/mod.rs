@@ -143,7 +143,7 @@ mod rest;
 mod round_collider;
 pub mod round_off;
 mod settings;
-mod world;
+pub(crate) mod world;
 
 pub use body_map::{BodyMap, MappedCollider};
 pub use bridge::RapierBridge;

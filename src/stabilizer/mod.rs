@@ -46,12 +46,12 @@
 pub(crate) mod gauss_seidel;
 mod island_constraints;
 mod joint_state;
-mod region;
+pub(crate) mod region;
 mod removal;
 mod report;
 #[cfg(feature = "serde")]
 pub mod report_json;
-mod solve_island;
+pub(crate) mod solve_island;
 mod velocity;
 
 use std::time::Instant;
@@ -136,6 +136,12 @@ impl Stabilizer {
     /// Number of body pairs with a cached V-Clip warm start.
     pub fn warm_starts(&self) -> usize {
         self.cache.len()
+    }
+
+    /// The V-Clip warm starts kept between calls, for the library's tests.
+    #[doc(hidden)]
+    pub fn warm_start_cache(&self) -> &WarmStartCache {
+        &self.cache
     }
 
     /// Replaces the settings (validated first; on error they are kept),

@@ -17,7 +17,7 @@ use nalgebra::Point3;
 
 /// A pair of closest points with their parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct SegmentPair {
+pub struct SegmentPair {
     /// Parameter on the first segment.
     pub s: f64,
     /// Parameter on the second segment.
@@ -38,7 +38,7 @@ pub(crate) fn project_on_segment(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f6
 }
 
 /// Closest points of segments `p0 -> p1` and `q0 -> q1`.
-pub(crate) fn segment_segment(
+pub fn segment_segment(
     p0: &Point3<f64>,
     p1: &Point3<f64>,
     q0: &Point3<f64>,
@@ -96,50 +96,4 @@ fn interior_stationary_point(
     }
     let t = ((p0 + d1 * s) - q0).dot(&d2) / d2.norm_squared();
     (t > 0.0 && t < 1.0).then_some((s, t))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn crossing_segments_meet_inside() {
-        let pair = segment_segment(
-            &Point3::new(-1.0, 0.0, 1.0),
-            &Point3::new(1.0, 0.0, 1.0),
-            &Point3::new(0.0, -1.0, 0.0),
-            &Point3::new(0.0, 3.0, 0.0),
-        );
-        assert!((pair.s - 0.5).abs() < 1e-15 && (pair.t - 0.25).abs() < 1e-15);
-        assert!((pair.distance_squared - 1.0).abs() < 1e-15);
-    }
-
-    /// Nearly parallel crossing edges (angle 1e-7): the distance must be the
-    /// gap between them, not an endpoint distance.
-    #[test]
-    fn nearly_parallel_segments_keep_their_interior_minimum() {
-        let angle: f64 = 1e-7;
-        let gap = 3e-7;
-        let pair = segment_segment(
-            &Point3::new(-1.0, 0.0, 0.0),
-            &Point3::new(1.0, 0.0, 0.0),
-            &Point3::new(-1.0, -angle, gap),
-            &Point3::new(1.0, angle, gap),
-        );
-        assert!(
-            (pair.distance_squared.sqrt() - gap).abs() < 1e-15,
-            "{pair:?}"
-        );
-    }
-
-    #[test]
-    fn parallel_segments_use_an_endpoint() {
-        let pair = segment_segment(
-            &Point3::new(0.0, 0.0, 0.0),
-            &Point3::new(2.0, 0.0, 0.0),
-            &Point3::new(1.0, 1.0, 0.0),
-            &Point3::new(5.0, 1.0, 0.0),
-        );
-        assert!((pair.distance_squared - 1.0).abs() < 1e-15);
-    }
 }

@@ -47,8 +47,8 @@
 //! assert_eq!(next.iterations, 0);
 //! ```
 
-mod clip;
-mod closest;
+pub mod clip;
+pub mod closest;
 mod deepest;
 mod derivative;
 mod edge_states;

@@ -6,7 +6,11 @@
 //! oracle of `dev_support::sat` (`sat_depth`, `sat_deepest`), not by the
 //! library's report alone. Joints: [`joints`].
 
+mod joint_rows;
 mod joints;
+mod settings;
+mod stored_point;
+mod sweep_push;
 
 use constraint_stabilization::body::{BodyDesc, MassSpec};
 use constraint_stabilization::scene::Scene;

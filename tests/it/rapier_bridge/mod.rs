@@ -12,6 +12,8 @@ mod kept_scene;
 mod rest;
 mod round;
 mod round_off;
+mod round_off_bound;
+mod world_from_scene;
 
 use constraint_stabilization::Settings;
 use constraint_stabilization::rapier_bridge::{

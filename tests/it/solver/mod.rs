@@ -7,6 +7,7 @@ mod augmented_lagrangian;
 mod dense_limit;
 mod equality_rows;
 mod friction_cone;
+mod friction_cone_unit;
 mod lcp_siconos;
 mod lemke;
 mod pgs;

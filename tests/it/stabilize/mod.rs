@@ -15,18 +15,22 @@ mod deep;
 mod degenerate_hulls;
 mod faults;
 mod friction;
+mod friction_pyramid_rows;
 mod infeasible;
 mod minimal;
 #[cfg(feature = "serde")]
 mod permutation;
 mod projector_analytic;
 mod properties;
+mod region_growth;
 mod scale_extremes;
 mod scenes;
 #[cfg(feature = "testbed")]
 mod seed;
+mod solve_island_fixed;
 mod stiff;
 mod touching;
+mod trust_region;
 mod velocity;
 mod warm_cache;
 mod work;
