@@ -31,11 +31,11 @@
 //! ```
 //!
 //! Rows with `g_i = 0` (no body moves them) are left out, with
-//! `lambda_i = 0`; the caller rejects such a row when it is violated. The
-//! interior point is then polished ([`super::polish`]) and the better of
-//! the two points, by [`ProjectionResiduals::acceptance`] (the measures the
-//! caller accepts on), is returned: a polish that makes the answer worse is
-//! never kept.
+//! `lambda_i = 0`; the caller rejects such a row when it is violated. When
+//! its [`ProjectionResiduals::acceptance`] (the measures the caller accepts
+//! on) is above [`ClarabelSettings::polish_above`], the interior point is
+//! polished ([`super::polish`]) and the better of the two points is
+//! returned: a polish that makes the answer worse is never kept.
 //!
 //! Equality rows (the first [`ProjectionQp::num_equalities`]) are
 //! whitened and scaled the same way and go first, in clarabel's
@@ -183,6 +183,15 @@ pub fn solve(
         // point's answer is checked against the cones as it is.
         return Ok(raw);
     }
+    let worst = |c: &Candidate| -> f64 {
+        let r: ProjectionResiduals = projection_residuals(qp, metric, &c.dq, &c.lambda);
+        r.acceptance()
+    };
+    let raw_res = worst(&raw);
+    if raw_res <= settings.polish_above {
+        log::trace!("clarabel primal: residual {raw_res:.2e}, not polished");
+        return Ok(raw);
+    }
     let whitened = WhitenedQp {
         n,
         equalities: white.equalities,
@@ -193,11 +202,7 @@ pub fn solve(
         return Ok(raw);
     };
     let polished = unscale(qp, metric, &white, &y, &z, point.iterations);
-    let worst = |c: &Candidate| -> f64 {
-        let r: ProjectionResiduals = projection_residuals(qp, metric, &c.dq, &c.lambda);
-        r.acceptance()
-    };
-    let (raw_res, polished_res) = (worst(&raw), worst(&polished));
+    let polished_res = worst(&polished);
     log::trace!("clarabel primal: residual {raw_res:.2e}, polished {polished_res:.2e}");
     Ok(if polished_res < raw_res {
         polished
