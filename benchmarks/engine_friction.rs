@@ -66,6 +66,21 @@ fn main() {
         &[],
     ));
     let repeats = if quick { 1 } else { REPEATS };
+    let mut table = String::new();
+    for (stem, scene) in common::engine_states() {
+        if only.as_ref().is_some_and(|o| !stem.contains(o.as_str())) {
+            continue;
+        }
+        let mu = engine_friction(&stem);
+        let calls = measure(&scene, mu, repeats);
+        let base = median(&calls[0].seconds);
+        for ((label, _), call) in CALLS.iter().zip(&calls) {
+            let line = row(&stem, mu, label, call, base);
+            println!("{line}");
+            table.push_str(&line);
+            table.push('\n');
+        }
+    }
     let mut md = String::from("# Engine states with their engine's friction\n\n");
     md.push_str(&provenance.markdown());
     md.push_str(
@@ -77,20 +92,7 @@ fn main() {
          | state | mu | call | status | passes | dropped | exact after | tolerance | solvers | failed | ms | x frictionless |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
-    for (stem, scene) in common::engine_states() {
-        if only.as_ref().is_some_and(|o| !stem.contains(o.as_str())) {
-            continue;
-        }
-        let mu = engine_friction(&stem);
-        let calls = measure(&scene, mu, repeats);
-        let base = median(&calls[0].seconds);
-        for ((label, _), call) in CALLS.iter().zip(&calls) {
-            let line = row(&stem, mu, label, call, base);
-            println!("{line}");
-            md.push_str(&line);
-            md.push('\n');
-        }
-    }
+    md.push_str(&table);
     let dir = common::results_dir();
     let name = if quick {
         "engine_friction_quick.md"

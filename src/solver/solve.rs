@@ -193,7 +193,10 @@ pub struct SolverSettings {
     /// this (the pyramid's rows for a problem with cones), not even as a
     /// fallback or in the cross-check: their time grows as `n^3` and `n^2`
     /// per sweep (3,630 pyramid rows kept Lemke running for minutes).
-    /// Default 1,000.
+    /// Default 1,000: one Lemke run there took 0.44-1.2 s against
+    /// clarabel's 20-64 ms, at 300 rows 19-24 ms against 7-8 ms
+    /// (`benchmarks/results/solvers.csv`), so a dense fallback costs at
+    /// most about a second per run.
     pub dense_max_rows: usize,
     /// When the first solver fails, try the others (in the order of the
     /// module docs). Default true. The stabilizer turns it off for the
