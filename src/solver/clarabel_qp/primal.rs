@@ -45,7 +45,10 @@
 //!
 //! Friction cones ([`super::cone`]) follow the rows, three entries of
 //! `sigma` each in a `SecondOrderConeT(3)`, whitened and scaled the same
-//! way with one common factor per cone. A problem with cones is not
+//! way with one common factor per cone. A row that is a cone's normal row
+//! (same Jacobian, `phi` and target) is implied by the cone and left out
+//! ([`rows_implied_by_cones`]): fewer rows, and no degenerate pair of
+//! constraints active together at every sticking contact. A problem with cones is not
 //! polished (the polish solves for active half-spaces); clarabel's point is
 //! returned, and the caller's residual check judges it in the cone's sense.
 
@@ -92,7 +95,11 @@ fn whiten(qp: &ProjectionQp, metric: &[BlockMetric]) -> Whitened {
         s: 0.0,
     };
     let mut any_scale: f64 = 0.0;
+    let implied = rows_implied_by_cones(qp);
     for (i, row) in qp.rows.iter().enumerate() {
+        if implied[i] {
+            continue;
+        }
         let blocks = whitened_blocks(row, metric);
         let g = blocks_norm(&blocks);
         if g > 0.0 && g.is_finite() {
@@ -124,6 +131,33 @@ fn whiten(qp: &ProjectionQp, metric: &[BlockMetric]) -> Whitened {
         .map(|(&i, g)| b[i] / (g * s))
         .collect();
     w
+}
+
+/// For each row, whether it is the normal row of a friction cone with the
+/// same `phi` and target (an inequality): the cone `w_0 >= |(w_1, w_2)|`
+/// implies `w_0 = b + J_n dq >= 0`, so the row is left out of clarabel's
+/// problem (its multiplier 0; the cone's `z_0` carries the force). Cones
+/// are matched to rows in order, as the projector builds them (one per
+/// row with friction, in row order); a cone matching no later row leaves
+/// every row in. Measured on the MuJoCo bin with `mu = 1`
+/// (`benchmarks/results/engine_friction.md`): the cone problems of a call
+/// solved in 122 ms instead of 274 and 112 instead of 163.
+fn rows_implied_by_cones(qp: &ProjectionQp) -> Vec<bool> {
+    let mut implied = vec![false; qp.num_rows()];
+    let mut next = qp.num_equalities;
+    for cone in &qp.cones {
+        let matches = |i: usize| {
+            qp.rows[i] == cone.normal && qp.phi[i] == cone.phi && qp.target[i] == cone.target
+        };
+        match (next..qp.num_rows()).find(|&i| matches(i)) {
+            Some(i) => {
+                implied[i] = true;
+                next = i + 1;
+            }
+            None => return vec![false; qp.num_rows()],
+        }
+    }
+    implied
 }
 
 impl Whitened {
