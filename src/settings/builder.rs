@@ -83,6 +83,8 @@ impl SettingsBuilder {
         friction_directions: usize,
         /// [`Settings::friction_model`].
         friction_model: FrictionModel,
+        /// [`Settings::friction_max_iterations`].
+        friction_max_iterations: usize,
         /// [`Settings::solve_whole_islands`].
         solve_whole_islands: bool,
         /// [`Settings::joint_rotation_weight`].

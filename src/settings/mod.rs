@@ -20,10 +20,11 @@
 //! a corrected contact is left at about the engine's own depth rather than
 //! separated. With `a = 0` both lengths are the plain ones, bit for bit.
 //!
-//! [`Settings::time_budget`] bounds the wall time of a call: it is checked
-//! after each pass (never before the first, so a call always does one), and
-//! the remaining time is clarabel's time limit in the passes after the
-//! first.
+//! [`Settings::time_budget`] bounds the wall time of a call: it is the
+//! deadline of every solver inside every pass (clarabel's time limit,
+//! Lemke's pivots, PGS's sweeps; `crate::solver`'s "Deadline"), and it is
+//! checked after each pass's detection (never before the first, so a call
+//! always detects and tries one pass).
 //!
 //! [`Settings::method`] chooses the correction: the projection (the
 //! default; every setting but `gauss_seidel` is its) or the nonlinear
@@ -120,11 +121,13 @@ pub struct Settings {
     /// (see the module docs). Default 0 (every penetration beyond the
     /// tolerance is removed).
     pub allowed_penetration: f64,
-    /// Wall-time budget of one call, checked after each pass: when it is
-    /// spent, the call stops at the configuration reached
-    /// ([`crate::Status::TimeLimit`]; never worse than the input, as any
-    /// call). The first pass always runs, so a zero budget does exactly one
-    /// pass. Default none (no limit).
+    /// Wall-time budget of one call: when it is spent, the call stops at
+    /// the configuration reached ([`crate::Status::TimeLimit`]; never worse
+    /// than the input, as any call). Inside a pass every solver stops at it
+    /// and its island keeps its poses (only the `O(1)` closed form of a
+    /// one-row island and the trivial answer still run), so a zero budget
+    /// does one pass that moves at most such islands. Default none (no
+    /// limit).
     pub time_budget: Option<Duration>,
     /// Largest number of passes (detect, solve every penetrating island,
     /// apply). Default 100.
@@ -179,6 +182,16 @@ pub struct Settings {
     /// is faster than the cone and differs from it by a small fraction of
     /// the body size; 8 facets cost more than the cone.
     pub friction_model: FrictionModel,
+    /// clarabel's iteration limit on a problem with friction (its
+    /// pyramid's rows or cones), in place of
+    /// [`crate::solver::ClarabelSettings::max_iter`] when lower. Default
+    /// [`DEFAULT_FRICTION_MAX_ITERATIONS`]: over every engine state of
+    /// `tests/data/engine` with its engine's friction, both models, the
+    /// solved frictional problems took at most 28 iterations, while a
+    /// nearly infeasible pyramid (bodies wedged with `mu = 1`) ran to 200
+    /// without an answer, about a second on 3,625 rows, before the island
+    /// was solved without friction (`benchmarks/results/engine_friction.md`).
+    pub friction_max_iterations: usize,
     /// Solve every body of a penetrating island in every pass. Default
     /// false: a pass solves the bodies of the pairs that still penetrate,
     /// grown while the answer pushes bodies held still (see
@@ -249,16 +262,33 @@ impl Default for Settings {
             friction: 0.0,
             friction_directions: DEFAULT_FRICTION_DIRECTIONS,
             friction_model: FrictionModel::default(),
+            friction_max_iterations: DEFAULT_FRICTION_MAX_ITERATIONS,
             solve_whole_islands: false,
             joint_rotation_weight: DEFAULT_JOINT_ROTATION_WEIGHT,
             step_max_rotation: DEFAULT_STEP_MAX_ROTATION,
             step_max_translation_relative: DEFAULT_STEP_MAX_TRANSLATION_RELATIVE,
             line_search: LineSearchSettings::default(),
-            solver: SolverSettings::default(),
+            solver: stabilizer_solver_settings(),
             vclip: VClipSettings::default(),
         }
     }
 }
+
+/// The solver settings of [`Settings::default`]: the solvers' defaults,
+/// but clarabel polishes only an answer that the acceptance test would
+/// reject ([`crate::solver::ClarabelSettings::polish_above`] at
+/// [`SolverSettings::tol_residual`]): measured, the polish never decided an
+/// answer of the engine states and cost 13 % of clarabel's time
+/// (`benchmarks/results/polish.md`).
+fn stabilizer_solver_settings() -> SolverSettings {
+    let mut solver = SolverSettings::default();
+    solver.clarabel.polish_above = solver.tol_residual;
+    solver
+}
+
+/// Default [`Settings::friction_max_iterations`]: about twice the most
+/// iterations a solved frictional problem of the engine states took (28).
+pub const DEFAULT_FRICTION_MAX_ITERATIONS: usize = 60;
 
 /// The fewest directions of a friction pyramid (a triangle).
 pub const MIN_FRICTION_DIRECTIONS: usize = 3;
@@ -299,6 +329,7 @@ impl Settings {
             self.friction_directions,
             MIN_FRICTION_DIRECTIONS,
         )?;
+        at_least("friction_max_iterations", self.friction_max_iterations, 1)?;
         // The solvers' residual check `residual > tol` never fails for a
         // NaN tolerance: any candidate would be accepted.
         positive("solver.tol_residual", self.solver.tol_residual)?;

@@ -67,6 +67,22 @@ pub enum FailureReason {
     Pgs(PgsStatus),
     /// The augmented Lagrangian solver gave up.
     AugmentedLagrangian(AugmentedLagrangianFailure),
+    /// The caller's deadline ([`super::SolverSettings::deadline`]) had
+    /// passed before the solver ran, or while it ran (clarabel's time
+    /// limit, Lemke before a pivot, PGS before a sweep, the augmented
+    /// Lagrangian before a Newton step): no answer, and no other solver is
+    /// tried after it.
+    DeadlinePassed,
+    /// A dense solver (Lemke, PGS, clarabel's dual form, all on the
+    /// assembled `A = J M^-1 J^T`) on more rows than
+    /// [`super::SolverSettings::dense_max_rows`]: not run.
+    AboveDenseLimit {
+        /// Rows of the problem it would have solved (the pyramid's, for a
+        /// problem with cones).
+        rows: usize,
+        /// The limit.
+        limit: usize,
+    },
     /// The solver returned a solution whose residual, checked by us against
     /// the original problem, is above the tolerance.
     ResidualTooLarge {
@@ -104,6 +120,10 @@ impl fmt::Display for FailureReason {
             Self::Lemke(s) => write!(f, "lemke: {s:?}"),
             Self::Pgs(s) => write!(f, "pgs: {s:?}"),
             Self::AugmentedLagrangian(s) => write!(f, "augmented Lagrangian: {s:?}"),
+            Self::DeadlinePassed => write!(f, "the deadline passed"),
+            Self::AboveDenseLimit { rows, limit } => {
+                write!(f, "{rows} rows, above the dense solvers' limit of {limit}")
+            }
             Self::ResidualTooLarge {
                 residual,
                 tolerance,

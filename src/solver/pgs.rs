@@ -21,8 +21,11 @@
 //! converge otherwise; it needs `M_ii > 0`. The iteration runs on the
 //! Jacobi-scaled problem of `super::scaling` (the iterates are the same up
 //! to scaling; the residual is then relative), and stops when the natural
-//! map falls below the tolerance or at the sweep limit, which is a failure:
-//! a non-converged `z` is never returned.
+//! map falls below the tolerance, or at the sweep limit or the deadline
+//! (checked before each sweep), both failures: a non-converged `z` is never
+//! returned.
+
+use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector};
 
@@ -49,6 +52,9 @@ pub struct PgsSettings {
     /// `tests/data/fuzz/lcp_solvers/crash-pgs-natural-map`;
     /// `benchmarks/results/fuzzing.md`).
     pub tol_residual_unscaled: f64,
+    /// Stop before the next sweep once this instant has passed
+    /// ([`PgsStatus::DeadlinePassed`]); `None`: no limit. Default `None`.
+    pub deadline: Option<Instant>,
 }
 
 impl Default for PgsSettings {
@@ -57,6 +63,7 @@ impl Default for PgsSettings {
             max_sweeps: 1000,
             tol_residual: 1e-10,
             tol_residual_unscaled: 1e-6,
+            deadline: None,
         }
     }
 }
@@ -74,6 +81,11 @@ pub enum PgsStatus {
     MaxSweeps {
         /// Scaled natural-map residual at the end.
         residual: f64,
+    },
+    /// The deadline ([`PgsSettings::deadline`]) passed first.
+    DeadlinePassed {
+        /// Sweeps done.
+        sweeps: usize,
     },
     /// An iterate stopped being finite.
     Diverged {
@@ -111,6 +123,9 @@ pub fn solve(lcp: &Lcp, settings: &PgsSettings) -> Result<PgsSolution, PgsStatus
     let mut z = DVector::zeros(q.len());
     let mut residual = f64::INFINITY;
     for sweep in 1..=settings.max_sweeps {
+        if settings.deadline.is_some_and(|d| Instant::now() >= d) {
+            return Err(PgsStatus::DeadlinePassed { sweeps: sweep - 1 });
+        }
         gauss_seidel_sweep(&m_t, &q, free, &mut z);
         let w = m_t.tr_mul(&z) + &q;
         residual = natural_map_abs(&z, &w, free);

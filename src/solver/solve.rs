@@ -11,9 +11,25 @@
 //! `auto_lemke_max_rows` rows clarabel -> Lemke -> PGS; above, clarabel ->
 //! PGS -> Lemke, so that the dense tableau of Lemke, `O(n^2)` per pivot
 //! and about `n` pivots on hundreds of rows, is the last resort, after the
-//! sparse interior point and the `O(n^2)` sweeps. Above
-//! [`SolverSettings::dense_max_rows`] rows neither Lemke nor PGS runs at
-//! all, not even as a fallback (their dense matrices grow as `n^2`).
+//! sparse interior point and the `O(n^2)` sweeps.
+//!
+//! **Sizes.** The dense solvers (Lemke, PGS and clarabel's dual form, all on
+//! the assembled `A = J M^-1 J^T`) never run on more rows than
+//! [`SolverSettings::dense_max_rows`]: not as a first choice, not as a
+//! fallback, not in the cross-check (which then reports
+//! [`FailureReason::AboveDenseLimit`]). The rows counted are those the
+//! solver would solve: for a problem with friction cones, its pyramid's
+//! (`K` facets per cone besides the rows). Above the limit the chain is
+//! clarabel alone (after the augmented Lagrangian when it is chosen).
+//!
+//! **Deadline** ([`SolverSettings::deadline`], the call's time budget):
+//! clarabel gets the time left as its own time limit, Lemke checks it
+//! before every pivot, PGS before every sweep, the augmented Lagrangian
+//! before every Newton step; a solver asked to run after it does not start
+//! (the closed form and the trivial answer, `O(1)`, still run). A solver
+//! stopped by it fails with [`FailureReason::DeadlinePassed`] and ends the
+//! chain: the caller keeps its configuration (the stabilizer's island does
+//! not move).
 //!
 //! **The augmented Lagrangian** ([`SolverKind::AugmentedLagrangian`],
 //! [`super::augmented_lagrangian`]) runs first when named, or under
@@ -172,10 +188,15 @@ pub struct SolverSettings {
     /// choice between Lemke and clarabel until warm starts are measured
     /// to pay.
     pub auto_augmented_lagrangian_min_rows: usize,
-    /// The dense solvers (Lemke's tableau, PGS on the assembled
-    /// `A = J M^-1 J^T`) are never run on more rows than this, not even
-    /// as a fallback: their time grows as `n^3` and `n^2` per sweep (3,630
-    /// pyramid rows kept Lemke running for minutes). Default 1,000.
+    /// The dense solvers (Lemke's tableau, PGS and clarabel's dual form on
+    /// the assembled `A = J M^-1 J^T`) are never run on more rows than
+    /// this (the pyramid's rows for a problem with cones), not even as a
+    /// fallback or in the cross-check: their time grows as `n^3` and `n^2`
+    /// per sweep (3,630 pyramid rows kept Lemke running for minutes).
+    /// Default 1,000: one Lemke run there took 0.44-1.2 s against
+    /// clarabel's 20-64 ms, at 300 rows 19-24 ms against 7-8 ms
+    /// (`benchmarks/results/solvers.csv`), so a dense fallback costs at
+    /// most about a second per run.
     pub dense_max_rows: usize,
     /// When the first solver fails, try the others (in the order of the
     /// module docs). Default true. The stabilizer turns it off for the
@@ -190,8 +211,8 @@ pub struct SolverSettings {
     /// friction pyramid, which wedged bodies can make infeasible and which
     /// are then solved again without friction.
     pub stop_on_infeasible: bool,
-    /// Every solver gives up at this instant (the caller's time budget);
-    /// `None`: no limit. Default `None`.
+    /// Every solver gives up at this instant (the caller's time budget;
+    /// module docs, "Deadline"); `None`: no limit. Default `None`.
     pub deadline: Option<Instant>,
     /// Augmented Lagrangian settings.
     pub augmented_lagrangian: AugmentedLagrangianSettings,
@@ -344,11 +365,12 @@ pub fn solve_projection_warm(
             Err(reason) => {
                 log::debug!("solver {kind:?} failed: {reason}");
                 let certified = reason.certifies_infeasibility();
+                let out_of_time = reason == FailureReason::DeadlinePassed;
                 fallbacks.push(Fallback {
                     solver: kind,
                     reason,
                 });
-                if certified && settings.stop_on_infeasible {
+                if (certified && settings.stop_on_infeasible) || out_of_time {
                     break;
                 }
             }
@@ -421,14 +443,28 @@ fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind>
     };
     let mut order = vec![first];
     order.extend(fallbacks.iter().copied().filter(|&k| k != first));
-    let dense = |k: SolverKind| matches!(k, SolverKind::Lemke | SolverKind::Pgs);
-    if qp.num_rows() > settings.dense_max_rows {
-        order.retain(|&k| !dense(k));
+    if dense_rows(qp) > settings.dense_max_rows {
+        order.retain(|&k| !is_dense(k));
         if order.is_empty() {
             order.push(SolverKind::Clarabel);
         }
     }
     order
+}
+
+/// Whether `kind` solves the assembled `A = J M^-1 J^T` (module docs,
+/// "Sizes").
+fn is_dense(kind: SolverKind) -> bool {
+    matches!(
+        kind,
+        SolverKind::Lemke | SolverKind::Pgs | SolverKind::ClarabelDual
+    )
+}
+
+/// The rows a dense solver solves for `qp`: its rows, and its pyramid's
+/// facets when it has cones.
+fn dense_rows(qp: &ProjectionQp) -> usize {
+    qp.num_rows() + qp.cones.len() * qp.cone_facets
 }
 
 /// Why the first solver was chosen, for the log.
@@ -564,7 +600,47 @@ impl Problem<'_> {
         Ok((candidate, residuals))
     }
 
+    /// Runs one solver within the size and time limits (module docs).
     fn run(&self, kind: SolverKind) -> Result<Candidate, FailureReason> {
+        let s = self.settings;
+        let rows = dense_rows(self.qp);
+        if is_dense(kind) && rows > s.dense_max_rows {
+            return Err(FailureReason::AboveDenseLimit {
+                rows,
+                limit: s.dense_max_rows,
+            });
+        }
+        let constant_time = matches!(kind, SolverKind::Trivial | SolverKind::ClosedForm);
+        if !constant_time && self.out_of_time() {
+            return Err(FailureReason::DeadlinePassed);
+        }
+        // A failure once the deadline has passed is the deadline's.
+        self.run_unlimited(kind)
+            .map_err(|reason| match self.out_of_time() {
+                true => FailureReason::DeadlinePassed,
+                false => reason,
+            })
+    }
+
+    /// Whether the deadline has passed.
+    fn out_of_time(&self) -> bool {
+        self.settings
+            .deadline
+            .is_some_and(|deadline| Instant::now() >= deadline)
+    }
+
+    /// clarabel's settings with the time left before the deadline as its
+    /// time limit, when that is shorter.
+    fn clarabel_settings(&self) -> ClarabelSettings {
+        let mut clarabel = self.settings.clarabel.clone();
+        if let Some(deadline) = self.settings.deadline {
+            let left = deadline.saturating_duration_since(Instant::now());
+            clarabel.time_limit = clarabel.time_limit.min(left.as_secs_f64());
+        }
+        clarabel
+    }
+
+    fn run_unlimited(&self, kind: SolverKind) -> Result<Candidate, FailureReason> {
         let s = self.settings;
         match kind {
             SolverKind::Trivial => Ok(Candidate {
@@ -583,9 +659,12 @@ impl Problem<'_> {
                 augmented_lagrangian::solve(self.qp, self.metric, &s.augmented_lagrangian, &start)
                     .map_err(FailureReason::AugmentedLagrangian)
             }
-            SolverKind::Clarabel => clarabel_qp::primal::solve(self.qp, self.metric, &s.clarabel),
+            SolverKind::Clarabel => {
+                clarabel_qp::primal::solve(self.qp, self.metric, &self.clarabel_settings())
+            }
             SolverKind::ClarabelDual => {
-                let sol = clarabel_qp::dual::solve_lcp_unchecked(self.lcp()?, &s.clarabel)?;
+                let clarabel = self.clarabel_settings();
+                let sol = clarabel_qp::dual::solve_lcp_unchecked(self.lcp()?, &clarabel)?;
                 Ok(self.candidate_from_lambda(sol.z, sol.iterations))
             }
             SolverKind::Lemke => {
@@ -594,7 +673,11 @@ impl Problem<'_> {
                 Ok(self.candidate_from_lambda(sol.z, sol.pivots))
             }
             SolverKind::Pgs => {
-                let sol = pgs::solve(self.lcp()?, &s.pgs).map_err(FailureReason::Pgs)?;
+                let pgs_settings = PgsSettings {
+                    deadline: s.deadline,
+                    ..s.pgs.clone()
+                };
+                let sol = pgs::solve(self.lcp()?, &pgs_settings).map_err(FailureReason::Pgs)?;
                 Ok(self.candidate_from_lambda(sol.z, sol.sweeps))
             }
         }
@@ -602,16 +685,15 @@ impl Problem<'_> {
 
     /// Lemke's settings for this problem: its own residual test loosened to
     /// [`LEMKE_RESIDUAL_OF_ACCEPTANCE`] times the acceptance tolerance
-    /// (module docs).
-    fn lemke_settings(&self) -> std::borrow::Cow<'_, LemkeSettings> {
+    /// (module docs),
+    /// and the call's deadline.
+    fn lemke_settings(&self) -> LemkeSettings {
         let s = self.settings;
         let loosened = LEMKE_RESIDUAL_OF_ACCEPTANCE * s.tol_residual;
-        if s.lemke.tol_residual < loosened {
-            let mut lemke = s.lemke.clone();
-            lemke.tol_residual = loosened;
-            std::borrow::Cow::Owned(lemke)
-        } else {
-            std::borrow::Cow::Borrowed(&s.lemke)
+        LemkeSettings {
+            tol_residual: s.lemke.tol_residual.max(loosened),
+            deadline: s.deadline,
+            ..s.lemke.clone()
         }
     }
 

@@ -25,10 +25,11 @@
 //! the report.
 //!
 //! A call also ends when its time budget ([`Settings::time_budget`]) is
-//! spent after a pass ([`Status::TimeLimit`]): the check follows each
-//! pass's detection, so the report's depth after is that of the
-//! configuration returned; the passes after the first give clarabel the
-//! time left as its own limit.
+//! spent ([`Status::TimeLimit`]): it is the solvers' deadline
+//! ([`crate::solver::SolverSettings::deadline`]) inside every pass, so an
+//! island whose solver is stopped by it keeps its poses, and the call ends
+//! after that pass; it is also checked after each pass's detection, so the
+//! report's depth after is that of the configuration returned.
 //!
 //! [`Settings::method`] chooses this projection (the default) or the
 //! nonlinear Gauss–Seidel baseline of `stabilizer::gauss_seidel`: the same
@@ -304,14 +305,17 @@ impl Stabilizer {
         }
         let lengths = self.lengths(scene);
         let vclip = VClip::new(self.settings.vclip);
-        // The call's own settings: the solver's time limit follows the
-        // budget left.
+        // The call's own settings: every solver stops at the budget's end.
         let mut call_settings = self.settings.clone();
+        call_settings.solver.deadline = self.deadline(start);
         let parts = SceneParts::of(scene);
         let mut report = Report::new(&lengths);
         self.cache.forget_dropped_shapes();
         let mut memo = QueryMemo::default();
         let mut broad_phase = IncrementalBroadPhase::new();
+        // Bodies of the islands whose friction could not be honoured in an
+        // earlier pass of this call (`solve_island`'s "Friction").
+        let mut without_friction = vec![false; scene.bodies().len()];
         loop {
             let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
             let part_poses = parts.poses(&poses);
@@ -350,10 +354,6 @@ impl Stabilizer {
                 self.last_detection = Some((poses, detection));
                 return Ok(report);
             }
-            if let Some(left) = self.time_left(start).filter(|_| report.passes > 0) {
-                let clarabel = &mut call_settings.solver.clarabel;
-                clarabel.time_limit = clarabel.time_limit.min(left);
-            }
             let solutions = self.solve_pass(
                 scene,
                 geometry,
@@ -361,17 +361,41 @@ impl Stabilizer {
                 &joints,
                 &call_settings,
                 &lengths,
+                &without_friction,
                 &mut pass,
             )?;
             report.passes += 1;
             let stuck = self.apply(scene, solutions, &mut memo, &mut report, &mut pass)?;
+            for island in pass.solved.iter().filter(|i| i.friction_dropped) {
+                island
+                    .bodies
+                    .iter()
+                    .for_each(|&body| without_friction[body] = true);
+            }
             log_pass(report.passes, &pass, &report.islands_left, start);
             observer(&pass);
             report.pass_reports.push(pass);
             if let Some(status) = stuck {
-                report.status = status;
+                // Islands that failed because the budget ran out inside the
+                // pass: the budget ended the call.
+                let spent = self.time_left(start) == Some(0.0);
+                report.status = if spent { Status::TimeLimit } else { status };
                 return Ok(report);
             }
+        }
+    }
+
+    /// The instant the time budget ends, or the solver settings' own
+    /// deadline when that is earlier; `None` without either (or when the
+    /// budget is too long to represent).
+    fn deadline(&self, start: Instant) -> Option<Instant> {
+        let budget_end = self
+            .settings
+            .time_budget
+            .and_then(|budget| start.checked_add(budget));
+        match (budget_end, self.settings.solver.deadline) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
         }
     }
 
@@ -440,6 +464,7 @@ impl Stabilizer {
         joints: &[JointErrors],
         settings: &Settings,
         lengths: &ResolvedLengths,
+        without_friction: &[bool],
         pass: &mut PassReport,
     ) -> Result<Vec<IslandSolution>, Error> {
         let (penetrating, count) = violated_islands(scene, detection, joints, lengths)?;
@@ -455,6 +480,7 @@ impl Stabilizer {
             lengths,
             hold_rows: false,
             frictional: true,
+            without_friction,
         };
         Ok(parallel::map(&penetrating, |island| {
             solve_island(input, island)

@@ -168,8 +168,10 @@ pub struct IslandReport {
     /// Problems solved to find that region (1 when the first one pushed
     /// no held body).
     pub region_rounds: usize,
-    /// The problem with friction could not be solved (its friction pyramid
-    /// left wedged bodies no way out) and the island was solved without.
+    /// The island was solved without friction: its problem with friction
+    /// could not be solved (its friction pyramid or cones left wedged
+    /// bodies no way out, certified or within the solvers' limits), here
+    /// or in an earlier pass of the call for one of its bodies.
     pub friction_dropped: bool,
     /// The problem with every row at the target margin could not be solved
     /// (walls touching a body on opposite sides ask it to move away from

@@ -5,6 +5,17 @@
 //! grown while the answer pushes bodies held still (see [`super::region`]),
 //! up to the whole island.
 //!
+//! **Friction.** An island whose problem with friction cannot be solved
+//! (its pyramid or cones leave wedged bodies no way out: a box pressed into
+//! a right-angled corner with `mu >= 1`) is solved without friction
+//! ([`IslandReport::friction_dropped`]), and so is, for the rest of the
+//! call, every island holding one of its bodies: the passes after the
+//! first only remove what the linearization left, and each frictional
+//! attempt on a wedged island is the pass's largest problem and, near
+//! infeasibility, its slowest (on the MuJoCo bin of 160 boxes with
+//! `mu = 1` the attempts of the later passes cost more than the whole
+//! frictionless call: `benchmarks/results/engine_friction.md`).
+//!
 //! An island that cannot be solved (every solver failed, or its problem is
 //! invalid) is not an error of the call: its solution moves nothing and
 //! says why ([`IslandOutcome::Failed`]), so that the other islands and the
@@ -82,12 +93,28 @@ pub struct PassInput<'a> {
     pub hold_rows: bool,
     /// Whether pairs get their friction coefficients (else frictionless).
     pub frictional: bool,
+    /// Per scene body: it was in an island solved without friction earlier
+    /// in the call; an island holding such a body is solved without
+    /// friction (module docs, "Friction").
+    pub without_friction: &'a [bool],
 }
 
 /// One projection step on `island`; a failure moves nothing and is
 /// reported in the solution.
 pub fn solve_island(input: PassInput, island: &Island) -> IslandSolution {
-    solve_island_or_fail(input, island).unwrap_or_else(|error| {
+    let dropped_before = island
+        .bodies
+        .iter()
+        .any(|&body| input.without_friction.get(body) == Some(&true));
+    let input = PassInput {
+        frictional: input.frictional && !dropped_before,
+        ..input
+    };
+    let solution = solve_island_or_fail(input, island).map(|mut solution| {
+        solution.report.friction_dropped |= dropped_before;
+        solution
+    });
+    solution.unwrap_or_else(|error| {
         log::debug!(
             "island of {} bodies (first {}) not solved: {error}",
             island.bodies.len(),
@@ -213,12 +240,17 @@ fn plan_region<'a>(
     let settings = if whole && !has_friction {
         input.settings
     } else {
+        let mut solver = SolverSettings {
+            fall_back: whole,
+            stop_on_infeasible: true,
+            ..input.settings.solver.clone()
+        };
+        if has_friction {
+            let limit = u32::try_from(input.settings.friction_max_iterations).unwrap_or(u32::MAX);
+            solver.clarabel.max_iter = solver.clarabel.max_iter.min(limit);
+        }
         trial_settings = Settings {
-            solver: SolverSettings {
-                fall_back: whole,
-                stop_on_infeasible: true,
-                ..input.settings.solver.clone()
-            },
+            solver,
             ..input.settings.clone()
         };
         &trial_settings
@@ -353,6 +385,17 @@ fn pushed_by(
 
 /// One projection step on `island`, whose pairs index the pass's active
 /// pairs.
+///
+/// When the problem cannot be solved, it is tried again in this order,
+/// until one succeeds: without friction (`friction_dropped`: a friction
+/// pyramid or cone that wedged bodies cannot satisfy, e.g. a box pressed
+/// into a right-angled corner with `mu >= 1`), then with the rows in
+/// contact held (`rows_held`: walls touching a body on opposite sides),
+/// with friction and then without. Dropping friction before holding rows
+/// spends one failed solve, not two, on a wedged island (the frictional
+/// problems are the largest and, near infeasibility, the slowest:
+/// `benchmarks/results/engine_friction.md`). No retry once the solvers'
+/// deadline has passed.
 fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolution, Error> {
     log::debug!(
         "island {}: {} bodies, {} pairs",
@@ -361,39 +404,52 @@ fn solve_island_or_fail(input: PassInput, island: &Island) -> Result<IslandSolut
         island.pairs.len()
     );
     let retry_held = input.settings.hold_open_gaps && !input.hold_rows;
-    let mut last = input;
+    let mut retries = Vec::new();
+    if input.frictional {
+        retries.push((input.hold_rows, false));
+    }
+    if retry_held {
+        retries.push((true, input.frictional));
+        if input.frictional {
+            retries.push((true, false));
+        }
+    }
     let mut result = solve_island_once(input, island);
-    if let (Err(error), true) = (&result, retry_held) {
+    for (hold_rows, frictional) in retries {
+        let error = match &result {
+            Err(error) if !out_of_time(input.settings) => error,
+            _ => break,
+        };
         log::debug!(
-            "island {}: not solved with every row at the target margin ({error}); solved again with the rows in contact held",
-            island_label(input.scene, &island.bodies)
+            "island {}: not solved ({error}); solved again {} friction{}",
+            island_label(input.scene, &island.bodies),
+            if frictional { "with" } else { "without" },
+            if hold_rows {
+                ", the rows in contact held"
+            } else {
+                ""
+            }
         );
-        last = PassInput {
-            hold_rows: true,
+        let attempt = PassInput {
+            hold_rows,
+            frictional,
             ..input
         };
-        result = solve_island_once(last, island).map(|mut solution| {
-            solution.report.rows_held = true;
+        result = solve_island_once(attempt, island).map(|mut solution| {
+            solution.report.rows_held = hold_rows;
+            solution.report.friction_dropped = input.frictional && !frictional;
             solution
         });
     }
-    match result {
-        Err(error) if input.frictional => {
-            log::debug!(
-                "island {}: not solved with friction ({error}); solved again without",
-                island_label(input.scene, &island.bodies)
-            );
-            let frictionless = PassInput {
-                frictional: false,
-                ..last
-            };
-            let mut solution = solve_island_once(frictionless, island)?;
-            solution.report.friction_dropped = true;
-            solution.report.rows_held = last.hold_rows;
-            Ok(solution)
-        }
-        result => result,
-    }
+    result
+}
+
+/// Whether the solvers' deadline (the call's time budget) has passed.
+fn out_of_time(settings: &Settings) -> bool {
+    settings
+        .solver
+        .deadline
+        .is_some_and(|deadline| std::time::Instant::now() >= deadline)
 }
 
 /// [`solve_island_or_fail`] with or without friction (`input.frictional`).

@@ -115,6 +115,7 @@ fn solve_lemke(lcp: &Lcp) -> Outcome {
                 LemkeStatus::PivotLimit => "pivot_limit",
                 LemkeStatus::Inaccurate { .. } => "inaccurate",
                 LemkeStatus::InconsistentEqualities { .. } => "inconsistent_equalities",
+                LemkeStatus::DeadlinePassed => "deadline_passed",
             };
             Outcome {
                 result: Err(status.into()),
@@ -159,6 +160,7 @@ fn solve_pgs(lcp: &Lcp) -> Outcome {
                     ("max_iterations", PgsSettings::default().max_sweeps)
                 }
                 PgsStatus::Diverged { sweeps } => ("diverged", sweeps),
+                PgsStatus::DeadlinePassed { sweeps } => ("deadline_passed", sweeps),
                 PgsStatus::NonPositiveDiagonal { .. } => ("non_positive_diagonal", 0),
             };
             Outcome {

@@ -11,7 +11,9 @@
 //!   instead (`refactor_every = 1`, `O(n^3)` each) reaches the same
 //!   residuals about a hundred times slower at 100 rows (measured by
 //!   `benchmarks/solvers.rs`: `benchmarks/results/solvers.md`),
-//! - a pivot limit, and ray termination as an outcome,
+//! - a pivot limit, a deadline checked before every pivot
+//!   ([`LemkeSettings::deadline`], the caller's time budget), and ray
+//!   termination as an outcome,
 //! - a regularized retry: when the plain run fails, `M~ + eps I` for each
 //!   `eps` of a growing ladder. Whatever run produced it, a `z` is returned
 //!   only after its natural-map residual on the *original* (scaled,
@@ -31,6 +33,8 @@ pub mod mixed;
 pub mod path;
 pub mod ratio;
 pub mod tableau;
+
+use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector};
 
@@ -73,6 +77,10 @@ pub struct LemkeSettings {
     /// `tests/data/fuzz/lcp_solvers/crash-lemke-huge-q`;
     /// `benchmarks/results/fuzzing.md`).
     pub tol_residual_unscaled: f64,
+    /// The run stops before its next pivot once this instant has passed
+    /// ([`LemkeStatus::DeadlinePassed`]; no regularized retry follows);
+    /// `None`: no limit. Default `None`.
+    pub deadline: Option<Instant>,
 }
 
 impl Default for LemkeSettings {
@@ -87,6 +95,7 @@ impl Default for LemkeSettings {
             regularization_ladder: vec![1e-12, 1e-10, 1e-8, 1e-6],
             refactor_every: 0,
             tol_residual_unscaled: 1e-6,
+            deadline: None,
         }
     }
 }
@@ -99,6 +108,9 @@ pub enum LemkeStatus {
     Ray,
     /// The pivot limit was reached.
     PivotLimit,
+    /// The deadline ([`LemkeSettings::deadline`]) passed before the path
+    /// ended.
+    DeadlinePassed,
     /// A complementary basis was found, but its `z` misses the residual
     /// tolerance on the original problem.
     Inaccurate {
@@ -190,9 +202,13 @@ fn solve_plain(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution, Lem
     let ladder = std::iter::once(0.0).chain(settings.regularization_ladder.iter().copied());
     for eps in ladder {
         let (attempt, z_scaled) = attempt(&scaled, eps, settings);
+        let out_of_time = attempt.failure == Some(LemkeStatus::DeadlinePassed);
         attempts.push(attempt);
         if let Some(z_scaled) = z_scaled {
             return Ok(finish(lcp, &scaled, z_scaled, attempts));
+        }
+        if out_of_time {
+            break;
         }
     }
     let pivots = attempts.iter().map(|a| a.pivots).sum();
@@ -225,6 +241,7 @@ fn attempt(
             .pivot_limit_min
             .max(settings.pivot_limit_per_row * n),
         refactor_every: settings.refactor_every,
+        deadline: settings.deadline,
         ratio: RatioTolerances {
             pivot_rel: settings.tol_pivot_rel,
             zero_column: settings.tol_zero_column,
@@ -240,6 +257,7 @@ fn attempt(
     let failure = match path.end {
         PathEnd::Ray => Some(LemkeStatus::Ray),
         PathEnd::PivotLimit => Some(LemkeStatus::PivotLimit),
+        PathEnd::DeadlinePassed => Some(LemkeStatus::DeadlinePassed),
         PathEnd::Complementary => None,
     };
     let mut record = LemkeAttempt {

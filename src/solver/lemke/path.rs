@@ -6,8 +6,10 @@
 //! that makes `w = q + d z0 >= 0`. Then repeat: the complement of the
 //! variable that just left enters; the lexicographic ratio test picks the
 //! row that leaves. The path ends when `z0` leaves (a solution), when an
-//! entering column has no positive entry (a secondary ray), or at the pivot
-//! limit.
+//! entering column has no positive entry (a secondary ray), at the pivot
+//! limit, or at the deadline (checked before each pivot).
+
+use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector};
 
@@ -23,6 +25,8 @@ pub enum PathEnd {
     Ray,
     /// Pivot limit.
     PivotLimit,
+    /// The deadline passed.
+    DeadlinePassed,
 }
 
 /// A finished path.
@@ -41,6 +45,8 @@ pub struct PathOptions {
     pub max_pivots: usize,
     /// Refactorize the tableau every this many pivots (0 = never).
     pub refactor_every: usize,
+    /// Stop before the next pivot once this instant has passed.
+    pub deadline: Option<Instant>,
     /// Ratio-test tolerances.
     pub ratio: RatioTolerances,
 }
@@ -70,6 +76,13 @@ pub fn run(m: &DMatrix<f64>, d: &DVector<f64>, q: &DVector<f64>, options: &PathO
         if pivots >= options.max_pivots {
             return Path {
                 end: PathEnd::PivotLimit,
+                tableau,
+                pivots,
+            };
+        }
+        if options.deadline.is_some_and(|d| Instant::now() >= d) {
+            return Path {
+                end: PathEnd::DeadlinePassed,
                 tableau,
                 pivots,
             };

@@ -4,10 +4,13 @@
 mod acceptance;
 mod active_set_oracle;
 mod augmented_lagrangian;
+mod deadline;
 mod dense_limit;
 mod equality_rows;
+mod fallback_sizes;
 mod friction_cone;
 mod friction_cone_unit;
+mod friction_finishes;
 mod lcp_siconos;
 mod lemke;
 mod pgs;
