@@ -3,9 +3,10 @@
 //!
 //! Order of solvers tried: under [`SolverChoice::Auto`], nothing when every
 //! row already holds ([`SolverKind::Trivial`]), the closed form for one
-//! row, Lemke up to [`SolverSettings::auto_lemke_max_rows`] rows and clarabel
-//! (primal) above (the crossover chosen by measurement,
-//! `benchmarks/results/solvers.md`). A named choice runs that solver
+//! row, Lemke up to [`SolverSettings::auto_lemke_max_rows`] rows and the
+//! augmented Lagrangian above (clarabel when
+//! [`SolverSettings::auto_augmented_lagrangian_min_rows`] is raised; the
+//! crossovers chosen by measurement, `benchmarks/results/solvers.md`). A named choice runs that solver
 //! first. Whatever failed is followed by the remaining ones in an order
 //! that depends on the size, like the first choice: up to
 //! `auto_lemke_max_rows` rows clarabel -> Lemke -> PGS; above, clarabel ->
