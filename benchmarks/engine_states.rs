@@ -41,7 +41,12 @@
 //! `-- --only STEM`: the states whose file stem contains STEM). The
 //! environment variable `ENGINE_STATES_SOLVER=NAME` (a
 //! `SolverChoice::name`, e.g. `augmented_lagrangian`) sets the solver of
-//! every call, to compare solvers on the same states.
+//! every call, to compare solvers on the same states;
+//! `ENGINE_STATES_SKIP_PILE` (any value) leaves the pile of 1,000 out of
+//! a full run; `ENGINE_STATES_AL_PCG_ROWS`, `ENGINE_STATES_AL_SUPERNODAL`
+//! (0 or 1) and `ENGINE_STATES_AL_MIN_ROWS` set the augmented Lagrangian's
+//! `max_rows_changed_without_factorization`, `supernodal` and `Auto`'s
+//! `auto_augmented_lagrangian_min_rows`.
 
 mod common;
 
@@ -110,7 +115,8 @@ fn main() {
         &[],
     ));
     let mut cases = engine_states();
-    if !quick {
+    let skip_pile = std::env::var_os("ENGINE_STATES_SKIP_PILE").is_some();
+    if !quick && !skip_pile {
         let path = pile_1000();
         let scene = read_scene(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         cases.push(Case {
@@ -202,6 +208,21 @@ fn call_settings() -> Settings {
     if let Ok(name) = std::env::var("ENGINE_STATES_SOLVER") {
         settings.solver.choice = SolverChoice::from_name(&name)
             .unwrap_or_else(|| panic!("ENGINE_STATES_SOLVER: no solver named {name}"));
+    }
+    let number = |name: &str| {
+        std::env::var(name)
+            .ok()
+            .and_then(|v| v.parse::<usize>().ok())
+    };
+    let al = &mut settings.solver.augmented_lagrangian;
+    if let Some(rows) = number("ENGINE_STATES_AL_PCG_ROWS") {
+        al.max_rows_changed_without_factorization = rows;
+    }
+    if let Some(flag) = number("ENGINE_STATES_AL_SUPERNODAL") {
+        al.supernodal = flag != 0;
+    }
+    if let Some(rows) = number("ENGINE_STATES_AL_MIN_ROWS") {
+        settings.solver.auto_augmented_lagrangian_min_rows = rows;
     }
     settings
 }

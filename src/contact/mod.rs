@@ -65,6 +65,7 @@ pub use penetration::{
 };
 pub use round::RoundAnswer;
 pub use scene_parts::SceneParts;
+pub(crate) use warm_start::ShapeIdentity;
 pub use warm_start::WarmStartCache;
 
 /// Distance, relative to the pair's scale, below which the witness

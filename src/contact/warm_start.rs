@@ -30,19 +30,31 @@ pub struct WarmStartCache {
 
 #[derive(Debug, Clone)]
 struct CachedPair {
-    shapes: [Weak<ConvexPolyhedron>; 2],
+    shapes: ShapeIdentity,
     features: FeaturePair,
 }
 
-impl CachedPair {
-    fn belongs_to(&self, shapes: [&Arc<ConvexPolyhedron>; 2]) -> bool {
-        self.shapes.iter().zip(shapes).all(|(cached, shape)| {
+/// The two shape objects a cached entry was recorded for (module docs):
+/// `Weak` references, compared by address while alive.
+#[derive(Debug, Clone)]
+pub(crate) struct ShapeIdentity([Weak<ConvexPolyhedron>; 2]);
+
+impl ShapeIdentity {
+    /// The identity of these two shapes.
+    pub(crate) fn of(shapes: [&Arc<ConvexPolyhedron>; 2]) -> Self {
+        ShapeIdentity(shapes.map(Arc::downgrade))
+    }
+
+    /// Whether `shapes` are the very objects recorded.
+    pub(crate) fn belongs_to(&self, shapes: [&Arc<ConvexPolyhedron>; 2]) -> bool {
+        self.0.iter().zip(shapes).all(|(cached, shape)| {
             cached.strong_count() > 0 && cached.as_ptr() == Arc::as_ptr(shape)
         })
     }
 
-    fn alive(&self) -> bool {
-        self.shapes.iter().all(|shape| shape.strong_count() > 0)
+    /// Whether both shapes still exist.
+    pub(crate) fn alive(&self) -> bool {
+        self.0.iter().all(|shape| shape.strong_count() > 0)
     }
 }
 
@@ -51,7 +63,7 @@ impl WarmStartCache {
     pub fn get(&self, pair: BodyPair, shapes: [&Arc<ConvexPolyhedron>; 2]) -> Option<FeaturePair> {
         self.entries
             .get(&pair)
-            .filter(|entry| entry.belongs_to(shapes))
+            .filter(|entry| entry.shapes.belongs_to(shapes))
             .map(|entry| entry.features)
     }
 
@@ -62,7 +74,7 @@ impl WarmStartCache {
         shapes: [&Arc<ConvexPolyhedron>; 2],
         features: FeaturePair,
     ) {
-        let shapes = shapes.map(Arc::downgrade);
+        let shapes = ShapeIdentity::of(shapes);
         self.entries.insert(pair, CachedPair { shapes, features });
     }
 
@@ -73,7 +85,7 @@ impl WarmStartCache {
 
     /// Removes the entries of shapes that have been dropped.
     pub fn forget_dropped_shapes(&mut self) {
-        self.entries.retain(|_, entry| entry.alive());
+        self.entries.retain(|_, entry| entry.shapes.alive());
     }
 
     /// Number of cached pairs.

@@ -35,7 +35,8 @@ pub mod trust_region;
 
 pub use line_search::{LineSearchOutcome, line_search};
 pub use step::{
-    Plan, PlannedStep, ProjectionStatus, ProjectionSummary, StepOutcome, StepReport, plan_step,
-    project, projection_qp, projection_qp_weighted, projection_step, take_step,
+    Plan, PlannedStep, ProjectionStatus, ProjectionSummary, StepOutcome, StepReport, WarmStartOf,
+    plan_step, plan_step_warm, project, projection_qp, projection_qp_weighted, projection_step,
+    take_step,
 };
 pub use trust_region::{TrustRegion, radius_of_gyration};

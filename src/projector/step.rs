@@ -26,6 +26,7 @@ use crate::rows::{
 use crate::solver::friction_cone::CONE_DIM;
 use crate::solver::{
     BodyMetric, JacobianRow, ProjectionQp, ProjectionSolution, SolverError, solve_projection,
+    solve_projection_warm,
 };
 
 /// What a step did.
@@ -141,6 +142,33 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
     lengths: &ResolvedLengths,
     hold_rows: bool,
 ) -> Result<Plan, SolverError> {
+    plan_step_warm(
+        provider,
+        configuration,
+        inertias,
+        settings,
+        lengths,
+        hold_rows,
+        &|_, _, _| None,
+    )
+}
+
+/// The solver's warm start of a planned problem: given the provider after
+/// its linearization, the problem and, for each multiplier, the index of
+/// its row ([`PlannedStep::qp_parents`]), multipliers to start from.
+pub type WarmStartOf<'a, P> = dyn Fn(&P, &ProjectionQp, &[usize]) -> Option<DVector<f64>> + 'a;
+
+/// [`plan_step`] with the solver started from the multipliers `warm`
+/// gives for the problem (`crate::solver::solve_projection_warm`).
+pub fn plan_step_warm<P: ConstraintProvider + ?Sized>(
+    provider: &mut P,
+    configuration: &[BodyState],
+    inertias: &[BodyInertia],
+    settings: &Settings,
+    lengths: &ResolvedLengths,
+    hold_rows: bool,
+    warm: &WarmStartOf<'_, P>,
+) -> Result<Plan, SolverError> {
     let before = provider.measure(configuration);
     let worst_before = before.worst_violation();
     if worst_before <= lengths.tolerance {
@@ -187,7 +215,8 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
         },
         false => qp,
     };
-    let (qp, solution) = solve_or_make_consistent(qp, settings)?;
+    let warm = warm(provider, &qp, &qp_parents);
+    let (qp, solution) = solve_or_make_consistent(qp, settings, warm.as_ref())?;
     let trust_scale = TrustRegion::of(settings).scale(&solution.dq, inertias, worst_before);
     let dq = &solution.dq * trust_scale;
     Ok(Plan::Step(Box::new(PlannedStep {
@@ -208,8 +237,9 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
 fn solve_or_make_consistent(
     qp: ProjectionQp,
     settings: &Settings,
+    warm: Option<&DVector<f64>>,
 ) -> Result<(ProjectionQp, ProjectionSolution), SolverError> {
-    match solve_projection(&qp, &settings.solver) {
+    match solve_projection_warm(&qp, &settings.solver, warm) {
         Ok(solution) => Ok((qp, solution)),
         Err(error) => match consistent_equalities(&qp)? {
             Some((consistent, removed)) => {

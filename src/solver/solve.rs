@@ -3,9 +3,10 @@
 //!
 //! Order of solvers tried: under [`SolverChoice::Auto`], nothing when every
 //! row already holds ([`SolverKind::Trivial`]), the closed form for one
-//! row, Lemke up to [`SolverSettings::auto_lemke_max_rows`] rows and clarabel
-//! (primal) above (the crossover chosen by measurement,
-//! `benchmarks/results/solvers.md`). A named choice runs that solver
+//! row, Lemke up to [`SolverSettings::auto_lemke_max_rows`] rows and the
+//! augmented Lagrangian above (clarabel when
+//! [`SolverSettings::auto_augmented_lagrangian_min_rows`] is raised; the
+//! crossovers chosen by measurement, `benchmarks/results/solvers.md`). A named choice runs that solver
 //! first. Whatever failed is followed by the remaining ones in an order
 //! that depends on the size, like the first choice: up to
 //! `auto_lemke_max_rows` rows clarabel -> Lemke -> PGS; above, clarabel ->
@@ -34,8 +35,9 @@
 //! **The augmented Lagrangian** ([`SolverKind::AugmentedLagrangian`],
 //! [`super::augmented_lagrangian`]) runs first when named, or under
 //! `Auto` from [`SolverSettings::auto_augmented_lagrangian_min_rows`] rows
-//! (default never: measured slower cold than Lemke and clarabel); clarabel
-//! and the others follow it on failure. It alone uses the multipliers of
+//! (default 161: in clarabel's place above Lemke's range, measured
+//! faster than clarabel there); clarabel and the others follow it on
+//! failure. It alone uses the multipliers of
 //! [`solve_projection_warm`], and stops at [`SolverSettings::deadline`].
 //!
 //! **Lemke's own residual test** ([`LemkeSettings::tol_residual`], 1e-9 on
@@ -181,12 +183,12 @@ pub struct SolverSettings {
     pub auto_lemke_max_rows: usize,
     /// Under `Auto`, the augmented Lagrangian for problems without cones
     /// of at least this many rows (before Lemke and clarabel). Default
-    /// `usize::MAX` (never): solved cold, it is measured slower than Lemke
-    /// below about 200 rows and than clarabel above
-    /// (`benchmarks/results/solvers.md`: each change of its active set
-    /// costs a factorization, 40 on 1,000 rows), so `Auto` keeps the
-    /// choice between Lemke and clarabel until warm starts are measured
-    /// to pay.
+    /// 161: it takes clarabel's place above Lemke's range
+    /// ([`SolverSettings::auto_lemke_max_rows`]), measured faster than
+    /// clarabel on every engine state with such an island (the box bins,
+    /// pyramids and the pile of 200: 0.55-0.8x,
+    /// `benchmarks/results/solvers.md`) and slower than Lemke on the small
+    /// stacks.
     pub auto_augmented_lagrangian_min_rows: usize,
     /// The dense solvers (Lemke's tableau, PGS and clarabel's dual form on
     /// the assembled `A = J M^-1 J^T`) are never run on more rows than
@@ -231,7 +233,7 @@ impl Default for SolverSettings {
             cross_check: false,
             tol_residual: 1e-6,
             auto_lemke_max_rows: 160,
-            auto_augmented_lagrangian_min_rows: usize::MAX,
+            auto_augmented_lagrangian_min_rows: 161,
             dense_max_rows: 1000,
             fall_back: true,
             stop_on_infeasible: false,

@@ -53,6 +53,7 @@ mod report;
 #[cfg(feature = "serde")]
 pub mod report_json;
 pub(crate) mod solve_island;
+mod solver_warm;
 mod velocity;
 
 use std::time::Instant;
@@ -78,6 +79,7 @@ use joint_state::{
     joint_errors, joint_merit, joint_reports, largest_joint_error, violated_islands,
 };
 use solve_island::{IslandSolution, PassInput, solve_island};
+use solver_warm::SolverWarmCache;
 
 /// Removes interpenetration from scenes; owns its settings and the V-Clip
 /// warm starts of earlier queries (temporal coherence across calls).
@@ -88,6 +90,9 @@ pub struct Stabilizer {
     /// resolution ([`Stabilizer::set_call_lengths`]).
     call_lengths: Option<ResolvedLengths>,
     cache: WarmStartCache,
+    /// The solver's warm starts for the next call: the multipliers of the
+    /// last call's first pass (`solver_warm`).
+    solver_warm: SolverWarmCache,
     /// The last detection of the last call, with the poses it was made at
     /// (for [`Stabilizer::project_velocities`] at those poses).
     last_detection: Option<(Vec<Isometry3<f64>>, Detection)>,
@@ -101,6 +106,7 @@ impl Stabilizer {
             settings,
             call_lengths: None,
             cache: WarmStartCache::default(),
+            solver_warm: SolverWarmCache::default(),
             last_detection: None,
         })
     }
@@ -143,6 +149,12 @@ impl Stabilizer {
     #[doc(hidden)]
     pub fn warm_start_cache(&self) -> &WarmStartCache {
         &self.cache
+    }
+
+    /// Number of multipliers kept as the solver's warm starts of the next
+    /// call ([`Report::solver_warm_multipliers`]).
+    pub fn solver_warm_multipliers(&self) -> usize {
+        self.solver_warm.multipliers()
     }
 
     /// Replaces the settings (validated first; on error they are kept),
@@ -311,6 +323,10 @@ impl Stabilizer {
         let parts = SceneParts::of(scene);
         let mut report = Report::new(&lengths);
         self.cache.forget_dropped_shapes();
+        self.solver_warm.forget_dropped_shapes();
+        // The first pass starts from the last call's first pass, each
+        // later one from the passes before it.
+        let mut pass_warm = self.solver_warm.clone();
         let mut memo = QueryMemo::default();
         let mut broad_phase = IncrementalBroadPhase::new();
         // Bodies of the islands whose friction could not be honoured in an
@@ -351,6 +367,7 @@ impl Stabilizer {
                 );
                 report.pass_reports.push(pass);
                 report.status = status;
+                report.solver_warm_multipliers = self.solver_warm.multipliers();
                 self.last_detection = Some((poses, detection));
                 return Ok(report);
             }
@@ -363,8 +380,16 @@ impl Stabilizer {
                 &lengths,
                 &without_friction,
                 &mut pass,
+                &pass_warm,
             )?;
             report.passes += 1;
+            for solution in &solutions {
+                if report.passes == 1 {
+                    self.solver_warm.merge(solution.solver_warm.clone());
+                }
+                pass_warm.merge(solution.solver_warm.clone());
+            }
+            report.solver_warm_multipliers = self.solver_warm.multipliers();
             let stuck = self.apply(scene, solutions, &mut memo, &mut report, &mut pass)?;
             for island in pass.solved.iter().filter(|i| i.friction_dropped) {
                 island
@@ -466,6 +491,7 @@ impl Stabilizer {
         lengths: &ResolvedLengths,
         without_friction: &[bool],
         pass: &mut PassReport,
+        solver_warm: &SolverWarmCache,
     ) -> Result<Vec<IslandSolution>, Error> {
         let (penetrating, count) = violated_islands(scene, detection, joints, lengths)?;
         pass.islands = count;
@@ -481,6 +507,7 @@ impl Stabilizer {
             hold_rows: false,
             frictional: true,
             without_friction,
+            solver_warm,
         };
         Ok(parallel::map(&penetrating, |island| {
             solve_island(input, island)

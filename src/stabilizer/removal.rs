@@ -45,6 +45,9 @@ impl Stabilizer {
         let map = scene.remove_bodies(indices)?;
         let new_parts = SceneParts::of(scene);
         self.cache = remapped(&self.cache, [&old_parts, &new_parts], &pairs, &map);
+        // Part indices shift: the solver's warm starts are dropped rather
+        // than remapped (they cost a cold solve, never an answer).
+        self.solver_warm.clear();
         Ok(map)
     }
 }

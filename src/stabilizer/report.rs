@@ -314,6 +314,10 @@ pub struct Report {
     /// depth) run by the call: detections and line-search trials. A pair is
     /// queried once per configuration of its two bodies.
     pub pair_queries: usize,
+    /// Multipliers the stabilizer keeps after the call as the solver's warm
+    /// starts of the next calls (one per contact row and friction row of
+    /// the pairs last solved; freed when their bodies go).
+    pub solver_warm_multipliers: usize,
     /// Wall time per stage.
     pub times: StageTimes,
 }
@@ -340,6 +344,7 @@ impl Report {
             islands_left: Vec::new(),
             restored_input: false,
             pair_queries: 0,
+            solver_warm_multipliers: 0,
             times: StageTimes::default(),
         }
     }

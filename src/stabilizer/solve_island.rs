@@ -21,19 +21,23 @@
 //! says why ([`IslandOutcome::Failed`]), so that the other islands and the
 //! passes already made keep their progress.
 
+use std::sync::Arc;
+
 use crate::Error;
 use crate::broad_phase::BodyPair;
 use crate::contact::{Island, IslandError};
 use crate::contact::{IslandContacts, PairQuery, PosedQuery, SceneGeometry, WarmStartCache};
-use crate::projector::{Plan, PlannedStep, StepReport, plan_step, take_step};
+use crate::geometry::ConvexPolyhedron;
+use crate::projector::{Plan, PlannedStep, StepReport, plan_step_warm, take_step};
 use crate::rows::{BodyInertia, BodyState};
 use crate::scene::Scene;
-use crate::solver::SolverSettings;
+use crate::solver::{ProjectionQp, SolverSettings};
 
 use super::island_constraints::IslandConstraints;
 use super::joint_state::island_joints;
 use super::region::{Region, pushed_bodies};
 use super::report::{IslandOutcome, IslandReport};
+use super::solver_warm::{MultiplierPairs, SolverWarmCache};
 use crate::settings::{ResolvedLengths, Settings};
 
 /// The outcome of one island's step, to apply to the scene.
@@ -44,6 +48,8 @@ pub struct IslandSolution {
     pub states: Vec<(usize, BodyState)>,
     /// V-Clip warm starts of the solved pairs after the step.
     pub warm_starts: WarmStartCache,
+    /// The multipliers of the island's answer, for the next pass and call.
+    pub solver_warm: SolverWarmCache,
     /// Narrow-phase answers at the accepted configuration (empty unless
     /// moved), for the next detection.
     pub answers: Vec<(BodyPair, PosedQuery)>,
@@ -97,6 +103,9 @@ pub struct PassInput<'a> {
     /// in the call; an island holding such a body is solved without
     /// friction (module docs, "Friction").
     pub without_friction: &'a [bool],
+    /// The solver's warm starts (the multipliers of the last pass, or of
+    /// the last call's first pass).
+    pub solver_warm: &'a SolverWarmCache,
 }
 
 /// One projection step on `island`; a failure moves nothing and is
@@ -160,6 +169,7 @@ impl IslandSolution {
             },
             states: Vec::new(),
             warm_starts: WarmStartCache::default(),
+            solver_warm: SolverWarmCache::default(),
             answers: Vec::new(),
             solve_seconds: 0.0,
             line_search_seconds: 0.0,
@@ -255,13 +265,19 @@ fn plan_region<'a>(
         };
         &trial_settings
     };
-    let plan = plan_step(
+    let shapes = input.geometry.shapes();
+    let warm = |constraints: &IslandConstraints, qp: &ProjectionQp, parents: &[usize]| {
+        let keys = multiplier_pairs(constraints, qp, parents, shapes)?;
+        input.solver_warm.warm_start(&keys)
+    };
+    let plan = plan_step_warm(
         &mut constraints,
         &configuration,
         &inertias,
         settings,
         input.lengths,
         input.hold_rows,
+        &warm,
     )
     .map_err(Error::from);
     Ok(Round {
@@ -383,6 +399,35 @@ fn pushed_by(
     )
 }
 
+/// The part pair of every multiplier of a planned problem, or `None` when
+/// the problem has friction cones (their multipliers are not the rows'
+/// and are not kept).
+fn multiplier_pairs<'a>(
+    constraints: &IslandConstraints,
+    qp: &ProjectionQp,
+    parents: &[usize],
+    shapes: &'a [Arc<ConvexPolyhedron>],
+) -> Option<MultiplierPairs<'a>> {
+    if !qp.cones.is_empty() {
+        return None;
+    }
+    let contacts = &constraints.contacts;
+    let row_pairs = contacts.row_pairs();
+    // The joints' rows come first and the contacts' last, and every row
+    // has a multiplier: the rows are one more than the largest parent.
+    let rows = parents.iter().max().map_or(0, |&last| last + 1);
+    let joint_rows = rows.saturating_sub(row_pairs.len());
+    let pairs = parents
+        .iter()
+        .map(|&row| {
+            let contact_row = row.checked_sub(joint_rows)?;
+            let pair = row_pairs.get(contact_row)?;
+            contacts.pairs().get(*pair).copied()
+        })
+        .collect();
+    Some(MultiplierPairs { pairs, shapes })
+}
+
 /// One projection step on `island`, whose pairs index the pass's active
 /// pairs.
 ///
@@ -460,17 +505,24 @@ fn solve_island_once(input: PassInput, island: &Island) -> Result<IslandSolution
         mut configuration,
         plan,
     } = round;
+    let mut solver_warm = SolverWarmCache::default();
     let step = match plan? {
         Plan::Satisfied(measurement) => StepReport::satisfied(&measurement),
-        Plan::Step(step) => take_step(
-            &mut constraints,
-            &mut configuration,
-            *step,
-            input.settings,
-            input.lengths,
-        ),
+        Plan::Step(step) => {
+            let shapes = input.geometry.shapes();
+            if let Some(keys) = multiplier_pairs(&constraints, &step.qp, &step.qp_parents, shapes) {
+                solver_warm.record(&keys, &step.solution.lambda);
+            }
+            take_step(
+                &mut constraints,
+                &mut configuration,
+                *step,
+                input.settings,
+                input.lengths,
+            )
+        }
     };
-    Ok(finish(
+    let mut solution = finish(
         island,
         input.scene,
         rounds,
@@ -478,7 +530,9 @@ fn solve_island_once(input: PassInput, island: &Island) -> Result<IslandSolution
         configuration,
         step,
         solve_seconds,
-    ))
+    );
+    solution.solver_warm = solver_warm;
+    Ok(solution)
 }
 
 /// The solution of an island from its last round's step.
@@ -546,6 +600,7 @@ fn finish(
             displacement: step.displacement,
         },
         states,
+        solver_warm: SolverWarmCache::default(),
         warm_starts,
         answers,
         solve_seconds,

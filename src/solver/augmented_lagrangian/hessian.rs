@@ -11,10 +11,15 @@
 //! and a change of the active set costs one numeric factorization. An
 //! inactive row's blocks are stored as exact zeros.
 
-use faer::linalg::solvers::SolveCore;
-use faer::sparse::linalg::solvers::{Llt as SparseLlt, SymbolicLlt};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Side};
+use faer::{Conj, MatMut, Par, Side};
 use nalgebra::{DMatrix, DVector, Matrix6};
 
 use super::super::metric::BlockMetric;
@@ -80,19 +85,32 @@ impl BlockPattern {
     }
 }
 
+/// The sparse symbolic analysis and the buffers that every numeric
+/// factorization and solve of one problem reuses.
+struct SparseFactor {
+    symbolic: SymbolicCholesky<usize>,
+    /// Values of `H`'s lower triangle in the pattern's order.
+    values: Vec<f64>,
+    /// Values of the factor `L` (empty before the first factorization).
+    factor_values: Vec<f64>,
+    /// Workspace of the numeric factorization and of the solves.
+    workspace: MemBuffer,
+}
+
 /// A Cholesky factor of `H`.
 enum Factor {
     Dense(nalgebra::Cholesky<f64, nalgebra::Dyn>),
-    Sparse(SparseLlt<usize, f64>),
+    Sparse,
 }
 
 /// Assembles and factors `H` for one problem; keeps the sparse symbolic
-/// analysis across factorizations.
+/// analysis and the value buffers across factorizations.
 pub(super) struct NewtonMatrix {
     dofs: usize,
     dense: bool,
+    supernodal: bool,
     pattern: Option<BlockPattern>,
-    symbolic: Option<SymbolicLlt<usize>>,
+    sparse: Option<SparseFactor>,
     factor: Option<Factor>,
 }
 
@@ -102,15 +120,18 @@ pub(super) struct NewtonMatrix {
 pub(super) struct FactorizationFailed;
 
 impl NewtonMatrix {
-    /// The matrix of `qp`, dense when `6 n_bodies <= dense_max_dofs`.
-    pub(super) fn new(qp: &ProjectionQp, dense_max_dofs: usize) -> Self {
+    /// The matrix of `qp`, dense when `6 n_bodies <= dense_max_dofs`; the
+    /// sparse factor supernodal when `supernodal` (dense 6x6 kernels on
+    /// the blocks of a body), else left to faer's flop-ratio choice.
+    pub(super) fn new(qp: &ProjectionQp, dense_max_dofs: usize, supernodal: bool) -> Self {
         let dofs = qp.num_dofs();
         let dense = dofs <= dense_max_dofs;
         Self {
             dofs,
             dense,
+            supernodal,
             pattern: (!dense).then(|| BlockPattern::new(qp)),
-            symbolic: None,
+            sparse: None,
             factor: None,
         }
     }
@@ -129,20 +150,20 @@ impl NewtonMatrix {
         active: &[bool],
     ) -> Result<(), FactorizationFailed> {
         self.factor = None;
-        let blocks = lower_blocks(qp, metric, rho, active);
         let factor = if self.dense {
             let mut h = DMatrix::zeros(self.dofs, self.dofs);
-            for ((k, l), block) in &blocks {
+            for_each_lower_block(qp, metric, rho, active, |k, l, block| {
                 let mut view = h.fixed_view_mut::<6, 6>(6 * k, 6 * l);
                 view += block;
                 if k != l {
                     let mut mirror = h.fixed_view_mut::<6, 6>(6 * l, 6 * k);
                     mirror += block.transpose();
                 }
-            }
+            });
             Factor::Dense(h.cholesky().ok_or(FactorizationFailed)?)
         } else {
-            Factor::Sparse(self.sparse_factor(&blocks)?)
+            self.sparse_factor(qp, metric, rho, active)?;
+            Factor::Sparse
         };
         self.factor = Some(factor);
         Ok(())
@@ -150,19 +171,13 @@ impl NewtonMatrix {
 
     fn sparse_factor(
         &mut self,
-        blocks: &[((usize, usize), Matrix6<f64>)],
-    ) -> Result<SparseLlt<usize, f64>, FactorizationFailed> {
+        qp: &ProjectionQp,
+        metric: &[BlockMetric],
+        rho: &[f64],
+        active: &[bool],
+    ) -> Result<(), FactorizationFailed> {
         // `new` builds the pattern whenever the matrix is sparse.
         let pattern = self.pattern.as_ref().ok_or(FactorizationFailed)?;
-        let mut values = vec![0.0; pattern.row_idx.len()];
-        for ((k, l), block) in blocks {
-            for c in 0..6 {
-                let rows = if k == l { c..6 } else { 0..6 };
-                for r in rows {
-                    values[pattern.position(*k, *l, r, c)] += block[(r, c)];
-                }
-            }
-        }
         let symbolic_matrix = SymbolicSparseColMatRef::new_checked(
             self.dofs,
             self.dofs,
@@ -170,28 +185,55 @@ impl NewtonMatrix {
             None,
             &pattern.row_idx,
         );
-        if self.symbolic.is_none() {
-            self.symbolic = Some(
-                SymbolicLlt::try_new(symbolic_matrix, Side::Lower)
-                    .map_err(|_| FactorizationFailed)?,
-            );
+        if self.sparse.is_none() {
+            self.sparse = Some(SparseFactor::analyse(
+                symbolic_matrix,
+                pattern.row_idx.len(),
+                self.supernodal,
+            )?);
         }
-        let symbolic = self.symbolic.clone().ok_or(FactorizationFailed)?;
-        let matrix = SparseColMatRef::new(symbolic_matrix, &values);
-        SparseLlt::try_new_with_symbolic(symbolic, matrix, Side::Lower)
+        let sparse = self.sparse.as_mut().ok_or(FactorizationFailed)?;
+        sparse.values.fill(0.0);
+        let values = &mut sparse.values;
+        for_each_lower_block(qp, metric, rho, active, |k, l, block| {
+            for c in 0..6 {
+                let rows = if k == l { c..6 } else { 0..6 };
+                for r in rows {
+                    values[pattern.position(k, l, r, c)] += block[(r, c)];
+                }
+            }
+        });
+        let matrix = SparseColMatRef::new(symbolic_matrix, &sparse.values);
+        let stack = MemStack::new(&mut sparse.workspace);
+        sparse
+            .symbolic
+            .factorize_numeric_llt(
+                &mut sparse.factor_values,
+                matrix,
+                Side::Lower,
+                LltRegularization::default(),
+                Par::Seq,
+                stack,
+                Default::default(),
+            )
+            .map(|_| ())
             .map_err(|_| FactorizationFailed)
     }
 
     /// `H^-1 rhs` with the current factor (`None` before a factorization).
-    pub(super) fn solve(&self, rhs: &DVector<f64>) -> Option<DVector<f64>> {
+    pub(super) fn solve(&mut self, rhs: &DVector<f64>) -> Option<DVector<f64>> {
         match self.factor.as_ref()? {
             Factor::Dense(chol) => Some(chol.solve(rhs)),
-            Factor::Sparse(llt) => {
+            Factor::Sparse => {
+                let sparse = self.sparse.as_mut()?;
                 let mut x = rhs.clone();
                 let n = x.len();
+                let llt = LltRef::new(&sparse.symbolic, &sparse.factor_values);
                 llt.solve_in_place_with_conj(
                     Conj::No,
                     MatMut::from_column_major_slice_mut(x.as_mut_slice(), n, 1),
+                    Par::Seq,
+                    MemStack::new(&mut sparse.workspace),
                 );
                 Some(x)
             }
@@ -199,30 +241,60 @@ impl NewtonMatrix {
     }
 }
 
-/// The 6x6 blocks `(k, l)`, `k >= l`, of `H`: `M_k` on the diagonal plus
-/// `rho_i g_k g_l^T` of every active row over bodies `k` and `l`.
-fn lower_blocks(
+impl SparseFactor {
+    /// The symbolic analysis (AMD ordering, elimination tree, supernodes)
+    /// of the pattern and the buffers sized for it.
+    fn analyse(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        nonzeros: usize,
+        supernodal: bool,
+    ) -> Result<Self, FactorizationFailed> {
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: if supernodal {
+                SupernodalThreshold::FORCE_SUPERNODAL
+            } else {
+                SupernodalThreshold::AUTO
+            },
+            ..Default::default()
+        };
+        let symbolic =
+            factorize_symbolic_cholesky(pattern, Side::Lower, SymmetricOrdering::Amd, params)
+                .map_err(|_| FactorizationFailed)?;
+        let workspace_size = symbolic
+            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        let workspace = MemBuffer::try_new(workspace_size).map_err(|_| FactorizationFailed)?;
+        Ok(Self {
+            factor_values: vec![0.0; symbolic.len_val()],
+            values: vec![0.0; nonzeros],
+            symbolic,
+            workspace,
+        })
+    }
+}
+
+/// Calls `add(k, l, block)` for the 6x6 blocks `(k, l)`, `k >= l`, of `H`:
+/// `M_k` on the diagonal, then `rho_i g_k g_l^T` of every active row over
+/// bodies `k` and `l` (a block may come several times: the caller adds).
+fn for_each_lower_block(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
     rho: &[f64],
     active: &[bool],
-) -> Vec<((usize, usize), Matrix6<f64>)> {
-    let mut blocks: Vec<((usize, usize), Matrix6<f64>)> = metric
-        .iter()
-        .enumerate()
-        .map(|(k, b)| ((k, k), b.matrix()))
-        .collect();
+    mut add: impl FnMut(usize, usize, &Matrix6<f64>),
+) {
+    for (k, b) in metric.iter().enumerate() {
+        add(k, k, &b.matrix());
+    }
     for ((row, &r), _) in qp.rows.iter().zip(rho).zip(active).filter(|(_, a)| **a) {
         for (a, (k, gk)) in row.blocks.iter().enumerate() {
             for (l, gl) in &row.blocks[..=a] {
-                let (key, block) = if k >= l {
-                    ((*k, *l), gk * gl.transpose() * r)
+                if k >= l {
+                    add(*k, *l, &(gk * gl.transpose() * r));
                 } else {
-                    ((*l, *k), gl * gk.transpose() * r)
-                };
-                blocks.push((key, block));
+                    add(*l, *k, &(gl * gk.transpose() * r));
+                }
             }
         }
     }
-    blocks
 }

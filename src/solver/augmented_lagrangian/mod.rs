@@ -58,7 +58,10 @@
 //! tolerance). A **warm start** (multipliers of a previous, similar
 //! problem) is first checked as it is: if `M^-1 J^T lambda_0` already
 //! passes, the solver returns it with zero iterations and no
-//! factorization. Otherwise the method starts from it.
+//! factorization. Else it is scaled by the `s >= 0` that maximizes the
+//! dual function along it (`State::scale_warm_start`: multipliers of a
+//! previous pass carry that pass's violation, often a thousand times this
+//! one's), checked again, and the method starts from it.
 //!
 //! **Infeasible problems** (rows no correction can satisfy) make `lambda`
 //! grow without bound; the method stops at its iteration limit with
@@ -99,9 +102,24 @@ pub struct AugmentedLagrangianSettings {
     /// The solver stops once the acceptance measure is at most this
     /// fraction of the tolerance (default 1e-3: a `dq` well inside the
     /// tolerance costs a few more outer iterations, each usually one
-    /// solve with the kept factor), or once it is within the tolerance and
-    /// an outer iteration no longer halves it (the rounding floor).
+    /// solve with the kept factor), or at the rounding floor: an outer
+    /// iteration that no longer halves it below a hundredth of the
+    /// tolerance, or three in a row within the tolerance (it returns the
+    /// best candidate within the tolerance).
     pub stop_fraction: f64,
+    /// When the active set differs from the one `H` was factored with in
+    /// at most this many rows, the Newton system of the new active set is
+    /// solved by conjugate gradients preconditioned with the old factor
+    /// (`pcg`: exact after about one iteration per changed row) instead of
+    /// a new factorization. 0: factor on every change. Default 0: measured
+    /// slower than factoring on the engine states (16 rows: rp05 pyramid
+    /// 85-90 ms a call against 53-72 ms, `benchmarks/results/solvers.md`).
+    pub max_rows_changed_without_factorization: usize,
+    /// The sparse factor is supernodal (dense kernels on the 6x6 blocks of
+    /// the bodies) rather than left to faer's flop-ratio choice. Default
+    /// true, chosen by measurement (`benchmarks/results/solvers.md`: the
+    /// box bins 143-184 ms a call against 212-290 ms).
+    pub supernodal: bool,
 }
 
 impl Default for AugmentedLagrangianSettings {
@@ -112,6 +130,8 @@ impl Default for AugmentedLagrangianSettings {
             max_newton: 50,
             dense_max_dofs: 96,
             stop_fraction: 1e-3,
+            max_rows_changed_without_factorization: 0,
+            supernodal: true,
         }
     }
 }
@@ -156,29 +176,55 @@ pub fn solve(
         log::trace!("augmented Lagrangian: warm start accepted as it is");
         return Ok(warm);
     }
-    let mut newton = NewtonMatrix::new(qp, settings.dense_max_dofs);
+    if start.warm.is_some() && state.scale_warm_start() {
+        let (scaled, acceptance) = state.candidate();
+        if acceptance <= start.tolerance {
+            log::trace!("augmented Lagrangian: scaled warm start accepted as it is");
+            return Ok(scaled);
+        }
+        previous = acceptance;
+    }
+    let mut newton = NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal);
+    // The best candidate within the tolerance so far, and the outer
+    // iterations in a row that did not halve the acceptance measure.
+    let mut best: Option<(Candidate, f64)> = None;
+    let mut stalls = 0;
     for outer in 0..settings.max_outer {
         if start.deadline.is_some_and(|d| Instant::now() >= d) {
-            return Err(AugmentedLagrangianFailure::Deadline);
+            return best
+                .map(|(c, _)| c)
+                .ok_or(AugmentedLagrangianFailure::Deadline);
         }
         state.minimize_inner(&mut newton)?;
         state.lambda = state.mu();
         let (candidate, acceptance) = state.candidate();
-        let stalled = acceptance <= start.tolerance && acceptance > STALL_RATIO * previous;
+        stalls = if acceptance > STALL_RATIO * previous {
+            stalls + 1
+        } else {
+            0
+        };
         previous = acceptance;
-        if acceptance <= target || stalled {
+        if acceptance <= start.tolerance && best.as_ref().is_none_or(|(_, b)| acceptance < *b) {
+            best = Some((candidate, acceptance));
+        }
+        let floor = stalls > 0 && acceptance <= STALL_FRACTION_OF_TOLERANCE * start.tolerance;
+        let done = acceptance <= target || floor || stalls >= STALL_PATIENCE;
+        if done && let Some((answer, _)) = best.take() {
             log::trace!(
-                "augmented Lagrangian: {} outer iterations, {} Newton steps, \
-                 {} factorizations ({})",
+                "augmented Lagrangian: {} outer iterations, {} Newton steps \
+                 ({} of them by preconditioned CG, {} CG iterations), {} factorizations ({})",
                 outer + 1,
                 state.newton_steps,
+                state.pcg_steps,
+                state.pcg_iterations,
                 state.factorizations,
                 if newton.is_dense() { "dense" } else { "sparse" }
             );
-            return Ok(candidate);
+            return Ok(answer);
         }
     }
-    Err(AugmentedLagrangianFailure::NotConverged)
+    best.map(|(c, _)| c)
+        .ok_or(AugmentedLagrangianFailure::NotConverged)
 }
 
 /// The iterate of one solve.
@@ -192,8 +238,13 @@ struct State<'a> {
     dq: DVector<f64>,
     /// The active set `H` was last factored with.
     factored: Option<Vec<bool>>,
+    /// The active set of the last Newton step.
+    last_active: Option<Vec<bool>>,
     newton_steps: usize,
     factorizations: usize,
+    /// Newton steps solved by preconditioned CG, and its iterations.
+    pcg_steps: usize,
+    pcg_iterations: usize,
 }
 
 impl<'a> State<'a> {
@@ -232,9 +283,33 @@ impl<'a> State<'a> {
             lambda,
             dq,
             factored: None,
+            last_active: None,
             newton_steps: 0,
             factorizations: 0,
+            pcg_steps: 0,
+            pcg_iterations: 0,
         }
+    }
+
+    /// Scales the multipliers by the `s >= 0` that maximizes the dual
+    /// along them, `D(s lambda) = -s^2/2 lambda^T A lambda - s b^T lambda`
+    /// (`A = J M^-1 J^T`): `s = -b^T lambda / lambda^T A lambda`. The
+    /// multipliers of a previous pass or call have the right pattern but
+    /// the size of that problem's violation (a second pass removes a
+    /// thousandth of the first's): scaled, they fit this one. Returns
+    /// whether they changed.
+    fn scale_warm_start(&mut self) -> bool {
+        let jdq = self.qp.apply_j(&self.dq);
+        let curvature = self.lambda.dot(&jdq);
+        let scale = -self.b.dot(&self.lambda) / curvature;
+        if !scale.is_finite() || curvature <= 0.0 || scale == 1.0 {
+            return false;
+        }
+        let scale = scale.max(0.0);
+        log::trace!("augmented Lagrangian: warm start scaled by {scale:.3e}");
+        self.lambda *= scale;
+        self.dq *= scale;
+        true
     }
 
     /// The candidate of the current multipliers and its acceptance
@@ -301,6 +376,99 @@ impl<'a> State<'a> {
             .collect()
     }
 
+    /// The Newton direction `H_A^-1 rhs` of the active set `active`: with
+    /// the kept factor when it was made for `active`; by conjugate
+    /// gradients preconditioned with it when few rows changed state
+    /// ([`AugmentedLagrangianSettings::max_rows_changed_without_factorization`]);
+    /// else after a new factorization.
+    fn newton_direction(
+        &mut self,
+        newton: &mut NewtonMatrix,
+        active: &[bool],
+        rhs: &DVector<f64>,
+    ) -> Result<DVector<f64>, AugmentedLagrangianFailure> {
+        let changed = self
+            .factored
+            .as_ref()
+            .map(|factored| factored.iter().zip(active).filter(|(a, b)| a != b).count());
+        match changed {
+            Some(0) => {
+                return newton
+                    .solve(rhs)
+                    .ok_or(AugmentedLagrangianFailure::Factorization);
+            }
+            Some(changed) if changed <= self.settings.max_rows_changed_without_factorization => {
+                if let Some(d) = self.pcg(newton, active, rhs, changed + PCG_EXTRA_ITERATIONS) {
+                    return Ok(d);
+                }
+            }
+            _ => {}
+        }
+        newton
+            .factor(self.qp, self.metric, &self.rho, active)
+            .map_err(|_| AugmentedLagrangianFailure::Factorization)?;
+        self.factorizations += 1;
+        self.factored = Some(active.to_vec());
+        newton
+            .solve(rhs)
+            .ok_or(AugmentedLagrangianFailure::Factorization)
+    }
+
+    /// `H_A x = M x + sum_{i in A} rho_i J_i^T J_i x`.
+    fn apply_h(&self, active: &[bool], x: &DVector<f64>) -> DVector<f64> {
+        let mut jx = self.qp.apply_j(x);
+        for (i, value) in jx.iter_mut().enumerate() {
+            *value *= if active[i] { self.rho[i] } else { 0.0 };
+        }
+        m_apply(self.metric, x) + self.qp.apply_jt(&jx)
+    }
+
+    /// Solves `H_A x = rhs` by conjugate gradients preconditioned with the
+    /// kept factor of `H` on another active set. `H_A` differs from it by
+    /// one rank-one term per changed row, so the preconditioned matrix is
+    /// the identity plus a matrix of that rank and CG is exact after one
+    /// iteration more than the changed rows (in exact arithmetic). `None`
+    /// when the preconditioned residual is not below [`PCG_RELATIVE_RESIDUAL`]
+    /// of its start within `max_iterations` (rounding): the caller factors.
+    fn pcg(
+        &mut self,
+        newton: &mut NewtonMatrix,
+        active: &[bool],
+        rhs: &DVector<f64>,
+        max_iterations: usize,
+    ) -> Option<DVector<f64>> {
+        let mut x = DVector::zeros(rhs.len());
+        let mut r = rhs.clone();
+        let mut z = newton.solve(&r)?;
+        let mut p = z.clone();
+        let mut rz = r.dot(&z);
+        let start = rz;
+        if start.is_nan() || start <= 0.0 {
+            return None;
+        }
+        for iteration in 1..=max_iterations {
+            let hp = self.apply_h(active, &p);
+            let curvature = p.dot(&hp);
+            if curvature.is_nan() || curvature <= 0.0 {
+                return None;
+            }
+            let alpha = rz / curvature;
+            x.axpy(alpha, &p, 1.0);
+            r.axpy(-alpha, &hp, 1.0);
+            z = newton.solve(&r)?;
+            let rz_next = r.dot(&z);
+            self.pcg_iterations += 1;
+            if rz_next <= PCG_RELATIVE_RESIDUAL * PCG_RELATIVE_RESIDUAL * start {
+                log::trace!("augmented Lagrangian: CG step exact after {iteration} iterations");
+                self.pcg_steps += 1;
+                return Some(x);
+            }
+            p = &z + &p * (rz_next / rz);
+            rz = rz_next;
+        }
+        None
+    }
+
     /// Minimizes the augmented Lagrangian over `dq` for the current
     /// multipliers (semismooth Newton with exact line search).
     fn minimize_inner(
@@ -308,19 +476,11 @@ impl<'a> State<'a> {
         newton: &mut NewtonMatrix,
     ) -> Result<(), AugmentedLagrangianFailure> {
         for _ in 0..self.settings.max_newton {
-            let active = self.active(self.factored.as_deref());
-            if self.factored.as_ref() != Some(&active) {
-                newton
-                    .factor(self.qp, self.metric, &self.rho, &active)
-                    .map_err(|_| AugmentedLagrangianFailure::Factorization)?;
-                self.factorizations += 1;
-                self.factored = Some(active.clone());
-            }
+            let active = self.active(self.last_active.as_deref());
             let m_dq = m_apply(self.metric, &self.dq);
             let gradient = &m_dq - self.qp.apply_jt(&self.mu());
-            let Some(d) = newton.solve(&(-&gradient)) else {
-                return Err(AugmentedLagrangianFailure::Factorization);
-            };
+            let d = self.newton_direction(newton, &active, &(-&gradient))?;
+            self.last_active = Some(active.clone());
             self.newton_steps += 1;
             let w = self.w(&self.dq);
             let s = self.qp.apply_j(&d);
@@ -354,9 +514,24 @@ impl<'a> State<'a> {
     }
 }
 
+/// An outer iteration that does not halve the acceptance measure below
+/// this fraction of the tolerance has reached the rounding floor: the
+/// solver stops there. Between it and the tolerance the iteration goes on
+/// (an answer just inside the tolerance was measured 3e-4 relative off
+/// clarabel's in one body's motion on a pressed pyramid, 1.8e-5 at this
+/// fraction) until [`STALL_PATIENCE`] iterations in a row fail to halve
+/// it, and returns the best candidate within the tolerance.
+const STALL_FRACTION_OF_TOLERANCE: f64 = 1e-2;
+
+/// Outer iterations in a row that do not halve the acceptance measure,
+/// above [`STALL_FRACTION_OF_TOLERANCE`], before the solver stops with the
+/// best candidate within the tolerance (a rounding floor there: iterating
+/// to the limit cost a pyramid 200 iterations).
+const STALL_PATIENCE: usize = 3;
+
 /// An outer iteration that leaves the acceptance measure above this
-/// fraction of the previous one, within the tolerance, has reached the
-/// rounding floor: the solver stops there.
+/// fraction of the previous one did not make progress (the stall rules
+/// below).
 const STALL_RATIO: f64 = 0.5;
 
 /// `|lambda_i - rho_i w_i|` at most this times `rho_i ||b||_inf` is within
@@ -364,10 +539,20 @@ const STALL_RATIO: f64 = 0.5;
 /// `u ||b||_inf`, with some room for the sum over a row's blocks).
 const ACTIVE_SWITCH_REL: f64 = 1e-13;
 
+/// CG iterations allowed beyond the number of changed rows (rounding).
+const PCG_EXTRA_ITERATIONS: usize = 3;
+
+/// A CG solve is exact enough for the Newton step once the residual's
+/// norm in the inverse of the preconditioner is this fraction of its start
+/// (the line search stays exact; the outer iteration's acceptance test
+/// certifies the answer).
+const PCG_RELATIVE_RESIDUAL: f64 = 1e-10;
+
 /// A Newton step whose M-norm is at most this fraction of `||dq||_M`
 /// is rounding: the inner minimization stops.
 const NEGLIGIBLE_STEP_REL: f64 = 1e-14;
 
 /// A step this close to 1 counts as the full Newton step (rounding of the
-/// line search's root).
-const NEWTON_UNIT_STEP_REL: f64 = 1e-12;
+/// line search's root, and the residual a CG-solved step leaves,
+/// [`PCG_RELATIVE_RESIDUAL`]).
+const NEWTON_UNIT_STEP_REL: f64 = 1e-9;

@@ -176,3 +176,48 @@ fn warm_start_from_a_neighbouring_problem_gives_the_cold_answer() {
         assert!(distance <= DQ_AGREEMENT_TOL, "{distance:e}");
     }
 }
+
+/// The Newton system solved by conjugate gradients preconditioned with the
+/// previous factor (when few rows change state), and the simplicial
+/// sparse factor: both give clarabel's `dq` on random stacks of sparse
+/// size.
+#[test]
+fn cg_steps_and_the_simplicial_factor_agree_with_clarabel() {
+    for seed in 0..2 {
+        let qp = random_stacks(&StackSpec::new(250, seed));
+        let reference = solve(&qp, SolverChoice::Clarabel);
+        for (rows_without_factorization, supernodal) in [(16, true), (0, false)] {
+            let mut s = settings(SolverChoice::AugmentedLagrangian);
+            s.augmented_lagrangian
+                .max_rows_changed_without_factorization = rows_without_factorization;
+            s.augmented_lagrangian.supernodal = supernodal;
+            let ours = solve_projection(&qp, &s).expect("solved");
+            let context =
+                format!("seed {seed}, {rows_without_factorization} rows, supernodal {supernodal}");
+            assert_eq!(ours.solver, SolverKind::AugmentedLagrangian, "{context}");
+            assert_kkt(&qp, &ours.dq, &ours.lambda, &context);
+            let distance = relative_metric_distance(&qp, &ours.dq, &reference.dq);
+            assert!(distance <= DQ_AGREEMENT_TOL, "{context}: {distance:e}");
+        }
+    }
+}
+
+/// The multipliers of a problem whose violations are a thousand times
+/// larger (a first pass against the second): scaled along the dual they
+/// are this problem's answer, accepted with zero iterations.
+#[test]
+fn a_warm_start_of_another_size_is_scaled_to_fit() {
+    let qp = random_stacks(&StackSpec::new(60, 5));
+    let mut larger = qp.clone();
+    for (phi, target) in larger.phi.iter_mut().zip(&larger.target) {
+        *phi = target + 1e3 * (*phi - target);
+    }
+    let s = settings(SolverChoice::AugmentedLagrangian);
+    let first = solve_projection(&larger, &s).expect("solved");
+    let warm = solve_projection_warm(&qp, &s, Some(&first.lambda)).expect("solved");
+    assert!(warm.warm_started);
+    assert_eq!((warm.iterations, warm.factorizations), (0, 0));
+    let cold = solve(&qp, SolverChoice::Clarabel);
+    let distance = relative_metric_distance(&qp, &warm.dq, &cold.dq);
+    assert!(distance <= DQ_AGREEMENT_TOL, "{distance:e}");
+}

@@ -15,3 +15,4 @@ mod lcp_siconos;
 mod lemke;
 mod pgs;
 mod projection;
+mod warm_starts;

@@ -1,0 +1,232 @@
+//! The solver's warm starts kept by the stabilizer across passes and
+//! calls (`src/stabilizer/solver_warm.rs`): a warm call gives a cold
+//! call's answer on a sequence of engine states, close to clarabel's; stale warm data
+//! (bodies removed, reordered, replaced, shapes and contact features
+//! changed) gives a cold call's answer; an unchanged problem costs zero
+//! iterations.
+
+use std::path::PathBuf;
+
+use constraint_stabilization::io::scene_file::read_scene;
+use constraint_stabilization::scene::Scene;
+use constraint_stabilization::solver::{SolverChoice, SolverKind};
+use constraint_stabilization::{Report, Settings, Stabilizer};
+use nalgebra::{Translation3, UnitQuaternion, Vector3};
+use proptest::prelude::*;
+
+use crate::support::proptest_config::config;
+
+/// Agreement of a warm call's body positions with a cold call's by the
+/// same solver, relative to the largest motion of one body in the call.
+/// The warm start changes where the solver starts, and each answer passes
+/// the acceptance test (tolerance 1e-6 on the KKT measures of `dq`; the
+/// minimizer is unique), but a body's position is not the M-norm of the
+/// whole `dq`, and later passes start from poses that differ by the
+/// earlier passes' error: measured 5.7e-6 on the second call of the
+/// pyramid sequence below (1.7e-8 m for a largest motion of 3.0e-3 m),
+/// 6.8e-6 between clarabel's primal and dual forms on its first call.
+const POSE_AGREEMENT_REL: f64 = 1e-4;
+
+/// Agreement of the augmented Lagrangian's call with clarabel's, relative
+/// as above. Both pass the acceptance test, but a body's position is not
+/// the M-norm of the whole `dq`, and the passes after the first start from
+/// poses that differ by the first's error: on the pressed MuJoCo pyramid
+/// below they end 2.8e-6 m apart for a largest motion of 9.6e-3 m
+/// (2.9e-4; clarabel's primal and dual forms 6.6e-8 m, 6.8e-6).
+const POSE_AGREEMENT_WITH_CLARABEL_REL: f64 = 1e-3;
+
+fn engine_state(stem: &str) -> Scene {
+    let path = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/engine"))
+        .join(format!("{stem}.json"));
+    read_scene(&path).expect("a valid engine state")
+}
+
+fn settings(choice: SolverChoice) -> Settings {
+    let mut settings = Settings::default();
+    settings.solver.choice = choice;
+    settings
+}
+
+/// Every dynamic body lowered along `-z` by `step` times 1, 2 or 3 (by
+/// index), and turned by `angle` about `x` for every fourth body: new
+/// penetrations of several depths, and new contact features.
+fn pressed(scene: &Scene, step: f64, angle: f64) -> Scene {
+    let mut scene = scene.clone();
+    for index in 0..scene.len() {
+        let body = &scene.bodies()[index];
+        if body.is_fixed() {
+            continue;
+        }
+        let drop = step * (1 + index % 3) as f64;
+        let turn = if index % 4 == 0 { angle } else { 0.0 };
+        let pose = *body.com_pose();
+        let moved = Translation3::from(Vector3::new(0.0, 0.0, -drop))
+            * pose
+            * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), turn);
+        scene.set_com_pose(index, moved).expect("a finite pose");
+    }
+    scene
+}
+
+fn call(stabilizer: &mut Stabilizer, input: &Scene) -> (Report, Scene) {
+    let mut scene = input.clone();
+    let report = stabilizer.stabilize(&mut scene).expect("a valid scene");
+    (report, scene)
+}
+
+/// The largest difference of the two outputs' body positions, and the
+/// largest motion of a body from the input.
+fn pose_difference(input: &Scene, a: &Scene, b: &Scene) -> (f64, f64) {
+    let mut difference: f64 = 0.0;
+    let mut motion: f64 = 0.0;
+    for ((x, y), z) in input.bodies().iter().zip(a.bodies()).zip(b.bodies()) {
+        let p_in = x.com_pose().translation.vector;
+        let p_a = y.com_pose().translation.vector;
+        let p_b = z.com_pose().translation.vector;
+        difference = difference.max((p_a - p_b).norm());
+        motion = motion.max((p_b - p_in).norm());
+    }
+    (difference, motion)
+}
+
+fn assert_same_answer(input: &Scene, warm: &Scene, cold: &Scene, label: &str) {
+    assert_close_answer(input, warm, cold, POSE_AGREEMENT_REL, label);
+}
+
+fn assert_close_answer(input: &Scene, warm: &Scene, cold: &Scene, relative: f64, label: &str) {
+    let (difference, motion) = pose_difference(input, warm, cold);
+    assert!(motion > 0.0, "{label}: the call moved nothing");
+    assert!(
+        difference <= relative * motion,
+        "{label}: warm and cold differ by {difference:.3e} (largest motion {motion:.3e})"
+    );
+}
+
+/// A sequence of pressed pyramids (MuJoCo's, 55 boxes, an island of
+/// hundreds of rows: `Auto` picks the augmented Lagrangian), each called
+/// with one kept stabilizer (warm across passes and calls), with a fresh
+/// one (cold) and with a fresh clarabel stabilizer: the warm call ends
+/// where the cold one does, and near clarabel's; no penetration beyond
+/// the tolerance is left (exact depth).
+#[test]
+fn warm_calls_on_a_sequence_give_cold_answers() {
+    let mut input = pressed(&engine_state("mj05_pyramid"), 2e-3, 0.0);
+    let mut kept = Stabilizer::new(Settings::default()).expect("default settings");
+    let mut warm_islands = 0;
+    for k in 0..3 {
+        let (report, warm) = call(&mut kept, &input);
+        assert!(
+            report.depth_after <= report.tolerance,
+            "call {k}: {report:?}"
+        );
+        let mut fresh = Stabilizer::new(Settings::default()).expect("default settings");
+        let (_, cold) = call(&mut fresh, &input);
+        assert_same_answer(&input, &warm, &cold, &format!("call {k}"));
+        let mut clarabel = Stabilizer::new(settings(SolverChoice::Clarabel)).expect("settings");
+        let (_, reference) = call(&mut clarabel, &input);
+        let label = format!("call {k} against clarabel");
+        assert_close_answer(
+            &input,
+            &warm,
+            &reference,
+            POSE_AGREEMENT_WITH_CLARABEL_REL,
+            &label,
+        );
+        warm_islands += report
+            .pass_reports
+            .iter()
+            .flat_map(|pass| &pass.solved)
+            .filter(|island| island.warm_started)
+            .count();
+        input = pressed(&warm, 1e-3, 0.0);
+    }
+    assert!(warm_islands > 0, "no island was warm-started");
+}
+
+/// Called twice on the same input with one stabilizer, the second call's
+/// first pass starts from the first call's answer, which passes the
+/// acceptance test as it is: zero iterations, zero factorizations.
+#[test]
+fn an_unchanged_problem_costs_zero_iterations() {
+    let input = pressed(&engine_state("rp03_heavy_on_stack_100x"), 2e-3, 0.0);
+    let mut kept = Stabilizer::new(settings(SolverChoice::AugmentedLagrangian)).expect("settings");
+    let (first, _) = call(&mut kept, &input);
+    assert!(first.solver_warm_multipliers > 0);
+    let (second, _) = call(&mut kept, &input);
+    let pass = &second.pass_reports[0];
+    assert!(!pass.solved.is_empty());
+    for island in &pass.solved {
+        assert_eq!(island.solver, Some(SolverKind::AugmentedLagrangian));
+        assert!(island.warm_started, "{island:?}");
+        assert_eq!(
+            (island.solver_iterations, island.factorizations),
+            (0, 0),
+            "{island:?}"
+        );
+    }
+}
+
+/// How the scene changes between the call that fills the warm starts and
+/// the call that uses them.
+#[derive(Debug, Clone, Copy)]
+enum Change {
+    /// Bodies removed through the stabilizer (indices shift).
+    Removed,
+    /// The bodies in reverse order (the same shape objects under other
+    /// indices).
+    Reordered,
+    /// The scene read again: every body replaced by one with a new shape
+    /// object.
+    Replaced,
+    /// Bodies turned: other contact features, other row counts.
+    FeaturesChanged,
+}
+
+fn changed(stabilizer: &mut Stabilizer, scene: &Scene, change: Change, stem: &str) -> Scene {
+    match change {
+        Change::Removed => {
+            let mut scene = scene.clone();
+            let last = scene.len() - 1;
+            stabilizer
+                .remove_bodies(&mut scene, &[last])
+                .expect("an index in range");
+            scene
+        }
+        Change::Reordered => {
+            let mut reordered = Scene::new();
+            for body in scene.bodies().iter().rev() {
+                reordered.push_body(body.clone());
+            }
+            reordered
+        }
+        Change::Replaced => pressed(&engine_state(stem), 2e-3, 0.0),
+        Change::FeaturesChanged => pressed(scene, 0.0, 0.05),
+    }
+}
+
+proptest! {
+    #![proptest_config(config(6))]
+
+    /// Stale warm data in every form: the warm call's poses are the cold
+    /// call's.
+    #[test]
+    fn stale_warm_starts_give_cold_answers(
+        change in prop_oneof![
+            Just(Change::Removed),
+            Just(Change::Reordered),
+            Just(Change::Replaced),
+            Just(Change::FeaturesChanged),
+        ],
+        depth in 1e-3..4e-3f64,
+    ) {
+        let stem = "rp03_heavy_on_stack_100x";
+        let first = pressed(&engine_state(stem), depth, 0.0);
+        let mut kept = Stabilizer::new(settings(SolverChoice::AugmentedLagrangian)).expect("settings");
+        call(&mut kept, &first);
+        let input = pressed(&changed(&mut kept, &first, change, stem), 0.0, 0.0);
+        let (_, warm) = call(&mut kept, &input);
+        let mut fresh = Stabilizer::new(settings(SolverChoice::AugmentedLagrangian)).expect("settings");
+        let (_, cold) = call(&mut fresh, &input);
+        assert_same_answer(&input, &warm, &cold, &format!("{change:?}"));
+    }
+}
