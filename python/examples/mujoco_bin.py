@@ -124,14 +124,14 @@ def main() -> None:
     rows: List[str] = []
     runs = []
     burst = int(BURST_SECONDS / 0.002)
-    print("| seed | deepest raw (mm) | raw: peak KE first 0.1 s (J) | raw: fastest (m/s) | raw: out of bin | stabilize (ms, status) | deepest after (mm) | stabilized: peak KE first 0.1 s (J) | stabilized: fastest (m/s) | stabilized: out of bin |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| seed | deepest raw (mm) | raw: KE at 10 ms (J) | raw: peak KE first 0.1 s (J) | raw: fastest (m/s) | raw: out of bin | stabilize (ms, status) | deepest after (mm) | stabilized: KE at 10 ms (J) | stabilized: peak KE first 0.1 s (J) | stabilized: fastest (m/s) | stabilized: out of bin |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for seed in range(args.seeds):
         raw, fixed = compare(args.objects, seed)
         runs.append((raw, fixed))
         row = (
-            f"| {seed} | {-raw.deepest_start * 1e3:.1f} | {raw.energy[:burst].max():.3g} | {raw.peak_speed:.2f} | {raw.ejected} | "
-            f"{fixed.stabilize_ms:.1f} ({fixed.status}) | {max(0.0, -fixed.deepest_start) * 1e3:.2g} | {fixed.energy[:burst].max():.3g} | {fixed.peak_speed:.2f} | {fixed.ejected} |"
+            f"| {seed} | {-raw.deepest_start * 1e3:.1f} | {raw.energy[4]:.3g} | {raw.energy[:burst].max():.3g} | {raw.peak_speed:.2f} | {raw.ejected} | "
+            f"{fixed.stabilize_ms:.1f} ({fixed.status}) | {max(0.0, -fixed.deepest_start) * 1e3:.2g} | {fixed.energy[4]:.3g} | {fixed.energy[:burst].max():.3g} | {fixed.peak_speed:.2f} | {fixed.ejected} |"
         )
         rows.append(row)
         print(row, flush=True)
