@@ -33,9 +33,10 @@ is wide (the library has no half-space; the scene's tolerance scale comes
 from the smallest dynamic body, so the big box does not loosen it).
 Skipped, listed in :attr:`MujocoResult.skipped_geoms` with the reason:
 ellipsoids, height fields, SDFs and any other type, and geoms that collide
-with nothing (``contype == conaffinity == 0``, visual geoms). A dynamic body
-with a skipped colliding geom is held fixed (the skipped geom would move
-with it unseen), its other geoms staying obstacles.
+with nothing (``contype == conaffinity == 0``, visual geoms; such a geom
+on a moved body moves with it, as it would in MuJoCo). A dynamic body with
+a skipped colliding geom is held fixed (the skipped geom would move with
+it unseen), its other geoms staying obstacles.
 
 Not modelled: MuJoCo's collision filters (``contype``/``conaffinity``
 bit masks between colliding geoms, ``<exclude>`` pairs, the parent-child
