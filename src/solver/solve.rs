@@ -3,10 +3,11 @@
 //!
 //! Order of solvers tried: under [`SolverChoice::Auto`], nothing when every
 //! row already holds ([`SolverKind::Trivial`]), the closed form for one
-//! row, Lemke up to [`SolverSettings::auto_lemke_max_rows`] rows and the
-//! augmented Lagrangian above (clarabel when
-//! [`SolverSettings::auto_augmented_lagrangian_min_rows`] is raised; the
-//! crossovers chosen by measurement, `benchmarks/results/solvers.md`). A named choice runs that solver
+//! row, Lemke up to [`SolverSettings::auto_lemke_max_rows`] rows and
+//! clarabel above, or the augmented Lagrangian from
+//! [`SolverSettings::auto_augmented_lagrangian_min_rows`] rows (default
+//! never: faster, but less exact, which keeps settled bridge scenes
+//! awake; `benchmarks/results/solvers.md`, `coupling.md`). A named choice runs that solver
 //! first. Whatever failed is followed by the remaining ones in an order
 //! that depends on the size, like the first choice: up to
 //! `auto_lemke_max_rows` rows clarabel -> Lemke -> PGS; above, clarabel ->
@@ -183,12 +184,14 @@ pub struct SolverSettings {
     pub auto_lemke_max_rows: usize,
     /// Under `Auto`, the augmented Lagrangian for problems without cones
     /// of at least this many rows (before Lemke and clarabel). Default
-    /// 161: it takes clarabel's place above Lemke's range
-    /// ([`SolverSettings::auto_lemke_max_rows`]), measured faster than
-    /// clarabel on every engine state with such an island (the box bins,
-    /// pyramids and the pile of 200: 0.55-0.8x,
-    /// `benchmarks/results/solvers.md`) and slower than Lemke on the small
-    /// stacks.
+    /// never (`usize::MAX`). At 161 (clarabel's place above Lemke's range)
+    /// it is faster than clarabel on every engine state with such an
+    /// island (the box bins, pyramids and the pile of 200: 0.55-0.8x,
+    /// `benchmarks/results/solvers.md`), but its answers are further from
+    /// the exact minimizer (2.9e-4 relative in `dq` against clarabel's, both
+    /// accepted), and under the Rapier bridge that kept a settled compound
+    /// pile awake and drifting (25.7 mm; with clarabel it sleeps and does
+    /// not move: `benchmarks/results/coupling.md`).
     pub auto_augmented_lagrangian_min_rows: usize,
     /// The dense solvers (Lemke's tableau, PGS and clarabel's dual form on
     /// the assembled `A = J M^-1 J^T`) are never run on more rows than
@@ -233,7 +236,7 @@ impl Default for SolverSettings {
             cross_check: false,
             tol_residual: 1e-6,
             auto_lemke_max_rows: 160,
-            auto_augmented_lagrangian_min_rows: 161,
+            auto_augmented_lagrangian_min_rows: usize::MAX,
             dense_max_rows: 1000,
             fall_back: true,
             stop_on_infeasible: false,

@@ -103,15 +103,24 @@ fn assert_close_answer(input: &Scene, warm: &Scene, cold: &Scene, relative: f64,
 }
 
 /// A sequence of pressed pyramids (MuJoCo's, 55 boxes, an island of
-/// hundreds of rows: `Auto` picks the augmented Lagrangian), each called
+/// hundreds of rows; `Auto` set to pick the augmented Lagrangian above
+/// Lemke's range, [`augmented_auto`]), each called
 /// with one kept stabilizer (warm across passes and calls), with a fresh
 /// one (cold) and with a fresh clarabel stabilizer: the warm call ends
 /// where the cold one does, and near clarabel's; no penetration beyond
 /// the tolerance is left (exact depth).
+/// The default settings with `Auto` choosing the augmented Lagrangian
+/// from just above Lemke's range (by default it never does).
+fn augmented_auto() -> Settings {
+    let mut settings = Settings::default();
+    settings.solver.auto_augmented_lagrangian_min_rows = settings.solver.auto_lemke_max_rows + 1;
+    settings
+}
+
 #[test]
 fn warm_calls_on_a_sequence_give_cold_answers() {
     let mut input = pressed(&engine_state("mj05_pyramid"), 2e-3, 0.0);
-    let mut kept = Stabilizer::new(Settings::default()).expect("default settings");
+    let mut kept = Stabilizer::new(augmented_auto()).expect("valid settings");
     let mut warm_islands = 0;
     for k in 0..3 {
         let (report, warm) = call(&mut kept, &input);
@@ -119,7 +128,7 @@ fn warm_calls_on_a_sequence_give_cold_answers() {
             report.depth_after <= report.tolerance,
             "call {k}: {report:?}"
         );
-        let mut fresh = Stabilizer::new(Settings::default()).expect("default settings");
+        let mut fresh = Stabilizer::new(augmented_auto()).expect("valid settings");
         let (_, cold) = call(&mut fresh, &input);
         assert_same_answer(&input, &warm, &cold, &format!("call {k}"));
         let mut clarabel = Stabilizer::new(settings(SolverChoice::Clarabel)).expect("settings");
