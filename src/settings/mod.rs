@@ -227,7 +227,13 @@ pub struct Settings {
     pub step_max_translation_relative: f64,
     /// Backtracking line search.
     pub line_search: LineSearchSettings,
-    /// Solver choice, cross-check and solver tolerances.
+    /// Solver choice, cross-check and solver tolerances. The default is
+    /// the solvers' own, clarabel's polish included on every answer
+    /// ([`crate::solver::ClarabelSettings::polish_above`] 0): polishing only
+    /// the answers the acceptance test would reject saves 13-27 % of a call
+    /// (`benchmarks/results/polish.md`), but a settled Rapier compound pile
+    /// under the bridge then fell asleep at step 148 instead of 120 (Rapier
+    /// alone: 117; `benchmarks/results/coupling.md`).
     pub solver: SolverSettings,
     /// V-Clip iteration cap and tie tolerance.
     pub vclip: VClipSettings,
@@ -268,23 +274,10 @@ impl Default for Settings {
             step_max_rotation: DEFAULT_STEP_MAX_ROTATION,
             step_max_translation_relative: DEFAULT_STEP_MAX_TRANSLATION_RELATIVE,
             line_search: LineSearchSettings::default(),
-            solver: stabilizer_solver_settings(),
+            solver: SolverSettings::default(),
             vclip: VClipSettings::default(),
         }
     }
-}
-
-/// The solver settings of [`Settings::default`]: the solvers' defaults,
-/// clarabel's polish included on every answer
-/// ([`crate::solver::ClarabelSettings::polish_above`] 0). Polishing only
-/// the answers the acceptance test would reject never changed an accepted
-/// answer's verdict and saves 13-27 % of a call
-/// (`benchmarks/results/polish.md`), but with the unpolished
-/// interior-point answers a settled Rapier compound pile fell asleep under
-/// the bridge at step 148 instead of 120 (Rapier alone: 117;
-/// `benchmarks/results/coupling.md`), so the default keeps it.
-fn stabilizer_solver_settings() -> SolverSettings {
-    SolverSettings::default()
 }
 
 /// Default [`Settings::friction_max_iterations`]: about twice the most
