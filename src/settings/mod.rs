@@ -184,7 +184,7 @@ pub struct Settings {
     pub friction_model: FrictionModel,
     /// clarabel's iteration limit on a problem with friction (its
     /// pyramid's rows or cones), in place of
-    /// [`crate::solver::ClarabelSettings::max_iter`] when lower. Default
+    /// [`crate::solver::clarabel_qp::ClarabelSettings::max_iter`] when lower. Default
     /// [`DEFAULT_FRICTION_MAX_ITERATIONS`]: over every engine state of
     /// `tests/data/engine` with its engine's friction, both models, the
     /// solved frictional problems took at most 28 iterations, while a
@@ -229,7 +229,7 @@ pub struct Settings {
     pub line_search: LineSearchSettings,
     /// Solver choice, cross-check and solver tolerances. The default is
     /// the solvers' own, clarabel's polish included on every answer
-    /// ([`crate::solver::ClarabelSettings::polish_above`] 0): polishing only
+    /// ([`crate::solver::clarabel_qp::ClarabelSettings::polish_above`] 0): polishing only
     /// the answers the acceptance test would reject saves 13-27 % of a call
     /// (`benchmarks/results/polish.md`), but a settled Rapier compound pile
     /// under the bridge then fell asleep at step 148 instead of 120 (Rapier

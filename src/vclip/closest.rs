@@ -4,7 +4,7 @@
 //! Segment–segment (`p(s) = p0 + s d1`, `q(t) = q0 + t d2`, `s, t ∈ [0, 1]`):
 //! the minimum of the convex function `|p(s) - q(t)|²` over the unit square
 //! is either interior (the stationary point of the two lines, computed with
-//! the common normal `d1 × d2`, see [`interior_stationary_point`]) or on
+//! the common normal `d1 × d2`, see `interior_stationary_point`) or on
 //! the square's boundary, i.e.
 //! an endpoint of one segment against the other segment. We take the best of
 //! the four endpoint projections (well conditioned, exact up to rounding) and

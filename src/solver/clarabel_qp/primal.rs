@@ -47,7 +47,7 @@
 //! `sigma` each in a `SecondOrderConeT(3)`, whitened and scaled the same
 //! way with one common factor per cone. A row that is a cone's normal row
 //! (same Jacobian, `phi` and target) is implied by the cone and left out
-//! ([`rows_implied_by_cones`]): fewer rows, and no degenerate pair of
+//! (`rows_implied_by_cones`): fewer rows, and no degenerate pair of
 //! constraints active together at every sticking contact. A problem with cones is not
 //! polished (the polish solves for active half-spaces); clarabel's point is
 //! returned, and the caller's residual check judges it in the cone's sense.

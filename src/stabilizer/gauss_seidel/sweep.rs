@@ -28,7 +28,7 @@
 //!
 //! The push is one case of the relaxation of a scalar row with gradient
 //! blocks `g_a`, `g_b` (`[dx; dtheta]`, world) and error `C`
-//! ([`SweepBodies::relax`]), which the joints' rows use too
+//! (`SweepBodies::relax`), which the joints' rows use too
 //! ([`super::joints`]):
 //!
 //! ```text
