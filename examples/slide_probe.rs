@@ -139,6 +139,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let verbose_to: usize = value("--verbose", 2).map_or(Ok(0), |s| s.parse())?;
     // `--trace`: one line per step of the range for the bottom box.
     let trace = args.iter().any(|a| a == "--trace");
+    // `--drift-every N`: the largest drift of any box every N steps.
+    let drift_every: usize = value("--drift-every", 1).map_or(Ok(0), |s| s.parse())?;
     let velocity_friction = match value("--velocity-friction", 1).as_deref() {
         None => BridgeSettings::default().velocity_friction,
         Some("none") => VelocityFriction::None,
@@ -199,6 +201,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut bridge = RapierBridge::with_settings(BridgeSettings {
         velocity_friction,
         coupling: coupling.unwrap_or_default(),
+        collider_friction: !args.iter().any(|a| a == "--no-collider-friction"),
         ..BridgeSettings::with_stabilizer(stabilizer)
     })?;
     let colliders = stack_colliders(&world, &handles);
@@ -331,6 +334,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             abs_step[i] += norm(s);
             abs_call[i] += norm(c);
             abs_velocity[i] += norm(w);
+        }
+        if drift_every > 0 && step % drift_every == 0 {
+            let top_motion = (0..n).map(|i| norm(sub(p2[i], start[i]))).fold(0.0, f64::max);
+            println!("drift at step {step}: {:.3} mm (largest so far {:.3})", top_motion * 1e3, max_drift * 1e3);
         }
         if verbose {
             println!("  the call, contacts:");

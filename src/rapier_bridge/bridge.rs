@@ -38,7 +38,7 @@ use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::joints::{JointReadReport, JointSkipReason, RapierJoint, SkippedJoint, read_joints};
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
-use super::rest::{RESTING_STREAK, RestPoses, dynamic_poses, is_resting};
+use super::rest::{RESTING_STREAK, RestPoses, dynamic_poses, held_poses, is_resting};
 use super::round_off::{own_lengths, raised_lengths, write_back_round_off_bound};
 use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
 use crate::body::{BodyDesc, MassSpec};
@@ -212,6 +212,7 @@ impl RapierBridge {
             bodies_written: 0,
             bodies_left_asleep: asleep,
             resting: false,
+            bodies_held: 0,
             write_back_round_off: WriteBackRoundOff::default(),
             round_off_bound,
             velocities: None,
@@ -235,6 +236,22 @@ impl RapierBridge {
             .set_call_lengths(Some(raised.allowing(allowed)));
         let before: Vec<UserPose> = self.scene.bodies().iter().map(user_pose_of).collect();
         report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
+        if self.settings.hold_cycles
+            && !resting
+            && self.settings.coupling == CouplingMode::ClosedContacts
+        {
+            let moved: Vec<usize> = (0..before.len())
+                .filter(|&i| user_pose_of(&self.scene.bodies()[i]) != before[i])
+                .collect();
+            let held = held_poses(&previous, &self.scene, &self.map, &moved, bodies, parameters);
+            if !held.is_empty() {
+                report.bodies_held = held.len();
+                self.scene
+                    .set_user_poses(held)
+                    .map_err(|e| BridgeError::Stabilize(e.into()))?;
+                report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
+            }
+        }
         let (moved, round_off) = self.write_back(bodies, &before);
         bodies.propagate_modified_body_positions_to_colliders(colliders);
         self.last_output = dynamic_poses(&self.scene, &self.map);

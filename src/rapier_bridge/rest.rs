@@ -75,8 +75,6 @@ pub(crate) fn is_resting(
     bodies: &RigidBodySet,
     parameters: &IntegrationParameters,
 ) -> bool {
-    let dt = f64::from(parameters.dt);
-    let length_unit = f64::from(parameters.length_unit);
     let mut awake = map
         .entries()
         .iter()
@@ -87,20 +85,60 @@ pub(crate) fn is_resting(
         return false;
     }
     awake.all(|(entry, body)| {
-        let (Some(before), Some(rigid_body)) = (
-            previous.get(&entry.collider),
-            entry.body.and_then(|h| bodies.get(h)),
-        ) else {
-            return false;
-        };
-        let threshold = f64::from(rigid_body.activation().normalized_linear_threshold);
-        // The farthest point from the shape-frame origin, about which the
-        // user pose turns.
-        let reach = body.reach() + body.com_offset().norm();
-        let now = body.user_pose();
-        let half_angle = before.rotation.angle_to(&now.rotation) / 2.0;
-        let motion = (now.translation.vector - before.translation.vector).norm()
-            + 2.0 * half_angle.sin().abs() * reach;
-        threshold >= 0.0 && 0.5 * motion < threshold * length_unit * dt
+        previous
+            .get(&entry.collider)
+            .is_some_and(|before| passes_sleep_test(entry, body, before, bodies, parameters))
     })
+}
+
+/// The bodies of `moved` (scene indices) whose net motion since the pose
+/// the last call left them at, over Rapier's step and this call together,
+/// passes Rapier's sleep test, with that pose: the call puts them back
+/// there (module docs, "Held cycles").
+pub(crate) fn held_poses(
+    previous: &RestPoses,
+    scene: &Scene,
+    map: &BodyMap,
+    moved: &[usize],
+    bodies: &RigidBodySet,
+    parameters: &IntegrationParameters,
+) -> Vec<(usize, Isometry3<f64>)> {
+    moved
+        .iter()
+        .filter_map(|&index| {
+            let entry = map.entries().get(index)?;
+            let body = scene.bodies().get(index)?;
+            let before = previous.get(&entry.collider)?;
+            (entry.is_dynamic()
+                && !body.is_fixed()
+                && passes_sleep_test(entry, body, before, bodies, parameters))
+            .then_some((index, *before))
+        })
+        .collect()
+}
+
+/// Whether the body's motion from `before` to its current user pose passes
+/// Rapier's sleep test for one step (module docs); false without a Rapier
+/// body.
+fn passes_sleep_test(
+    entry: &super::body_map::MappedCollider,
+    body: &crate::body::Body,
+    before: &Isometry3<f64>,
+    bodies: &RigidBodySet,
+    parameters: &IntegrationParameters,
+) -> bool {
+    let Some(rigid_body) = entry.body.and_then(|h| bodies.get(h)) else {
+        return false;
+    };
+    let dt = f64::from(parameters.dt);
+    let length_unit = f64::from(parameters.length_unit);
+    let threshold = f64::from(rigid_body.activation().normalized_linear_threshold);
+    // The farthest point from the shape-frame origin, about which the user
+    // pose turns.
+    let reach = body.reach() + body.com_offset().norm();
+    let now = body.user_pose();
+    let half_angle = before.rotation.angle_to(&now.rotation) / 2.0;
+    let motion = (now.translation.vector - before.translation.vector).norm()
+        + 2.0 * half_angle.sin().abs() * reach;
+    threshold >= 0.0 && 0.5 * motion < threshold * length_unit * dt
 }

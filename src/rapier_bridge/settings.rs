@@ -138,6 +138,14 @@ pub struct BridgeSettings {
     /// error, so that a scene Rapier holds at rest is not written and
     /// falls asleep. Default true.
     pub resting_calls: bool,
+    /// Held cycles (`rapier_bridge/rest.rs`): in a call of
+    /// [`CouplingMode::ClosedContacts`] that is not a resting one, a body
+    /// the call moved whose net motion over Rapier's step and the call,
+    /// from where the last call left it, passes Rapier's sleep test is put
+    /// back there (and the call solved again from those poses), so that a
+    /// stack Rapier sinks and the call lifts is a fixed point of the
+    /// (step, call) cycle instead of a ratchet. Default true.
+    pub hold_cycles: bool,
 }
 
 impl Default for BridgeSettings {
@@ -156,6 +164,7 @@ impl BridgeSettings {
             collider_friction: true,
             velocity_friction: VelocityFriction::None,
             resting_calls: true,
+            hold_cycles: std::env::var("CS_NO_HOLD").is_err(),
         }
     }
 
