@@ -159,6 +159,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some("positions") => Some(CouplingMode::PositionsOnly),
         Some(other) => return Err(format!("unknown coupling {other}").into()),
     };
+    let no_resting = args.iter().any(|a| a == "--no-resting");
+    let no_hold = args.iter().any(|a| a == "--no-hold");
     let (mut world, mut handles) = scenes::aligned_heavy_stack_world(ratio);
     // `--levels N`: only the top N boxes (the heavy one last) stay.
     if let Some(levels) = value("--levels", 1) {
@@ -201,6 +203,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut bridge = RapierBridge::with_settings(BridgeSettings {
         velocity_friction,
         coupling: coupling.unwrap_or_default(),
+        resting_calls: !no_resting,
+        hold_cycles: !no_hold,
         collider_friction: !args.iter().any(|a| a == "--no-collider-friction"),
         ..BridgeSettings::with_stabilizer(stabilizer)
     })?;
@@ -224,6 +228,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut slide_by_call = vec![[0.0; 2]; n];
     // Velocity projections of islands that failed, calls not resolved.
     let (mut velocity_failures, mut unresolved) = (0, 0);
+    // Resting calls, calls that held bodies, bodies held (summed).
+    let (mut resting_calls, mut held_calls, mut held_bodies) = (0, 0, 0);
     for step in 1..=steps {
         let p0: Vec<[f64; 2]> = handles
             .iter()
@@ -279,6 +285,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             )?),
             None => None,
         };
+        if let Some(r) = report.as_ref() {
+            resting_calls += usize::from(r.resting);
+            held_bodies += r.bodies_held;
+            held_calls += usize::from(r.bodies_held > 0);
+        }
         velocity_failures += report
             .as_ref()
             .and_then(|r| r.velocities.as_ref())
@@ -402,6 +413,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .filter(|&&h| world.bodies[h].is_sleeping())
         .count();
     println!("bodies asleep at the end: {sleeping} of {n}");
+    println!(
+        "resting calls {resting_calls}; calls that held bodies {held_calls}, bodies held {held_bodies}"
+    );
     println!(
         "top box at z {top:.4} m; largest drift of any box over the run {:.3} mm; calls not resolved {unresolved}, velocity islands failed {velocity_failures}",
         max_drift * 1e3
