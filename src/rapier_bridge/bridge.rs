@@ -235,7 +235,6 @@ impl RapierBridge {
         self.stabilizer
             .set_call_lengths(Some(raised.allowing(allowed)));
         let before: Vec<UserPose> = self.scene.bodies().iter().map(user_pose_of).collect();
-        let read: Vec<Isometry3<f64>> = self.scene.bodies().iter().map(|b| b.user_pose()).collect();
         report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
         if self.settings.hold_cycles
             && !resting
@@ -244,9 +243,10 @@ impl RapierBridge {
             let moved: Vec<usize> = (0..before.len())
                 .filter(|&i| user_pose_of(&self.scene.bodies()[i]) != before[i])
                 .collect();
-            let held = held_poses(&previous, &self.scene, &self.map, &moved, &read, bodies, parameters);
-            let all = std::env::var("CS_HOLD_ALL").is_ok();
-            if !held.is_empty() && (!all || held.len() == moved.len()) {
+            let held = held_poses(&previous, &self.scene, &self.map, &moved, bodies, parameters);
+            // All or nothing: a cycle is held only when every body the call
+            // moved is at rest in it (module docs of `rest`).
+            if !held.is_empty() && held.len() == moved.len() {
                 report.bodies_held = held.len();
                 self.scene
                     .set_user_poses(held)

@@ -87,7 +87,7 @@ pub(crate) fn is_resting(
     awake.all(|(entry, body)| {
         previous
             .get(&entry.collider)
-            .is_some_and(|before| passes_sleep_test(entry, body, &body.user_pose(), before, bodies, parameters, resting_fraction()))
+            .is_some_and(|before| passes_sleep_test(entry, body, &body.user_pose(), before, bodies, parameters))
     })
 }
 
@@ -100,11 +100,9 @@ pub(crate) fn held_poses(
     scene: &Scene,
     map: &BodyMap,
     moved: &[usize],
-    read: &[Isometry3<f64>],
     bodies: &RigidBodySet,
     parameters: &IntegrationParameters,
 ) -> Vec<(usize, Isometry3<f64>)> {
-    let both = std::env::var("CS_HOLD_BOTH").is_ok();
     moved
         .iter()
         .filter_map(|&index| {
@@ -113,9 +111,7 @@ pub(crate) fn held_poses(
             let before = previous.get(&entry.collider)?;
             (entry.is_dynamic()
                 && !body.is_fixed()
-                && passes_sleep_test(entry, body, &body.user_pose(), before, bodies, parameters, 1.0)
-                && (!both
-                    || passes_sleep_test(entry, body, read.get(index)?, before, bodies, parameters, 1.0)))
+                && passes_sleep_test(entry, body, &body.user_pose(), before, bodies, parameters))
             .then_some((index, *before))
         })
         .collect()
@@ -131,7 +127,6 @@ fn passes_sleep_test(
     before: &Isometry3<f64>,
     bodies: &RigidBodySet,
     parameters: &IntegrationParameters,
-    fraction: f64,
 ) -> bool {
     let Some(rigid_body) = entry.body.and_then(|h| bodies.get(h)) else {
         return false;
@@ -145,9 +140,5 @@ fn passes_sleep_test(
     let half_angle = before.rotation.angle_to(&now.rotation) / 2.0;
     let motion = (now.translation.vector - before.translation.vector).norm()
         + 2.0 * half_angle.sin().abs() * reach;
-    threshold >= 0.0 && 0.5 * motion < fraction * threshold * length_unit * dt
-}
-
-fn resting_fraction() -> f64 {
-    std::env::var("CS_REST_FRACTION").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0)
+    threshold >= 0.0 && 0.5 * motion < threshold * length_unit * dt
 }

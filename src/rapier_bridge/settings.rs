@@ -164,7 +164,7 @@ impl BridgeSettings {
             collider_friction: true,
             velocity_friction: VelocityFriction::None,
             resting_calls: true,
-            hold_cycles: std::env::var("CS_NO_HOLD").is_err(),
+            hold_cycles: true,
         }
     }
 
