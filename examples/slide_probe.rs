@@ -347,8 +347,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             abs_velocity[i] += norm(w);
         }
         if drift_every > 0 && step % drift_every == 0 {
-            let top_motion = (0..n).map(|i| norm(sub(p2[i], start[i]))).fold(0.0, f64::max);
-            println!("drift at step {step}: {:.3} mm (largest so far {:.3})", top_motion * 1e3, max_drift * 1e3);
+            let top_motion = (0..n)
+                .map(|i| norm(sub(p2[i], start[i])))
+                .fold(0.0, f64::max);
+            println!(
+                "drift at step {step}: {:.3} mm (largest so far {:.3})",
+                top_motion * 1e3,
+                max_drift * 1e3
+            );
         }
         if verbose {
             println!("  the call, contacts:");

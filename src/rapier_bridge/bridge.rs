@@ -240,19 +240,7 @@ impl RapierBridge {
             && !resting
             && self.settings.coupling == CouplingMode::ClosedContacts
         {
-            let moved: Vec<usize> = (0..before.len())
-                .filter(|&i| user_pose_of(&self.scene.bodies()[i]) != before[i])
-                .collect();
-            let held = held_poses(&previous, &self.scene, &self.map, &moved, bodies, parameters);
-            // All or nothing: a cycle is held only when every body the call
-            // moved is at rest in it (module docs of `rest`).
-            if !held.is_empty() && held.len() == moved.len() {
-                report.bodies_held = held.len();
-                self.scene
-                    .set_user_poses(held)
-                    .map_err(|e| BridgeError::Stabilize(e.into()))?;
-                report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
-            }
+            self.hold_cycle(&mut report, &previous, &before, bodies, parameters)?;
         }
         let (moved, round_off) = self.write_back(bodies, &before);
         bodies.propagate_modified_body_positions_to_colliders(colliders);
@@ -265,6 +253,49 @@ impl RapierBridge {
             report.velocities_written = count;
         }
         Ok(report)
+    }
+
+    /// Held cycles (`super::rest`): when every body the call moved is at
+    /// rest over Rapier's step and the call, puts them back where the last
+    /// call left them and solves again from there; keeps that answer only
+    /// if its depth, rounded to f32, stays within the call's stated
+    /// tolerance (`depth_after + 2 delta <= tolerance`), else restores the
+    /// first answer.
+    fn hold_cycle(
+        &mut self,
+        report: &mut BridgeReport,
+        previous: &RestPoses,
+        read: &[UserPose],
+        bodies: &RigidBodySet,
+        parameters: &IntegrationParameters,
+    ) -> Result<(), BridgeError> {
+        let moved: Vec<usize> = (0..read.len())
+            .filter(|&i| user_pose_of(&self.scene.bodies()[i]) != read[i])
+            .collect();
+        let held = held_poses(previous, &self.scene, &self.map, &moved, bodies, parameters);
+        // All or nothing: a cycle is held only when every body the call
+        // moved is at rest in it (module docs of `rest`).
+        if held.is_empty() || held.len() != moved.len() {
+            return Ok(());
+        }
+        let scene_error = |e: SceneError| BridgeError::Stabilize(e.into());
+        let first: Vec<(usize, Isometry3<f64>)> = self
+            .scene
+            .bodies()
+            .iter()
+            .map(|b| b.user_pose())
+            .enumerate()
+            .collect();
+        let count = held.len();
+        self.scene.set_user_poses(held).map_err(scene_error)?;
+        let second = self.stabilizer.stabilize(&mut self.scene)?;
+        if second.depth_after + 2.0 * report.round_off_bound <= second.tolerance {
+            report.stabilizer = Some(second);
+            report.bodies_held = count;
+        } else {
+            self.scene.set_user_poses(first).map_err(scene_error)?;
+        }
+        Ok(())
     }
 
     /// Holds every dynamic scene body whose Rapier body sleeps still (an

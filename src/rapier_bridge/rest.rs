@@ -85,9 +85,9 @@ pub(crate) fn is_resting(
         return false;
     }
     awake.all(|(entry, body)| {
-        previous
-            .get(&entry.collider)
-            .is_some_and(|before| passes_sleep_test(entry, body, &body.user_pose(), before, bodies, parameters))
+        previous.get(&entry.collider).is_some_and(|before| {
+            passes_sleep_test(entry, body, &body.user_pose(), before, bodies, parameters)
+        })
     })
 }
 

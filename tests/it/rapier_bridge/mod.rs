@@ -13,6 +13,7 @@ mod rest;
 mod round;
 mod round_off;
 mod round_off_bound;
+mod stack;
 mod world_from_scene;
 
 use constraint_stabilization::Settings;
