@@ -159,6 +159,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some("positions") => Some(CouplingMode::PositionsOnly),
         Some(other) => return Err(format!("unknown coupling {other}").into()),
     };
+    // `--calls`: one line per call (resting, bodies held and written).
+    let print_calls = args.iter().any(|a| a == "--calls");
     let no_resting = args.iter().any(|a| a == "--no-resting");
     let no_hold = args.iter().any(|a| a == "--no-hold");
     let (mut world, mut handles) = scenes::aligned_heavy_stack_world(ratio);
@@ -285,6 +287,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             )?),
             None => None,
         };
+        if let Some(r) = report.as_ref().filter(|_| print_calls) {
+            let depth = r.stabilizer.as_ref().map_or(0.0, |s| s.depth_before);
+            println!(
+                "call {step}: resting {} held {} written {} depth before {depth:.3e}",
+                r.resting, r.bodies_held, r.bodies_written
+            );
+        }
         if let Some(r) = report.as_ref() {
             resting_calls += usize::from(r.resting);
             held_bodies += r.bodies_held;

@@ -57,6 +57,10 @@ pub struct RapierBridge {
     /// The awake dynamic bodies' poses as the last call left them
     /// (`super::rest`).
     last_output: RestPoses,
+    /// The awake dynamic bodies' poses as the last call that was not a
+    /// resting one left them: where a held cycle puts them back
+    /// (`super::rest`).
+    hold_anchor: RestPoses,
     /// Consecutive calls whose step passed the rest test.
     rest_streak: usize,
 }
@@ -81,6 +85,7 @@ impl RapierBridge {
             scene: Scene::new(),
             map: BodyMap::default(),
             last_output: RestPoses::default(),
+            hold_anchor: RestPoses::default(),
             rest_streak: 0,
         })
     }
@@ -240,11 +245,15 @@ impl RapierBridge {
             && !resting
             && self.settings.coupling == CouplingMode::ClosedContacts
         {
-            self.hold_cycle(&mut report, &previous, &before, bodies, parameters)?;
+            let anchor = std::mem::take(&mut self.hold_anchor);
+            self.hold_cycle(&mut report, &anchor, &before, bodies, parameters)?;
         }
         let (moved, round_off) = self.write_back(bodies, &before);
         bodies.propagate_modified_body_positions_to_colliders(colliders);
         self.last_output = dynamic_poses(&self.scene, &self.map);
+        if !resting {
+            self.hold_anchor = self.last_output.clone();
+        }
         report.bodies_written = moved.len();
         report.write_back_round_off = round_off;
         if self.settings.coupling.projects_velocities() && !moved.is_empty() {
