@@ -265,15 +265,16 @@ impl RapierBridge {
     }
 
     /// Held cycles (`super::rest`): when every body the call moved is at
-    /// rest over Rapier's step and the call, puts them back where the last
-    /// call left them and solves again from there; keeps that answer only
+    /// rest over Rapier's step and the call, puts them back at their poses
+    /// in `anchor` (where the last call that was not a resting one left
+    /// them) and solves again from there; keeps that answer only
     /// if its depth, rounded to f32, stays within the call's stated
     /// tolerance (`depth_after + 2 delta <= tolerance`), else restores the
     /// first answer.
     fn hold_cycle(
         &mut self,
         report: &mut BridgeReport,
-        previous: &RestPoses,
+        anchor: &RestPoses,
         read: &[UserPose],
         bodies: &RigidBodySet,
         parameters: &IntegrationParameters,
@@ -281,7 +282,7 @@ impl RapierBridge {
         let moved: Vec<usize> = (0..read.len())
             .filter(|&i| user_pose_of(&self.scene.bodies()[i]) != read[i])
             .collect();
-        let held = held_poses(previous, &self.scene, &self.map, &moved, bodies, parameters);
+        let held = held_poses(anchor, &self.scene, &self.map, &moved, bodies, parameters);
         // All or nothing: a cycle is held only when every body the call
         // moved is at rest in it (module docs of `rest`).
         if held.is_empty() || held.len() != moved.len() {
@@ -299,9 +300,18 @@ impl RapierBridge {
         self.scene.set_user_poses(held).map_err(scene_error)?;
         let second = self.stabilizer.stabilize(&mut self.scene)?;
         if second.depth_after + 2.0 * report.round_off_bound <= second.tolerance {
+            log::debug!(
+                "held cycle: {count} bodies back at their anchor, depth after {:.3e}",
+                second.depth_after
+            );
             report.stabilizer = Some(second);
             report.bodies_held = count;
         } else {
+            log::debug!(
+                "held cycle rejected: depth after {:.3e} from the anchor, tolerance {:.3e}",
+                second.depth_after,
+                second.tolerance
+            );
             self.scene.set_user_poses(first).map_err(scene_error)?;
         }
         Ok(())

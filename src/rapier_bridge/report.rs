@@ -74,8 +74,9 @@ pub struct BridgeReport {
     /// awake body passed Rapier's sleep test in Rapier's last three steps,
     /// and Rapier's allowed linear error was accepted.
     pub resting: bool,
-    /// Bodies put back where the last call left them
-    /// ([`super::BridgeSettings::hold_cycles`], `rapier_bridge/rest.rs`).
+    /// Bodies a held cycle put back where the last call that was not a
+    /// resting one left them ([`super::BridgeSettings::hold_cycles`],
+    /// `rapier_bridge/rest.rs`); 0 when the call held nothing.
     pub bodies_held: usize,
     /// f32 rounding of the written poses, as measured.
     pub write_back_round_off: WriteBackRoundOff,

@@ -141,10 +141,15 @@ pub struct BridgeSettings {
     /// Held cycles (`rapier_bridge/rest.rs`): in a call of
     /// [`CouplingMode::ClosedContacts`] that is not a resting one, a body
     /// the call moved whose net motion over Rapier's step and the call,
-    /// from where the last call left it, passes Rapier's sleep test is put
-    /// back there (and the call solved again from those poses), so that a
-    /// stack Rapier sinks and the call lifts is a fixed point of the
-    /// (step, call) cycle instead of a ratchet. Default true.
+    /// from where the last call that was not a resting one left it, passes
+    /// Rapier's sleep test is put back there (all of them or none, and the
+    /// call solved again from those poses; kept if the depth, rounded to
+    /// f32, stays within the stated tolerance), so that a stack Rapier
+    /// sinks and the call lifts is a fixed point of the (step, call) cycle
+    /// instead of a ratchet: the 1:100 and 1:1000 stacks of
+    /// `examples/with_and_without.rs` drift 0.43 and 0.32 mm in 300 steps
+    /// instead of 11.3 and 7.4 (`benchmarks/results/coupling.md`). Default
+    /// true.
     pub hold_cycles: bool,
 }
 
