@@ -38,7 +38,9 @@ use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::joints::{JointReadReport, JointSkipReason, RapierJoint, SkippedJoint, read_joints};
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
-use super::rest::{RESTING_STREAK, RestPoses, dynamic_poses, held_poses, is_resting};
+use super::rest::{
+    RESTING_STREAK, RestPoses, dynamic_poses, held_poses, is_resting, whole_islands,
+};
 use super::round_off::{own_lengths, raised_lengths, write_back_round_off_bound};
 use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
 use crate::body::{BodyDesc, MassSpec};
@@ -264,8 +266,9 @@ impl RapierBridge {
         Ok(report)
     }
 
-    /// Held cycles (`super::rest`): when every body the call moved is at
-    /// rest over Rapier's step and the call, puts them back at their poses
+    /// Held cycles (`super::rest`): for each island all of whose moved
+    /// bodies are at rest over Rapier's step and the call, puts them back
+    /// at their poses
     /// in `anchor` (where the last call that was not a resting one left
     /// them) and solves again from there; keeps that answer only
     /// if its depth, rounded to f32, stays within the call's stated
@@ -282,10 +285,13 @@ impl RapierBridge {
         let moved: Vec<usize> = (0..read.len())
             .filter(|&i| user_pose_of(&self.scene.bodies()[i]) != read[i])
             .collect();
+        let Some(first_report) = report.stabilizer.as_ref() else {
+            return Ok(());
+        };
         let held = held_poses(anchor, &self.scene, &self.map, &moved, bodies, parameters);
-        // All or nothing: a cycle is held only when every body the call
-        // moved is at rest in it (module docs of `rest`).
-        if held.is_empty() || held.len() != moved.len() {
+        // Per island, all or nothing (module docs of `rest`).
+        let held = whole_islands(first_report, &moved, held);
+        if held.is_empty() {
             return Ok(());
         }
         let scene_error = |e: SceneError| BridgeError::Stabilize(e.into());
