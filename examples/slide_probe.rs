@@ -6,7 +6,7 @@
 //! apart).
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example slide_probe -- [--steps N] [--ratio R] [--levels N] [--coupling plain|velocity|closed|allowed|positions] [--velocity-friction none|change|velocity] [--allowed A] [--tolerance T] [--target-margin M] [--verbose FROM TO] [--trace] [--solver-iterations N] [--no-recycling] [--coulomb] [--no-sleep]
+//! cargo run --release --features rapier,serde --example slide_probe -- [--steps N] [--ratio R] [--levels N] [--coupling plain|velocity|closed|allowed|positions] [--velocity-friction none|change|velocity] [--allowed A] [--tolerance T] [--target-margin M] [--verbose FROM TO] [--trace] [--solver-iterations N] [--no-recycling] [--coulomb] [--no-sleep] [--drift-every N] [--calls] [--no-resting] [--no-hold] [--no-collider-friction]
 //! ```
 //!
 //! - `--coupling`: the bridge's `CouplingMode` (its default otherwise);
@@ -30,6 +30,12 @@
 //!   `--no-sleep` (the boxes never sleep).
 //! - `--velocity-friction` sets the friction of the velocity projection
 //!   (`BridgeSettings::velocity_friction`; the bridge's default otherwise).
+//!
+//! - `--drift-every N`: the largest drift of any box every N steps;
+//!   `--calls`: one line per call (resting, bodies held, bodies written,
+//!   depth before); `--no-resting`, `--no-hold`, `--no-collider-friction`
+//!   turn off `BridgeSettings::resting_calls`, `hold_cycles`,
+//!   `collider_friction`.
 //!
 //! The summary ends with the largest horizontal drift of any box over the
 //! run (the figure of `examples/with_and_without.rs`) and the top's height.
