@@ -68,6 +68,7 @@
 //! [`AugmentedLagrangianFailure::NotConverged`] and the caller's fallback
 //! (clarabel) certifies the infeasibility.
 
+mod exact;
 mod hessian;
 mod line_search;
 
@@ -170,21 +171,31 @@ pub fn solve(
 ) -> Result<Candidate, AugmentedLagrangianFailure> {
     let mut state = State::new(qp, metric, settings, start);
     let target = settings.stop_fraction * start.tolerance;
-    // The warm start as it is: accepted at the caller's tolerance.
+    let warm_given = start.warm.is_some();
+    // The warm start as it is: accepted at the caller's tolerance and
+    // certified exact.
     let (warm, mut previous) = state.candidate();
-    if previous <= start.tolerance && start.warm.is_some() {
+    if warm_given && previous <= start.tolerance && state.certified_exact(&state.lambda) {
         log::trace!("augmented Lagrangian: warm start accepted as it is");
         return Ok(warm);
     }
-    if start.warm.is_some() && state.scale_warm_start() {
+    if warm_given && state.scale_warm_start() {
         let (scaled, acceptance) = state.candidate();
-        if acceptance <= start.tolerance {
+        if acceptance <= start.tolerance && state.certified_exact(&state.lambda) {
             log::trace!("augmented Lagrangian: scaled warm start accepted as it is");
             return Ok(scaled);
         }
         previous = acceptance;
     }
     let mut newton = NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal);
+    let mut tried = None;
+    if warm_given
+        && let Some(answer) =
+            state.try_exact(&mut newton, &mut tried, WARM_CORRECTIONS, start.tolerance)
+    {
+        state.log_answer(0, &newton, "exact finish from the warm start");
+        return Ok(answer);
+    }
     // The best candidate within the tolerance so far, and the outer
     // iterations in a row that did not halve the acceptance measure.
     let mut best: Option<(Candidate, f64)> = None;
@@ -197,6 +208,10 @@ pub fn solve(
         }
         state.minimize_inner(&mut newton)?;
         state.lambda = state.mu();
+        if let Some(answer) = state.try_exact(&mut newton, &mut tried, 0, start.tolerance) {
+            state.log_answer(outer + 1, &newton, "exact finish");
+            return Ok(answer);
+        }
         let (candidate, acceptance) = state.candidate();
         stalls = if acceptance > STALL_RATIO * previous {
             stalls + 1
@@ -209,23 +224,32 @@ pub fn solve(
         }
         let floor = stalls > 0 && acceptance <= STALL_FRACTION_OF_TOLERANCE * start.tolerance;
         let done = acceptance <= target || floor || stalls >= STALL_PATIENCE;
-        if done && let Some((answer, _)) = best.take() {
-            log::trace!(
-                "augmented Lagrangian: {} outer iterations, {} Newton steps \
-                 ({} of them by preconditioned CG, {} CG iterations), {} factorizations ({})",
-                outer + 1,
-                state.newton_steps,
-                state.pcg_steps,
-                state.pcg_iterations,
-                state.factorizations,
-                if newton.is_dense() { "dense" } else { "sparse" }
-            );
+        if !done {
+            continue;
+        }
+        tried = None;
+        if let Some(answer) =
+            state.try_exact(&mut newton, &mut tried, FINAL_CORRECTIONS, start.tolerance)
+        {
+            state.log_answer(outer + 1, &newton, "exact finish with corrections");
+            return Ok(answer);
+        }
+        if let Some((answer, _)) = best.take() {
+            state.log_answer(outer + 1, &newton, "not certified exact");
             return Ok(answer);
         }
     }
     best.map(|(c, _)| c)
         .ok_or(AugmentedLagrangianFailure::NotConverged)
 }
+
+/// Active-set corrections of the exact finish from a warm start (its
+/// active set is that of a neighbouring problem).
+const WARM_CORRECTIONS: usize = 2;
+
+/// Active-set corrections of the exact finish once the outer iteration
+/// has stopped.
+const FINAL_CORRECTIONS: usize = 5;
 
 /// The iterate of one solve.
 struct State<'a> {
@@ -234,6 +258,8 @@ struct State<'a> {
     settings: &'a AugmentedLagrangianSettings,
     b: DVector<f64>,
     rho: Vec<f64>,
+    /// `a_i = J_i M^-1 J_i^T`.
+    row_diagonal: Vec<f64>,
     lambda: DVector<f64>,
     dq: DVector<f64>,
     /// The active set `H` was last factored with.
@@ -257,7 +283,8 @@ impl<'a> State<'a> {
         let m = qp.num_rows();
         // A row no body moves (a_i = 0) holds or was rejected before
         // (`solve::check_zero_rows`): it gets no penalty and no force.
-        let rho = row_diagonal(qp, metric)
+        let row_diagonal = row_diagonal(qp, metric);
+        let rho = row_diagonal
             .iter()
             .map(|&a| if a > 0.0 { settings.penalty / a } else { 0.0 })
             .collect();
@@ -280,6 +307,7 @@ impl<'a> State<'a> {
             settings,
             b: qp.b(),
             rho,
+            row_diagonal,
             lambda,
             dq,
             factored: None,
@@ -289,6 +317,57 @@ impl<'a> State<'a> {
             pcg_steps: 0,
             pcg_iterations: 0,
         }
+    }
+
+    /// The exact finish (`exact`) from the current multipliers, unless
+    /// their active set is the one tried last (`tried`): the answer when it
+    /// is verified and passes the acceptance test at `tolerance`.
+    fn try_exact(
+        &mut self,
+        newton: &mut NewtonMatrix,
+        tried: &mut Option<Vec<bool>>,
+        corrections: usize,
+        tolerance: f64,
+    ) -> Option<Candidate> {
+        let active: Vec<bool> = (0..self.lambda.len())
+            .map(|i| self.rho[i] > 0.0 && (self.qp.is_equality(i) || self.lambda[i] > 0.0))
+            .collect();
+        if tried.as_deref() == Some(&active) {
+            return None;
+        }
+        *tried = Some(active);
+        let lambda = self.lambda.clone();
+        let (answer, counts) = self.exact_finish(newton, &lambda, corrections)?;
+        let dq = dq_from_lambda(self.qp, self.metric, &answer);
+        let acceptance = projection_residuals(self.qp, self.metric, &dq, &answer).acceptance();
+        log::trace!(
+            "augmented Lagrangian: exact finish verified ({} CG iterations, {} refinements, \
+             {} corrections), acceptance {acceptance:.2e}",
+            counts.cg_iterations,
+            counts.refinements,
+            counts.corrections
+        );
+        (acceptance <= tolerance).then(|| {
+            self.lambda = answer.clone();
+            Candidate {
+                dq,
+                lambda: answer,
+                iterations: self.newton_steps,
+                factorizations: self.factorizations,
+            }
+        })
+    }
+
+    fn log_answer(&self, outer: usize, newton: &NewtonMatrix, how: &str) {
+        log::trace!(
+            "augmented Lagrangian: {how} after {outer} outer iterations, {} Newton steps \
+             ({} of them by preconditioned CG, {} CG iterations), {} factorizations ({})",
+            self.newton_steps,
+            self.pcg_steps,
+            self.pcg_iterations,
+            self.factorizations,
+            if newton.is_dense() { "dense" } else { "sparse" }
+        );
     }
 
     /// Scales the multipliers by the `s >= 0` that maximizes the dual
@@ -404,14 +483,28 @@ impl<'a> State<'a> {
             }
             _ => {}
         }
+        self.ensure_factor(newton, active)?;
+        newton
+            .solve(rhs)
+            .ok_or(AugmentedLagrangianFailure::Factorization)
+    }
+
+    /// Factors `H` for `active` unless the kept factor was made for it.
+    fn ensure_factor(
+        &mut self,
+        newton: &mut NewtonMatrix,
+        active: &[bool],
+    ) -> Result<(), AugmentedLagrangianFailure> {
+        if self.factored.as_deref() == Some(active) {
+            return Ok(());
+        }
+        self.factored = None;
         newton
             .factor(self.qp, self.metric, &self.rho, active)
             .map_err(|_| AugmentedLagrangianFailure::Factorization)?;
         self.factorizations += 1;
         self.factored = Some(active.to_vec());
-        newton
-            .solve(rhs)
-            .ok_or(AugmentedLagrangianFailure::Factorization)
+        Ok(())
     }
 
     /// `H_A x = M x + sum_{i in A} rho_i J_i^T J_i x`.
