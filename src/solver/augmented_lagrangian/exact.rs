@@ -53,16 +53,21 @@ use nalgebra::DVector;
 
 use super::State;
 use super::hessian::NewtonMatrix;
-use crate::solver::residuals::{m_apply, row_violation};
+use crate::solver::residuals::{m_apply, m_inv, row_violation};
 
 /// The KKT conditions of an exact answer hold within this fraction of the
 /// correction's size (module docs): far below the 1e-6 relative agreement
-/// asked of `dq`, above the rounding of `w = b + J dq` on a few hundred
-/// rows.
-pub(super) const EXACT_BAND_REL: f64 = 1e-10;
+/// asked of `dq`, above the rounding of `dq = M^-1 J^T lambda` (the
+/// refinement's multiplier corrections `nu - R_A h` cancel about
+/// `log10 kappa` digits: measured up to 1e-10 of the correction in `w`).
+pub(super) const EXACT_BAND_REL: f64 = 1e-8;
+
+/// The refinement stops once the feasibility and stationarity errors, as
+/// row values, are this fraction of the verification band.
+const REFINED_FRACTION_OF_BAND: f64 = 1e-3;
 
 /// Refinement rounds of the KKT solve at most.
-const MAX_REFINEMENTS: usize = 4;
+const MAX_REFINEMENTS: usize = 30;
 
 /// Conjugate-gradient iterations on `S` at most, beyond the first ones
 /// per row: rounding stops it well before this on every problem measured.
@@ -71,6 +76,19 @@ const MAX_CG_ITERATIONS: usize = 200;
 /// CG on `S` stops when the preconditioned residual is this fraction of
 /// its start (the refinement rounds take the rest).
 const CG_RELATIVE_RESIDUAL: f64 = 1e-13;
+
+/// The proximal regularization of the finish, in the Jacobi-scaled dual:
+/// `S + delta R^-1` with `delta = kappa * DUAL_REGULARIZATION`, which in
+/// the preconditioned operator (eigenvalues `kappa sigma / (1 + kappa
+/// sigma)`) adds about `kappa DUAL_REGULARIZATION` to `kappa sigma`: the
+/// dual's eigenvalues `sigma` are shifted by this much, as clarabel's
+/// polish regularizes its KKT system (`-1e-9 I` on the unit-scaled rows).
+/// Each refinement round removes all but `delta / (delta + e)` of an error
+/// along an eigenvalue `e`; directions of near-redundant rows (`sigma`
+/// below it) keep the split of the multipliers the finish started from
+/// instead of the huge opposite forces their exact solution on a wrong
+/// active set would ask for.
+const DUAL_REGULARIZATION: f64 = 1e-9;
 
 /// The counts of one exact finish, for the log.
 #[derive(Debug, Default, Clone, Copy)]
@@ -107,8 +125,28 @@ impl State<'_> {
             if self.qp.is_equality(i) {
                 return self.rho[i] == 0.0 || wi.abs() <= band;
             }
-            wi >= -band && (lambda[i] == 0.0 || wi <= band)
+            let ok = wi >= -band && (lambda[i] == 0.0 || wi <= band);
+            if !ok && std::env::var_os("ALDBG").is_some() && w.len() <= 2 { eprintln!("FAIL row {i} w {wi:e} band {band:e} lambda {:e} b {:e} rho {:e}", lambda[i], self.b[i], self.rho[i]); }
+            ok
         })
+    }
+
+    /// The active set of `lambda`: the equality rows, and the inequality
+    /// rows whose multiplier, as the displacement `lambda_i a_i` it alone
+    /// would cause, exceeds the row's value `w_i` at
+    /// `dq = M^-1 J^T lambda` (as the interior point's polish compares
+    /// `z_i` with `s_i`): a row the iterate pushes a little while it is
+    /// clear of its target is a degenerate row, not an active one.
+    pub(super) fn active_guess(&self, lambda: &DVector<f64>) -> Vec<bool> {
+        let lambda = self.clamped(lambda);
+        let dq = crate::solver::projection_lcp::dq_from_lambda(self.qp, self.metric, &lambda);
+        let w = self.w(&dq);
+        (0..lambda.len())
+            .map(|i| {
+                self.rho[i] > 0.0
+                    && (self.qp.is_equality(i) || lambda[i] * self.row_diagonal[i] > w[i])
+            })
+            .collect()
     }
 
     /// `lambda` with its inequality entries clamped at 0.
@@ -133,15 +171,14 @@ impl State<'_> {
     ) -> Option<(DVector<f64>, FinishCounts)> {
         let m = lambda.len();
         let mut counts = FinishCounts::default();
-        let mut active: Vec<bool> = (0..m)
-            .map(|i| self.rho[i] > 0.0 && (self.qp.is_equality(i) || lambda[i] > 0.0))
-            .collect();
+        let active_guess = self.active_guess(lambda);
+        let mut active = active_guess;
         let mut lambda = DVector::from_fn(m, |i, _| if active[i] { lambda[i] } else { 0.0 });
         let band = EXACT_BAND_REL * self.correction_length();
         for round in 0..=corrections {
             self.ensure_factor(newton, &active).ok()?;
-            lambda = self.refine(newton, &active, lambda, &mut counts)?;
-            let dq = crate::solver::projection_lcp::dq_from_lambda(self.qp, self.metric, &lambda);
+            let dq;
+            (lambda, dq) = self.refine(newton, &active, lambda, &mut counts)?;
             let w = self.w(&dq);
             let a = &self.row_diagonal;
             let next: Vec<bool> = (0..m)
@@ -157,9 +194,18 @@ impl State<'_> {
                     }
                 })
                 .collect();
+            if std::env::var_os("ALDBG").is_some() {
+                let worst_w = (0..m).filter(|&i| !self.qp.is_equality(i)).map(|i| if active[i] { w[i].abs() } else { (-w[i]).max(0.0) }).fold(0.0, f64::max);
+                let worst_l = (0..m).filter(|&i| active[i] && !self.qp.is_equality(i)).map(|i| (-lambda[i]*a[i]).max(0.0)).fold(0.0, f64::max);
+                let changes = next.iter().zip(&active).filter(|(x, y)| x != y).count();
+                eprintln!("EXACT round {round} m {m} active {} changes {changes} worst_w/L {:.2e} worst_l/L {:.2e} counts {counts:?}", active.iter().filter(|x| **x).count(), worst_w / self.correction_length(), worst_l / self.correction_length());
+            }
             if next == active {
                 let answer = self.clamped(&lambda);
-                return self.certified_exact(&answer).then_some((answer, counts));
+                if std::env::var_os("ALDBG").is_some() { eprintln!("CERT {}", self.certified_exact(&answer)); }
+                return self
+                    .certified_exact(&answer)
+                    .then_some((answer, counts));
             }
             if round == corrections {
                 break;
@@ -176,14 +222,16 @@ impl State<'_> {
     }
 
     /// Iterative refinement of the KKT system of `active` from `lambda`
-    /// (module docs), with `H` factored for `active`.
+    /// (module docs), with `H` factored for `active`: the multipliers and
+    /// `dq` (whose row values are more accurate than those of
+    /// `M^-1 J^T lambda`, which cancel digits).
     fn refine(
         &self,
         newton: &mut NewtonMatrix,
         active: &[bool],
         mut lambda: DVector<f64>,
         counts: &mut FinishCounts,
-    ) -> Option<DVector<f64>> {
+    ) -> Option<(DVector<f64>, DVector<f64>)> {
         let mask = |v: &mut DVector<f64>| {
             for (x, &a) in v.iter_mut().zip(active) {
                 if !a {
@@ -197,7 +245,10 @@ impl State<'_> {
             let g = m_apply(self.metric, &dq) - self.qp.apply_jt(&lambda);
             let mut h = -self.w(&dq);
             mask(&mut h);
-            if h.amax() <= 1e-3 * band {
+            // The stationarity error as row values: what `dq = M^-1 J^T
+            // lambda` would add to `w`.
+            let g_rows = self.qp.apply_j(&m_inv(self.metric, &g));
+            if h.amax().max(g_rows.amax()) <= REFINED_FRACTION_OF_BAND * band {
                 break;
             }
             counts.refinements += 1;
@@ -213,7 +264,7 @@ impl State<'_> {
                 return None;
             }
         }
-        Some(lambda)
+        Some((lambda, dq))
     }
 
     /// Solves `S nu = rhs` (`S = J_A H^-1 J_A^T` on the rows of `active`,
@@ -237,6 +288,17 @@ impl State<'_> {
         };
         let precondition =
             |r: &DVector<f64>| DVector::from_fn(r.len(), |i, _| self.rho[i] * r[i]);
+        // `S + delta R^-1` (the preconditioned operator plus `delta I`):
+        // bounded answers where `S` is singular and the system is not
+        // consistent (a wrong active set, then corrected).
+        let delta = self.settings.penalty * DUAL_REGULARIZATION;
+        let regularize = |x: &DVector<f64>, sx: &mut DVector<f64>| {
+            for i in 0..x.len() {
+                if active[i] && self.rho[i] > 0.0 {
+                    sx[i] += delta * x[i] / self.rho[i];
+                }
+            }
+        };
         let mut x = DVector::zeros(rhs.len());
         let mut r = rhs.clone();
         let mut z = precondition(&r);
@@ -250,7 +312,8 @@ impl State<'_> {
             return None;
         }
         for _ in 0..MAX_CG_ITERATIONS {
-            let sp = apply_s(newton, &p)?;
+            let mut sp = apply_s(newton, &p)?;
+            regularize(&p, &mut sp);
             let curvature = p.dot(&sp);
             if !curvature.is_finite() || curvature <= 0.0 {
                 break;
