@@ -268,7 +268,7 @@ const WARM_CORRECTIONS: usize = 2;
 
 /// Active-set corrections of the exact finish once the outer iteration
 /// has stopped.
-const FINAL_CORRECTIONS: usize = 5;
+const FINAL_CORRECTIONS: usize = 3;
 
 /// The iterate of one solve.
 struct State<'a> {
@@ -366,7 +366,6 @@ impl<'a> State<'a> {
             counts.refinements,
             counts.corrections
         );
-        if std::env::var_os("ALDBG").is_some() { eprintln!("ACC {acceptance:e} tol {tolerance:e}"); }
         (acceptance <= tolerance).then(|| {
             self.lambda = answer.clone();
             Candidate {
@@ -379,9 +378,6 @@ impl<'a> State<'a> {
     }
 
     fn log_answer(&self, outer: usize, newton: &NewtonMatrix, how: &str) {
-        if std::env::var_os("ALDBG").is_some() {
-            eprintln!("ANSWER {how} m {} outer {outer} newton {} fact {}", self.lambda.len(), self.newton_steps, self.factorizations);
-        }
         log::trace!(
             "augmented Lagrangian: {how} after {outer} outer iterations, {} Newton steps \
              ({} of them by preconditioned CG, {} CG iterations), {} factorizations ({})",
