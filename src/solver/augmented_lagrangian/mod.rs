@@ -52,16 +52,26 @@
 //! costs one numeric factorization, the symbolic analysis of the sparse
 //! factor is done once per problem (`hessian`).
 //!
-//! **Answer**: `lambda = mu` and `dq = M^-1 J^T lambda` (stationarity
-//! exact), accepted by the same test as every other solver
-//! ([`super::residuals`]: feasibility and duality gap of `dq`, at most the
-//! tolerance). A **warm start** (multipliers of a previous, similar
-//! problem) is first checked as it is: if `M^-1 J^T lambda_0` already
-//! passes, the solver returns it with zero iterations and no
-//! factorization. Else it is scaled by the `s >= 0` that maximizes the
-//! dual function along it (`State::scale_warm_start`: multipliers of a
-//! previous pass carry that pass's violation, often a thousand times this
-//! one's), checked again, and the method starts from it.
+//! **Answer**: after every outer iteration whose active set has not been
+//! tried, the exact finish (`exact`): the equality-constrained QP of that
+//! active set solved to rounding with the kept factor, its KKT conditions
+//! verified to a band relative to the correction itself. A verified answer
+//! `lambda`, `dq = M^-1 J^T lambda` (stationarity exact) that passes the
+//! acceptance test of every solver ([`super::residuals`]) is returned.
+//! When the outer iteration stops (its acceptance measure at most
+//! [`AugmentedLagrangianSettings::stop_fraction`] of the tolerance, or a
+//! stall) without a verified answer, the finish is tried once more with
+//! active-set corrections; else the best accepted iterate is returned, or
+//! with [`AugmentedLagrangianSettings::exact_only`] the solve fails with
+//! [`AugmentedLagrangianFailure::NotExact`]. A **warm start** (multipliers
+//! of a previous, similar problem) is first checked as it is: if it passes
+//! the acceptance test and the finish's verification, the solver returns
+//! it with zero iterations and no factorization. Else it is scaled by the
+//! `s >= 0` that maximizes the dual function along it
+//! (`State::scale_warm_start`: multipliers of a previous pass carry that
+//! pass's violation, often a thousand times this one's), checked again,
+//! the exact finish is tried on its active set, and the method starts
+//! from it.
 //!
 //! **Infeasible problems** (rows no correction can satisfy) make `lambda`
 //! grow without bound; the method stops at its iteration limit with
