@@ -337,6 +337,18 @@ impl Run {
             },
             Run::Default => BridgeSettings::default(),
         };
+        let mut settings = settings;
+        // `WITH_AND_WITHOUT_AL_MIN_ROWS=N`: `Auto` solves islands from N
+        // rows with the augmented Lagrangian (measurements of issue 21).
+        if let Some(rows) = std::env::var("WITH_AND_WITHOUT_AL_MIN_ROWS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+        {
+            settings
+                .stabilizer
+                .solver
+                .auto_augmented_lagrangian_min_rows = rows;
+        }
         Some(RapierBridge::with_settings(settings).expect("valid settings"))
     }
 }

@@ -52,22 +52,33 @@
 //! costs one numeric factorization, the symbolic analysis of the sparse
 //! factor is done once per problem (`hessian`).
 //!
-//! **Answer**: `lambda = mu` and `dq = M^-1 J^T lambda` (stationarity
-//! exact), accepted by the same test as every other solver
-//! ([`super::residuals`]: feasibility and duality gap of `dq`, at most the
-//! tolerance). A **warm start** (multipliers of a previous, similar
-//! problem) is first checked as it is: if `M^-1 J^T lambda_0` already
-//! passes, the solver returns it with zero iterations and no
-//! factorization. Else it is scaled by the `s >= 0` that maximizes the
-//! dual function along it (`State::scale_warm_start`: multipliers of a
-//! previous pass carry that pass's violation, often a thousand times this
-//! one's), checked again, and the method starts from it.
+//! **Answer**: after every outer iteration whose active set has not been
+//! tried, the exact finish (`exact`): the equality-constrained QP of that
+//! active set solved to rounding with the kept factor, its KKT conditions
+//! verified to a band relative to the correction itself. A verified answer
+//! `lambda`, `dq = M^-1 J^T lambda` (stationarity exact) that passes the
+//! acceptance test of every solver ([`super::residuals`]) is returned.
+//! When the outer iteration stops (its acceptance measure at most
+//! [`AugmentedLagrangianSettings::stop_fraction`] of the tolerance, or a
+//! stall) without a verified answer, the finish is tried once more with
+//! active-set corrections; else the best accepted iterate is returned, or
+//! with [`AugmentedLagrangianSettings::exact_only`] the solve fails with
+//! [`AugmentedLagrangianFailure::NotExact`]. A **warm start** (multipliers
+//! of a previous, similar problem) is first checked as it is: if it passes
+//! the acceptance test and the finish's verification, the solver returns
+//! it with zero iterations and no factorization. Else it is scaled by the
+//! `s >= 0` that maximizes the dual function along it
+//! (`State::scale_warm_start`: multipliers of a previous pass carry that
+//! pass's violation, often a thousand times this one's), checked again,
+//! the exact finish is tried on its active set, and the method starts
+//! from it.
 //!
 //! **Infeasible problems** (rows no correction can satisfy) make `lambda`
 //! grow without bound; the method stops at its iteration limit with
 //! [`AugmentedLagrangianFailure::NotConverged`] and the caller's fallback
 //! (clarabel) certifies the infeasibility.
 
+mod exact;
 mod hessian;
 mod line_search;
 
@@ -120,6 +131,14 @@ pub struct AugmentedLagrangianSettings {
     /// true, chosen by measurement (`benchmarks/results/solvers.md`: the
     /// box bins 143-184 ms a call against 212-290 ms).
     pub supernodal: bool,
+    /// Only answers certified as the exact minimizer (`exact`: the
+    /// equality-constrained QP of the found active set solved to rounding,
+    /// its KKT conditions verified to `1e-9` of the correction) are
+    /// returned; an answer that only passes the acceptance test is
+    /// [`AugmentedLagrangianFailure::NotExact`] and the caller falls back
+    /// (clarabel, polished). Default true: settled scenes rest only on exact
+    /// answers (`benchmarks/results/coupling.md`, last section).
+    pub exact_only: bool,
 }
 
 impl Default for AugmentedLagrangianSettings {
@@ -132,6 +151,7 @@ impl Default for AugmentedLagrangianSettings {
             stop_fraction: 1e-3,
             max_rows_changed_without_factorization: 0,
             supernodal: true,
+            exact_only: true,
         }
     }
 }
@@ -147,6 +167,10 @@ pub enum AugmentedLagrangianFailure {
     Factorization,
     /// The deadline passed.
     Deadline,
+    /// The answer passed the acceptance test but the exact finish could
+    /// not certify it as the exact minimizer
+    /// ([`AugmentedLagrangianSettings::exact_only`]).
+    NotExact,
 }
 
 /// The inputs of one solve beside the problem.
@@ -170,21 +194,31 @@ pub fn solve(
 ) -> Result<Candidate, AugmentedLagrangianFailure> {
     let mut state = State::new(qp, metric, settings, start);
     let target = settings.stop_fraction * start.tolerance;
-    // The warm start as it is: accepted at the caller's tolerance.
+    let warm_given = start.warm.is_some();
+    // The warm start as it is: accepted at the caller's tolerance and
+    // certified exact.
     let (warm, mut previous) = state.candidate();
-    if previous <= start.tolerance && start.warm.is_some() {
+    if warm_given && previous <= start.tolerance && state.certified_exact(&state.lambda) {
         log::trace!("augmented Lagrangian: warm start accepted as it is");
         return Ok(warm);
     }
-    if start.warm.is_some() && state.scale_warm_start() {
+    if warm_given && state.scale_warm_start() {
         let (scaled, acceptance) = state.candidate();
-        if acceptance <= start.tolerance {
+        if acceptance <= start.tolerance && state.certified_exact(&state.lambda) {
             log::trace!("augmented Lagrangian: scaled warm start accepted as it is");
             return Ok(scaled);
         }
         previous = acceptance;
     }
     let mut newton = NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal);
+    let mut tried = None;
+    if warm_given
+        && let Some(answer) =
+            state.try_exact(&mut newton, &mut tried, WARM_CORRECTIONS, start.tolerance)
+    {
+        state.log_answer(0, &newton, "exact finish from the warm start");
+        return Ok(answer);
+    }
     // The best candidate within the tolerance so far, and the outer
     // iterations in a row that did not halve the acceptance measure.
     let mut best: Option<(Candidate, f64)> = None;
@@ -197,6 +231,10 @@ pub fn solve(
         }
         state.minimize_inner(&mut newton)?;
         state.lambda = state.mu();
+        if let Some(answer) = state.try_exact(&mut newton, &mut tried, 0, start.tolerance) {
+            state.log_answer(outer + 1, &newton, "exact finish");
+            return Ok(answer);
+        }
         let (candidate, acceptance) = state.candidate();
         stalls = if acceptance > STALL_RATIO * previous {
             stalls + 1
@@ -209,23 +247,38 @@ pub fn solve(
         }
         let floor = stalls > 0 && acceptance <= STALL_FRACTION_OF_TOLERANCE * start.tolerance;
         let done = acceptance <= target || floor || stalls >= STALL_PATIENCE;
-        if done && let Some((answer, _)) = best.take() {
-            log::trace!(
-                "augmented Lagrangian: {} outer iterations, {} Newton steps \
-                 ({} of them by preconditioned CG, {} CG iterations), {} factorizations ({})",
-                outer + 1,
-                state.newton_steps,
-                state.pcg_steps,
-                state.pcg_iterations,
-                state.factorizations,
-                if newton.is_dense() { "dense" } else { "sparse" }
-            );
+        if !done {
+            continue;
+        }
+        tried = None;
+        if let Some(answer) =
+            state.try_exact(&mut newton, &mut tried, FINAL_CORRECTIONS, start.tolerance)
+        {
+            state.log_answer(outer + 1, &newton, "exact finish with corrections");
+            return Ok(answer);
+        }
+        if let Some((answer, _)) = best.take() {
+            state.log_answer(outer + 1, &newton, "not certified exact");
+            if settings.exact_only {
+                return Err(AugmentedLagrangianFailure::NotExact);
+            }
             return Ok(answer);
         }
     }
-    best.map(|(c, _)| c)
-        .ok_or(AugmentedLagrangianFailure::NotConverged)
+    match best {
+        Some(_) if settings.exact_only => Err(AugmentedLagrangianFailure::NotExact),
+        Some((answer, _)) => Ok(answer),
+        None => Err(AugmentedLagrangianFailure::NotConverged),
+    }
 }
+
+/// Active-set corrections of the exact finish from a warm start (its
+/// active set is that of a neighbouring problem).
+const WARM_CORRECTIONS: usize = 2;
+
+/// Active-set corrections of the exact finish once the outer iteration
+/// has stopped.
+const FINAL_CORRECTIONS: usize = 3;
 
 /// The iterate of one solve.
 struct State<'a> {
@@ -234,6 +287,8 @@ struct State<'a> {
     settings: &'a AugmentedLagrangianSettings,
     b: DVector<f64>,
     rho: Vec<f64>,
+    /// `a_i = J_i M^-1 J_i^T`.
+    row_diagonal: Vec<f64>,
     lambda: DVector<f64>,
     dq: DVector<f64>,
     /// The active set `H` was last factored with.
@@ -257,7 +312,8 @@ impl<'a> State<'a> {
         let m = qp.num_rows();
         // A row no body moves (a_i = 0) holds or was rejected before
         // (`solve::check_zero_rows`): it gets no penalty and no force.
-        let rho = row_diagonal(qp, metric)
+        let row_diagonal = row_diagonal(qp, metric);
+        let rho = row_diagonal
             .iter()
             .map(|&a| if a > 0.0 { settings.penalty / a } else { 0.0 })
             .collect();
@@ -280,6 +336,7 @@ impl<'a> State<'a> {
             settings,
             b: qp.b(),
             rho,
+            row_diagonal,
             lambda,
             dq,
             factored: None,
@@ -289,6 +346,57 @@ impl<'a> State<'a> {
             pcg_steps: 0,
             pcg_iterations: 0,
         }
+    }
+
+    /// The exact finish (`exact`) from the current multipliers, unless
+    /// their active set is the one tried last (`tried`): the answer when it
+    /// is verified and passes the acceptance test at `tolerance`.
+    fn try_exact(
+        &mut self,
+        newton: &mut NewtonMatrix,
+        tried: &mut Option<Vec<bool>>,
+        corrections: usize,
+        tolerance: f64,
+    ) -> Option<Candidate> {
+        let active = self.active_guess(&self.lambda);
+        if tried.as_deref() == Some(&active) {
+            return None;
+        }
+        *tried = Some(active);
+        let lambda = self.lambda.clone();
+        let (answer, counts) = self.exact_finish(newton, &lambda, corrections)?;
+        // Stationarity exact, as every answer of the solver (the refined
+        // `dq` differs from it by the rounding of the multipliers).
+        let dq = dq_from_lambda(self.qp, self.metric, &answer);
+        let acceptance = projection_residuals(self.qp, self.metric, &dq, &answer).acceptance();
+        log::trace!(
+            "augmented Lagrangian: exact finish verified ({} CG iterations, {} refinements, \
+             {} corrections), acceptance {acceptance:.2e}",
+            counts.cg_iterations,
+            counts.refinements,
+            counts.corrections
+        );
+        (acceptance <= tolerance).then(|| {
+            self.lambda = answer.clone();
+            Candidate {
+                dq,
+                lambda: answer,
+                iterations: self.newton_steps,
+                factorizations: self.factorizations,
+            }
+        })
+    }
+
+    fn log_answer(&self, outer: usize, newton: &NewtonMatrix, how: &str) {
+        log::trace!(
+            "augmented Lagrangian: {how} after {outer} outer iterations, {} Newton steps \
+             ({} of them by preconditioned CG, {} CG iterations), {} factorizations ({})",
+            self.newton_steps,
+            self.pcg_steps,
+            self.pcg_iterations,
+            self.factorizations,
+            if newton.is_dense() { "dense" } else { "sparse" }
+        );
     }
 
     /// Scales the multipliers by the `s >= 0` that maximizes the dual
@@ -404,14 +512,28 @@ impl<'a> State<'a> {
             }
             _ => {}
         }
+        self.ensure_factor(newton, active)?;
+        newton
+            .solve(rhs)
+            .ok_or(AugmentedLagrangianFailure::Factorization)
+    }
+
+    /// Factors `H` for `active` unless the kept factor was made for it.
+    fn ensure_factor(
+        &mut self,
+        newton: &mut NewtonMatrix,
+        active: &[bool],
+    ) -> Result<(), AugmentedLagrangianFailure> {
+        if self.factored.as_deref() == Some(active) {
+            return Ok(());
+        }
+        self.factored = None;
         newton
             .factor(self.qp, self.metric, &self.rho, active)
             .map_err(|_| AugmentedLagrangianFailure::Factorization)?;
         self.factorizations += 1;
         self.factored = Some(active.to_vec());
-        newton
-            .solve(rhs)
-            .ok_or(AugmentedLagrangianFailure::Factorization)
+        Ok(())
     }
 
     /// `H_A x = M x + sum_{i in A} rho_i J_i^T J_i x`.

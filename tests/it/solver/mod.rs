@@ -7,6 +7,7 @@ mod augmented_lagrangian;
 mod deadline;
 mod dense_limit;
 mod equality_rows;
+mod exact_engine_states;
 mod fallback_sizes;
 mod friction_cone;
 mod friction_cone_unit;
