@@ -7,6 +7,7 @@ mod closed_forms;
 mod mass;
 mod oracle;
 mod scenes;
+mod support;
 
 use constraint_stabilization::body::Body;
 use constraint_stabilization::internals::contact::{self, BodyGeometry, PairQuery};
