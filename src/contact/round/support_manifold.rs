@@ -15,7 +15,11 @@
 //!   with `q = p - (n . p - t_B) n` on B's plane when `q` lies in B (within
 //!   [`CONTAINS_SLACK_RELATIVE`]): separation `n . p - t_B`, the point's
 //!   own height above B's plane;
-//! - the same for B's outline points, onto A's plane.
+//! - the same for B's outline points, onto A's plane;
+//! - for an outline point whose partner falls outside the other solid,
+//!   the last point of the chord from the central point towards it whose
+//!   partner is still in it (by bisection): the touching feature clipped
+//!   by the other's (a capsule across a cap's rim, a cap over an edge).
 //!
 //! Every point pairs a point of A with a point of B straight along `n`, so
 //! a row's lever arms are those of the contact. A cylinder on its cap gets
@@ -30,21 +34,22 @@ use nalgebra::{Point3, Vector3};
 use super::support_map::PosedCore;
 use super::{CorePoint, MAX_ROUND_POINTS};
 
-/// Height above a support plane, relative to the pair's size, within which
-/// an outline point belongs to the touching feature.
+/// Height above a support plane, relative to the smaller solid's size,
+/// within which an outline point belongs to the touching feature.
 pub const FEATURE_WINDOW_RELATIVE: f64 = 1e-2;
 
-/// Distance, relative to the pair's size, by which a point projected onto
+/// Distance, relative to the smaller solid's size, by which a point projected onto
 /// the other's support plane may lie outside the other solid and still
 /// count as on it (the rounding of the projection; two nearly parallel side
 /// lines).
-pub const CONTAINS_SLACK_RELATIVE: f64 = 1e-6;
+pub const CONTAINS_SLACK_RELATIVE: f64 = 1e-2;
 
-/// Two contact points closer than this, relative to the size, are one.
+/// Two contact points closer than this, relative to the smaller solid's
+/// size, are one.
 pub const SAME_POINT_RELATIVE: f64 = 1e-6;
 
-/// The contact points of two cores along unit `n` (module docs), and how
-/// many of them are valid.
+/// The contact points of two cores along unit `n` (module docs), `size`
+/// the smaller solid's, and how many of them are valid.
 pub fn points(
     a: &PosedCore,
     b: &PosedCore,
@@ -72,29 +77,70 @@ pub fn points(
     let window = FEATURE_WINDOW_RELATIVE * size;
     let slack = CONTAINS_SLACK_RELATIVE * size;
     let mut candidates = vec![central];
-    for p in a.outline(&-n) {
-        let height = n.dot(&p.coords);
-        let q = p - n * (height - top_b);
-        if height <= top_a + window && b.contains(&q, slack) {
-            candidates.push(CorePoint {
-                on_a: p,
-                on_b: q,
-                separation: height - top_b,
-            });
-        }
-    }
-    for q in b.outline(n) {
-        let height = n.dot(&q.coords);
-        let p = q + n * (top_a - height);
-        if height >= top_b - window && a.contains(&p, slack) {
-            candidates.push(CorePoint {
-                on_a: p,
-                on_b: q,
-                separation: top_a - height,
-            });
+    // A's points over B's plane, then B's under A's plane (`flip`): the
+    // outline point, and where it leaves the other solid, the last point
+    // on the chord from the central point towards it that stays over the
+    // other (its feature clipped by the other's).
+    for (ours, theirs, from, flip) in [(a, b, central.on_a, 1.0), (b, a, central.on_b, -1.0)] {
+        let (own_top, other_top) = if flip > 0.0 { (top_a, top_b) } else { (top_b, top_a) };
+        let d = n * flip;
+        let over = |p: &Point3<f64>| {
+            let height = n.dot(&p.coords);
+            theirs.contains(&(p - n * (height - other_top)), slack)
+        };
+        for p in ours.outline(&-d) {
+            let height = n.dot(&p.coords);
+            if flip * (height - own_top) > window {
+                continue;
+            }
+            let kept = if over(&p) {
+                Some(p)
+            } else {
+                clip(&from, &p, &over, slack)
+            };
+            if let Some(p) = kept {
+                let height = n.dot(&p.coords);
+                let partner = p - n * (height - other_top);
+                let (on_a, on_b) = if flip > 0.0 { (p, partner) } else { (partner, p) };
+                candidates.push(CorePoint {
+                    on_a,
+                    on_b,
+                    separation: n.dot(&(on_a - on_b)),
+                });
+            }
         }
     }
     reduce(&candidates, n, SAME_POINT_RELATIVE * size)
+}
+
+/// Steps of the bisection that clips a chord to the other solid.
+pub const CLIP_BISECTIONS: usize = 30;
+
+/// The last point of the chord from `from` (over the other solid) towards
+/// `to` (not over it) that is still over it, by bisection to `slack`;
+/// `None` when `from` itself is not over it.
+fn clip(
+    from: &Point3<f64>,
+    to: &Point3<f64>,
+    over: &impl Fn(&Point3<f64>) -> bool,
+    slack: f64,
+) -> Option<Point3<f64>> {
+    if !over(from) {
+        return None;
+    }
+    let (mut inside, mut outside) = (0.0, 1.0);
+    for _ in 0..CLIP_BISECTIONS {
+        if (outside - inside) * (to - from).norm() <= slack {
+            break;
+        }
+        let middle = 0.5 * (inside + outside);
+        if over(&(from + (to - from) * middle)) {
+            inside = middle;
+        } else {
+            outside = middle;
+        }
+    }
+    (inside > 0.0).then(|| from + (to - from) * inside)
 }
 
 /// At most [`MAX_ROUND_POINTS`] of `candidates` (module docs); the first

@@ -8,6 +8,7 @@ mod mass;
 mod oracle;
 mod scenes;
 mod support;
+mod support_closed_forms;
 
 use constraint_stabilization::body::Body;
 use constraint_stabilization::internals::contact::{self, BodyGeometry, PairQuery};
