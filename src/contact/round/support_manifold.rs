@@ -34,22 +34,26 @@ use nalgebra::{Point3, Vector3};
 use super::support_map::PosedCore;
 use super::{CorePoint, MAX_ROUND_POINTS};
 
-/// Height above a support plane, relative to the smaller solid's size,
-/// within which an outline point belongs to the touching feature.
-pub const FEATURE_WINDOW_RELATIVE: f64 = 1e-2;
+/// Height above a support plane, relative to the pair's size, within
+/// which an outline point belongs to the touching feature (at `1e-2` a
+/// lying cylinder's rim samples next to its bottom line, 1.1 cm above the
+/// face, were kept as the farthest points and then dropped by the contact
+/// margin, leaving no row at the ends of the line).
+pub const FEATURE_WINDOW_RELATIVE: f64 = 1e-3;
 
-/// Distance, relative to the smaller solid's size, by which a point projected onto
+/// Distance, relative to the pair's size, by which a point projected onto
 /// the other's support plane may lie outside the other solid and still
 /// count as on it (the rounding of the projection; two nearly parallel side
 /// lines).
 pub const CONTAINS_SLACK_RELATIVE: f64 = 1e-2;
 
-/// Two contact points closer than this, relative to the smaller solid's
-/// size, are one.
+/// Two contact points closer than this, relative to the pair's size, are
+/// one.
 pub const SAME_POINT_RELATIVE: f64 = 1e-6;
 
 /// The contact points of two cores along unit `n` (module docs), `size`
-/// the smaller solid's, and how many of them are valid.
+/// the pair's (both reaches and the centres' distance), and how many of
+/// them are valid.
 pub fn points(
     a: &PosedCore,
     b: &PosedCore,
@@ -82,7 +86,11 @@ pub fn points(
     // on the chord from the central point towards it that stays over the
     // other (its feature clipped by the other's).
     for (ours, theirs, from, flip) in [(a, b, central.on_a, 1.0), (b, a, central.on_b, -1.0)] {
-        let (own_top, other_top) = if flip > 0.0 { (top_a, top_b) } else { (top_b, top_a) };
+        let (own_top, other_top) = if flip > 0.0 {
+            (top_a, top_b)
+        } else {
+            (top_b, top_a)
+        };
         let d = n * flip;
         let over = |p: &Point3<f64>| {
             let height = n.dot(&p.coords);
@@ -101,7 +109,11 @@ pub fn points(
             if let Some(p) = kept {
                 let height = n.dot(&p.coords);
                 let partner = p - n * (height - other_top);
-                let (on_a, on_b) = if flip > 0.0 { (p, partner) } else { (partner, p) };
+                let (on_a, on_b) = if flip > 0.0 {
+                    (p, partner)
+                } else {
+                    (partner, p)
+                };
                 candidates.push(CorePoint {
                     on_a,
                     on_b,
