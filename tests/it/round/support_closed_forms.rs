@@ -246,3 +246,52 @@ fn support_rim_on_a_face_is_resolved() {
         "oracle depth after {residual:e}"
     );
 }
+
+/// The Rapier pile of 60 round and curved bodies after 5 s
+/// (`tests/data/engine/rp08_mixed_pile.json`) with the support path: the
+/// depth reported before the call is the oracle's on the true shapes (no
+/// deviation), the call converges, and the oracle's depth after is within
+/// the tolerance. The call's time is printed beside the polyhedra's (never
+/// asserted).
+#[cfg(feature = "serde")]
+#[test]
+fn support_rapier_mixed_pile_state_is_resolved_by_the_oracle() {
+    /// Agreement of the library's depth with the oracle's, relative to the
+    /// scene's scale.
+    const ORACLE_AGREEMENT_RELATIVE: f64 = 1e-7;
+    let scene = super::rp08_mixed_pile();
+    let (before, _) = dev_support::sat::sat_deepest(&scene);
+    let mut polyhedra = scene.clone();
+    let start = std::time::Instant::now();
+    let (report_polyhedra, _) = stabilize_with(&mut polyhedra, Settings::default());
+    let polyhedra_seconds = start.elapsed().as_secs_f64();
+    let mut settings = Settings::default();
+    settings.vclip.curved_support_functions = true;
+    let mut support = scene.clone();
+    let start = std::time::Instant::now();
+    let (report, _) = stabilize_with(&mut support, settings);
+    let support_seconds = start.elapsed().as_secs_f64();
+    let (residual, _) = dev_support::sat::sat_deepest(&support);
+    println!(
+        "{}",
+        describe("rp08_mixed_pile (support)", &report, residual)
+    );
+    println!(
+        "rp08_mixed_pile: call {:.1} ms with support functions ({} passes), {:.1} ms with polyhedra ({} passes); oracle before {before:.6e}",
+        1e3 * support_seconds,
+        report.passes,
+        1e3 * polyhedra_seconds,
+        report_polyhedra.passes
+    );
+    let slack = ORACLE_AGREEMENT_RELATIVE * report.scale;
+    assert!(
+        (report.depth_before - before).abs() <= slack,
+        "reported {:e}, oracle {before:e}",
+        report.depth_before
+    );
+    assert_eq!(report.status, Status::Converged);
+    assert!(
+        residual <= report.tolerance,
+        "oracle depth after {residual:e}"
+    );
+}
