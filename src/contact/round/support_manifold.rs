@@ -24,10 +24,11 @@
 //! Every point pairs a point of A with a point of B straight along `n`, so
 //! a row's lever arms are those of the contact. A cylinder on its cap gets
 //! the rim samples over a face (and the face's corners over the cap), a
-//! cylinder lying on its side the ends of its side line, a rim on an edge
-//! the central point alone. At most [`MAX_ROUND_POINTS`] are kept: the
-//! deepest, the farthest from it, and the farthest on each side of the
-//! line through those two.
+//! cylinder lying on its side the ends of its side line; the containment
+//! slack adds clipped points up to `sqrt(2 r slack)` beside a side line or
+//! a rim (rows asking at most the slack more than needed). At most
+//! [`MAX_ROUND_POINTS`] are kept: the deepest, the farthest from it, and
+//! the farthest on each side of the line through those two.
 
 use nalgebra::{Point3, Vector3};
 
