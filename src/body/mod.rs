@@ -160,7 +160,11 @@ impl Shape {
     /// or cone of radius `r` (its circumscribed `N`-gon,
     /// [`crate::geometry::curved`]; at most
     /// [`crate::geometry::curved::CURVED_DEVIATION_RELATIVE`] of `r`), the
-    /// largest part's for a compound, 0 for every exact shape.
+    /// largest part's for a compound, 0 for every exact shape. This is the
+    /// default narrow phase's; with
+    /// [`crate::vclip::VClipSettings::curved_support_functions`] cylinders
+    /// and cones are queried on their true solids and this bound does not
+    /// apply (their error is then measured: `docs/round-shapes.md`).
     pub fn surface_deviation(&self) -> f64 {
         let sides = curved::sides_for(curved::CURVED_DEVIATION_RELATIVE);
         match self {

@@ -15,7 +15,7 @@
 //! | sphere, capsule | the box that holds the solid (never queried) | point / segment core | closed form |
 //! | rounded cuboid | the cuboid (the core) | polyhedron core | closed form |
 //! | rounded hull | the hull (the core) | polyhedron core | inscribed approximation |
-//! | cylinder, cone | circumscribed approximation (`geometry::curved`) | none | closed form of the true solid |
+//! | cylinder, cone | circumscribed approximation (`geometry::curved`), and the true solid (`curved`) | none | closed form of the true solid |
 
 use std::sync::Arc;
 
@@ -23,7 +23,8 @@ use nalgebra::{Matrix3, Point3, Vector3};
 
 use super::Shape;
 use crate::geometry::{
-    ConvexPolyhedron, GeometryError, MassProperties, RoundCore, Rounding, curved, round, round_mass,
+    ConvexPolyhedron, GeometryError, MassProperties, RoundCore, Rounding, curved,
+    curved::CurvedSolid, round, round_mass,
 };
 
 /// A convex shape's solid (module docs).
@@ -31,6 +32,9 @@ use crate::geometry::{
 pub(crate) struct PartSolid {
     pub polyhedron: Arc<ConvexPolyhedron>,
     pub rounding: Option<Rounding>,
+    /// A cylinder's or cone's true solid, part frame (`polyhedron` is then
+    /// its circumscribed approximation).
+    pub curved: Option<CurvedSolid>,
     /// Volume.
     pub volume: f64,
     /// Centre of mass in the shape frame.
@@ -49,6 +53,7 @@ impl PartSolid {
             inertia_unit_density: mass.inertia_unit_density,
             polyhedron,
             rounding: None,
+            curved: None,
         }
     }
 
@@ -69,6 +74,7 @@ impl PartSolid {
                 inertia_unit_density: mass.inertia_unit_density,
                 polyhedron,
                 rounding,
+                curved: None,
             }
         };
         let rounded = |core: RoundCore, radius: f64| Some(Rounding { core, radius });
@@ -119,19 +125,31 @@ impl PartSolid {
             Shape::Cylinder {
                 half_height,
                 radius,
-            } => at_frame(
-                curved::cylinder(*half_height, *radius)?,
-                None,
-                round_mass::cylinder(*half_height, *radius),
-            ),
+            } => PartSolid {
+                curved: Some(CurvedSolid::Cylinder {
+                    half_height: *half_height,
+                    radius: *radius,
+                }),
+                ..at_frame(
+                    curved::cylinder(*half_height, *radius)?,
+                    None,
+                    round_mass::cylinder(*half_height, *radius),
+                )
+            },
             Shape::Cone {
                 half_height,
                 radius,
-            } => at_frame(
-                curved::cone(*half_height, *radius)?,
-                None,
-                round_mass::cone(*half_height, *radius),
-            ),
+            } => PartSolid {
+                curved: Some(CurvedSolid::Cone {
+                    half_height: *half_height,
+                    radius: *radius,
+                }),
+                ..at_frame(
+                    curved::cone(*half_height, *radius)?,
+                    None,
+                    round_mass::cone(*half_height, *radius),
+                )
+            },
             Shape::Compound { .. } => {
                 return Err(GeometryError::NotConvex(
                     "a compound has one polyhedron per part".into(),
@@ -173,6 +191,7 @@ impl PartSolid {
             inertia_unit_density: mass.inertia_unit_density,
             polyhedron: core,
             rounding,
+            curved: None,
         })
     }
 }

@@ -34,6 +34,7 @@ use std::sync::Arc;
 use nalgebra::{Isometry3, Matrix3, Translation3, Vector3};
 
 use super::{BodyError, PartSolid, Shape, check_translation, unit_rotation};
+use crate::geometry::curved::CurvedSolid;
 use crate::geometry::{ConvexPolyhedron, Rounding};
 
 /// Most parts a compound may have: the narrow phase of two compounds
@@ -61,6 +62,7 @@ pub struct ShapePart {
 pub struct BodyPart {
     polyhedron: Arc<ConvexPolyhedron>,
     rounding: Option<Rounding>,
+    curved: Option<CurvedSolid>,
     offset: Option<Isometry3<f64>>,
 }
 
@@ -76,6 +78,13 @@ impl BodyPart {
     /// capsule's [`BodyPart::polyhedron`] is only the box that holds it.
     pub fn rounding(&self) -> Option<Rounding> {
         self.rounding
+    }
+
+    /// A cylinder's or cone's true solid (the support-function narrow
+    /// phase's; [`BodyPart::polyhedron`] is its circumscribed
+    /// approximation); `None` for every other shape.
+    pub fn curved(&self) -> Option<CurvedSolid> {
+        self.curved
     }
 
     /// The part's length scale: its polyhedron's, or a round part's reach
@@ -142,6 +151,7 @@ impl Solid {
             parts: vec![BodyPart {
                 polyhedron,
                 rounding: None,
+                curved: None,
                 offset: None,
             }],
         }
@@ -165,6 +175,7 @@ impl Solid {
                     parts: vec![BodyPart {
                         polyhedron: solid.polyhedron,
                         rounding: solid.rounding,
+                        curved: solid.curved,
                         offset,
                     }],
                 })
@@ -214,6 +225,7 @@ impl Solid {
                 BodyPart {
                     polyhedron: solid.polyhedron,
                     rounding: solid.rounding,
+                    curved: solid.curved,
                     offset: Some(Isometry3::from_parts(
                         Translation3::from(frame - com),
                         rotation,

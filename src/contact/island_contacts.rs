@@ -51,6 +51,7 @@ impl<'a> SceneGeometry<'a> {
     pub fn held(&self, part: usize) -> BodyGeometry<'a> {
         BodyGeometry::convex(&self.parts.shapes()[part], self.poses[part], None)
             .rounded(self.parts.rounding(part))
+            .curved(self.parts.curved(part))
     }
 }
 
@@ -189,6 +190,7 @@ impl<'a> IslandContacts<'a> {
                     configuration_index: Some(index),
                     com_world: state.position,
                     rounding: parts.rounding(part),
+                    curved: parts.curved(part),
                 }
             }
             Err(_) => self.scene.held(part),

@@ -50,6 +50,7 @@ mod warm_start;
 
 use nalgebra::{Isometry3, Point3, Vector3};
 
+use crate::geometry::curved::CurvedSolid;
 use crate::geometry::{ConvexPolyhedron, Feature, Rounding};
 use crate::rows::ConstraintRow;
 use crate::settings::Settings;
@@ -89,6 +90,11 @@ pub struct BodyGeometry<'a> {
     /// The part's core and radius when it is round (`shape` is then the
     /// core, or for a point or segment core only a bounding box).
     pub rounding: Option<Rounding>,
+    /// A cylinder's or cone's true solid (`shape` is then its
+    /// circumscribed approximation), used by the support-function narrow
+    /// phase when [`crate::vclip::VClipSettings::curved_support_functions`]
+    /// is on.
+    pub curved: Option<CurvedSolid>,
 }
 
 impl<'a> BodyGeometry<'a> {
@@ -104,12 +110,18 @@ impl<'a> BodyGeometry<'a> {
             configuration_index,
             com_world: Point3::from(pose.translation.vector),
             rounding: None,
+            curved: None,
         }
     }
 
     /// The same part with a rounding (`None`: a plain polyhedron).
     pub fn rounded(self, rounding: Option<Rounding>) -> Self {
         BodyGeometry { rounding, ..self }
+    }
+
+    /// The same part with its true curved solid (`None`: none).
+    pub fn curved(self, curved: Option<CurvedSolid>) -> Self {
+        BodyGeometry { curved, ..self }
     }
 
     fn side(&self) -> ContactSide {
@@ -174,6 +186,10 @@ pub fn query(
     b: &BodyGeometry,
     warm_start: Option<FeaturePair>,
 ) -> Result<PairQuery, VClipError> {
+    if vclip.settings.curved_support_functions && (a.curved.is_some() || b.curved.is_some()) {
+        let radii = round::radii(a, b).unwrap_or([0.0; 2]);
+        return Ok(closed_form_query(radii, round::support_pair::contact(a, b)));
+    }
     let radii = round::radii(a, b);
     if let (Some(radii), Some(contact)) = (radii, round::closed_form(a, b)) {
         return Ok(closed_form_query(radii, contact));

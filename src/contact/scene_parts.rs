@@ -19,6 +19,7 @@ use nalgebra::Isometry3;
 
 use crate::body::rounded_aabb;
 use crate::broad_phase::BodyPair;
+use crate::geometry::curved::CurvedSolid;
 use crate::geometry::{ConvexPolyhedron, Rounding};
 use crate::scene::Scene;
 
@@ -27,6 +28,7 @@ use crate::scene::Scene;
 pub struct SceneParts {
     shapes: Vec<Arc<ConvexPolyhedron>>,
     roundings: Vec<Option<Rounding>>,
+    curved: Vec<Option<CurvedSolid>>,
     offsets: Vec<Option<Isometry3<f64>>>,
     owners: Vec<usize>,
     /// `first[b]..first[b + 1]` are body `b`'s parts.
@@ -46,6 +48,7 @@ impl SceneParts {
             for part in body.parts() {
                 parts.shapes.push(part.polyhedron().clone());
                 parts.roundings.push(part.rounding());
+                parts.curved.push(part.curved());
                 parts.offsets.push(part.offset().copied());
                 parts.owners.push(index);
             }
@@ -63,6 +66,11 @@ impl SceneParts {
     /// The core and radius of part `part` if it is round.
     pub fn rounding(&self, part: usize) -> Option<Rounding> {
         self.roundings[part]
+    }
+
+    /// The true solid of part `part` if it is a cylinder or a cone.
+    pub fn curved(&self, part: usize) -> Option<CurvedSolid> {
+        self.curved[part]
     }
 
     /// Number of parts.

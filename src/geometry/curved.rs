@@ -20,7 +20,7 @@
 
 use std::f64::consts::PI;
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 
 use super::{ConvexPolyhedron, GeometryError};
 
@@ -85,5 +85,145 @@ fn check_positive(name: &'static str, value: f64) -> Result<(), GeometryError> {
         Ok(())
     } else {
         Err(GeometryError::InvalidDimension { name, value })
+    }
+}
+
+/// A cylinder or cone as its true solid, part frame (axis `z`, origin at
+/// the centre of mass), for the support-function narrow phase
+/// (`contact::round::support_pair`). The support function along a unit
+/// `d = (d_xy, d_z)`, with `u = d_xy / |d_xy|` (any unit vector when
+/// `d_xy = 0`):
+///
+/// ```text
+/// cylinder:  s(d) = r u + sign(d_z) h z
+/// cone:      s(d) = argmax over { apex (0, 0, h - z_c), rim r u - (h + z_c) z } of d . p
+/// ```
+///
+/// with the cone's centre of mass `z_c = -h/2` below the middle of its
+/// axis (a quarter of the height `2h` above the base).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CurvedSolid {
+    /// The cylinder `|z| <= h`, `x^2 + y^2 <= r^2`.
+    Cylinder {
+        /// Half the height `h`.
+        half_height: f64,
+        /// Radius `r`.
+        radius: f64,
+    },
+    /// The cone of base radius `r` at `z = -h` and apex at `z = h` in its
+    /// shape frame (the part frame is shifted down by `h/2`).
+    Cone {
+        /// Half the height `h`.
+        half_height: f64,
+        /// Base radius `r`.
+        radius: f64,
+    },
+}
+
+impl CurvedSolid {
+    /// The radius.
+    pub fn radius(&self) -> f64 {
+        match *self {
+            CurvedSolid::Cylinder { radius, .. } | CurvedSolid::Cone { radius, .. } => radius,
+        }
+    }
+
+    /// Height of the base and the top above the part origin: `(-h, h)`
+    /// for a cylinder; the cone's base at `-h/2`, apex at `3h/2` (its
+    /// centre of mass a quarter of the height above the base).
+    fn base_and_top(&self) -> (f64, f64) {
+        match *self {
+            CurvedSolid::Cylinder { half_height, .. } => (-half_height, half_height),
+            CurvedSolid::Cone { half_height, .. } => (-0.5 * half_height, 1.5 * half_height),
+        }
+    }
+
+    /// Largest distance of a point of the solid from the part origin.
+    pub fn reach(&self) -> f64 {
+        let (base, top) = self.base_and_top();
+        (base * base + self.radius().powi(2)).sqrt().max(top.abs())
+    }
+
+    /// Unit radial direction of `d` (`x` when `d` is along the axis).
+    fn radial(d: &Vector3<f64>) -> Vector3<f64> {
+        Vector3::new(d.x, d.y, 0.0)
+            .try_normalize(0.0)
+            .unwrap_or_else(Vector3::x)
+    }
+
+    /// The support point along `d` (any length), part frame (type docs).
+    pub fn support(&self, d: &Vector3<f64>) -> Point3<f64> {
+        let (base, top) = self.base_and_top();
+        let rim = Self::radial(d) * self.radius();
+        match self {
+            CurvedSolid::Cylinder { .. } => {
+                let z = if d.z >= 0.0 { top } else { base };
+                Point3::new(rim.x, rim.y, z)
+            }
+            CurvedSolid::Cone { .. } => {
+                let apex = Point3::new(0.0, 0.0, top);
+                let on_rim = Point3::new(rim.x, rim.y, base);
+                if d.dot(&apex.coords) >= d.dot(&on_rim.coords) {
+                    apex
+                } else {
+                    on_rim
+                }
+            }
+        }
+    }
+
+    /// Points of the solid's surface that a flat contact may rest on: the
+    /// `samples` points of each rim circle (evenly spaced, on the true
+    /// circle) and a cone's apex, part frame.
+    pub fn outline(&self, samples: usize) -> Vec<Point3<f64>> {
+        let (base, top) = self.base_and_top();
+        let circle = |z: f64| {
+            (0..samples).map(move |i| {
+                let angle = 2.0 * PI * i as f64 / samples as f64;
+                Point3::new(angle.cos(), angle.sin(), 0.0) * self.radius() + Vector3::z() * z
+            })
+        };
+        match self {
+            CurvedSolid::Cylinder { .. } => circle(base).chain(circle(top)).collect(),
+            CurvedSolid::Cone { .. } => circle(base)
+                .chain(std::iter::once(Point3::new(0.0, 0.0, top)))
+                .collect(),
+        }
+    }
+
+    /// Whether `p` (part frame) lies in the solid grown by `slack`
+    /// (the cone's slanted side tested by its plane distance).
+    pub fn contains(&self, p: &Point3<f64>, slack: f64) -> bool {
+        let (base, top) = self.base_and_top();
+        let rho = (p.x * p.x + p.y * p.y).sqrt();
+        if p.z < base - slack || p.z > top + slack {
+            return false;
+        }
+        match self {
+            CurvedSolid::Cylinder { .. } => rho <= self.radius() + slack,
+            CurvedSolid::Cone { .. } => {
+                // Side line through (r, base) and (0, top); outward normal
+                // (height, r) / norm in the (rho, z) plane.
+                let height = top - base;
+                let r = self.radius();
+                let norm = (height * height + r * r).sqrt();
+                (height * (rho - r) + r * (p.z - base)) / norm <= slack
+            }
+        }
+    }
+}
+
+impl CurvedSolid {
+    /// The side line facing `d` (part frame), from the base rim to the top
+    /// rim (cylinder) or the apex (cone): where a solid lying on its side
+    /// touches a plane of normal `-d`.
+    pub fn side_line(&self, d: &Vector3<f64>) -> [Point3<f64>; 2] {
+        let (base, top) = self.base_and_top();
+        let rim = Self::radial(d) * self.radius();
+        let top_point = match self {
+            CurvedSolid::Cylinder { .. } => Point3::new(rim.x, rim.y, top),
+            CurvedSolid::Cone { .. } => Point3::new(0.0, 0.0, top),
+        };
+        [Point3::new(rim.x, rim.y, base), top_point]
     }
 }

@@ -55,6 +55,12 @@ pub struct VClipSettings {
     /// less deep vertex–face pair (see the `deepest` module). `false` gives
     /// exactly the witness face of docs/design.md section 4.
     pub refine_face: bool,
+    /// Pairs with a cylinder or cone part: `true` computes them on the true
+    /// solids by support functions (GJK/EPA, `contact::round::support_pair`,
+    /// `docs/round-shapes.md`); `false` (the default) on the circumscribed
+    /// polyhedra by V-Clip and the exact depth walk, within the stated
+    /// deviation `geometry::curved::CURVED_DEVIATION_RELATIVE`.
+    pub curved_support_functions: bool,
 }
 
 impl Default for VClipSettings {
@@ -66,6 +72,7 @@ impl Default for VClipSettings {
             tie_tolerance: DEFAULT_TIE_TOLERANCE,
             touch_tolerance: DEFAULT_TOUCH_TOLERANCE,
             refine_face: true,
+            curved_support_functions: false,
         }
     }
 }

@@ -31,7 +31,7 @@
 use nalgebra::{Point3, Vector3};
 
 use super::segments::closest_points;
-use super::{CoreContact, CorePoint};
+use super::{CoreContact, CorePoint, MAX_ROUND_POINTS};
 use crate::contact::penetration::EDGE_PARALLEL_SINE;
 use crate::geometry::{ConvexPolyhedron, Edge};
 
@@ -224,7 +224,7 @@ fn face_points(s: &[Point3<f64>; 2], poly: &ConvexPolyhedron, f: usize) -> Optio
     Some(CoreContact {
         signed_distance: deepest,
         normal_world: plane.normal,
-        points: [p0, p1, p1],
+        points: [p0, p1, p1, p1],
         count: if c0 == c1 { 1 } else { 2 },
     })
 }
@@ -246,7 +246,7 @@ fn single(on_a: Point3<f64>, on_b: Point3<f64>, normal: Vector3<f64>, signed: f6
     CoreContact {
         signed_distance: signed,
         normal_world: normal,
-        points: [point; 3],
+        points: [point; MAX_ROUND_POINTS],
         count: 1,
     }
 }

@@ -23,10 +23,16 @@
 //! - a point or segment against a polyhedron: [`against_polyhedron`]
 //!   (separating axes for the depth, face polygons for the distance);
 //! - two points or segments: their closest points ([`segments`]), and for
-//!   two nearly parallel segments the ends of their common stretch.
+//!   two nearly parallel segments the ends of their common stretch;
+//! - a cylinder or cone with anything, when
+//!   `VClipSettings::curved_support_functions` is on: support functions on
+//!   the true solids ([`support_pair`], [`support_manifold`]).
 
 pub mod against_polyhedron;
 pub mod segments;
+pub mod support_manifold;
+pub mod support_map;
+pub mod support_pair;
 
 use nalgebra::{Isometry3, Point3, Vector3};
 
@@ -35,8 +41,9 @@ use super::manifold::ContactPoint;
 use super::penetration::FACE_ALIGNMENT_COS;
 use crate::geometry::Rounding;
 
-/// Most contact points of a pair with a point or segment core.
-pub const MAX_ROUND_POINTS: usize = 3;
+/// Most contact points of a pair answered in closed form (a point or
+/// segment core) or by support functions (a cylinder or cone).
+pub const MAX_ROUND_POINTS: usize = 4;
 
 /// Distance between the cores, relative to the pair's size, below which
 /// the cores' closest points give no normal (the cores touch or cross).
@@ -203,7 +210,7 @@ fn segment_segment(
     if let (Some(first), Some(last)) = (first, last)
         && (first.on_a - last.on_a).norm() > CORE_NORMAL_MIN_RELATIVE * size
     {
-        contact.points = [*first, *last, *last];
+        contact.points = [*first, *last, *last, *last];
         contact.count = 2;
     }
     contact

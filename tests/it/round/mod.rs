@@ -7,6 +7,8 @@ mod closed_forms;
 mod mass;
 mod oracle;
 mod scenes;
+mod support;
+mod support_closed_forms;
 
 use constraint_stabilization::body::Body;
 use constraint_stabilization::internals::contact::{self, BodyGeometry, PairQuery};
@@ -58,4 +60,16 @@ pub fn signed_distance(a: &Body, b: &Body) -> f64 {
         .iter()
         .map(PairQuery::signed_value)
         .fold(f64::INFINITY, f64::min)
+}
+
+/// The Rapier pile of 60 balls, capsules, cylinders and rounded boxes
+/// after 5 s of Rapier (`tests/data/engine/rp08_mixed_pile.json`).
+#[cfg(feature = "serde")]
+pub fn rp08_mixed_pile() -> constraint_stabilization::Scene {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/engine/rp08_mixed_pile.json"
+    );
+    constraint_stabilization::io::scene_file::read_scene(std::path::Path::new(path))
+        .expect("valid scene")
 }

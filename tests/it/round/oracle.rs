@@ -233,6 +233,7 @@ fn curved_shapes_error_is_within_the_stated_deviation_measured() {
     let mut rng = ChaCha8Rng::seed_from_u64(25);
     let (mut curved_time, mut box_time, mut count) = (0.0, 0.0, 0usize);
     let (mut parry_worst, mut parry_time, mut parry_count): (f64, f64, usize) = (0.0, 0.0, 0);
+    let (mut support_worst, mut support_time): (f64, f64) = (0.0, 0.0);
     for _ in 0..30 {
         let offset = Vector3::from_fn(|_, _| rng.random_range(-0.7..0.7));
         let kind_a = if rng.random_bool(0.5) { 6 } else { 7 };
@@ -257,6 +258,10 @@ fn curved_shapes_error_is_within_the_stated_deviation_measured() {
             "{error:e}"
         );
         worst = worst.max(error);
+        let start = std::time::Instant::now();
+        let support = super::support::support_signed_distance(&a, &b);
+        support_time += start.elapsed().as_secs_f64();
+        support_worst = support_worst.max((support - oracle).abs() / (radius(&a) + radius(&b)));
         let shapes = parry_shape(&a).zip(parry_shape(&b));
         let start = std::time::Instant::now();
         let parry = shapes.and_then(|(sa, sb)| parry_query(&sa, &sb));
@@ -281,6 +286,10 @@ fn curved_shapes_error_is_within_the_stated_deviation_measured() {
         "cylinders and cones: worst error {worst:.3e} of the radius (bound {CURVED_DEVIATION_RELATIVE:e}) over {count} pairs; mean cold query {:.1} us (box pairs {:.1} us)",
         1e6 * curved_time / count as f64,
         1e6 * box_time / count as f64
+    );
+    println!(
+        "support path (parry's GJK/EPA on the cores, refined; manifold), same pairs: worst |error| {support_worst:.3e} of the radius; mean query {:.1} us",
+        1e6 * support_time / count as f64
     );
     println!(
         "parry3d-f64 contact (GJK/EPA on the true shapes), same pairs: worst |error| {parry_worst:.3e} of the radius over {parry_count} pairs; mean query {:.1} us",

@@ -152,16 +152,11 @@ fn the_rapier_mixed_pile_state_is_measured_and_resolved_by_the_oracle() {
     // above it by at most the cylinders' stated deviation (their
     // circumscribed polyhedra hold the true solids); after the call the
     // oracle's depth is within the tolerance.
-    use constraint_stabilization::io::scene_file::read_scene;
     /// Agreement of the library's depth with the oracle's on exact (round
     /// and polyhedral) pairs, relative to the scene's scale: the oracle's
     /// refinement, not the library, sets it.
     const ORACLE_AGREEMENT_RELATIVE: f64 = 1e-7;
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/engine/rp08_mixed_pile.json"
-    );
-    let mut scene = read_scene(std::path::Path::new(path)).expect("valid scene");
+    let mut scene = super::rp08_mixed_pile();
     let (before, _) = dev_support::sat::sat_deepest(&scene);
     let deviation = scene
         .bodies()
