@@ -42,7 +42,9 @@ use super::rest::{
     RESTING_STREAK, RestPoses, dynamic_poses, held_poses, is_resting, whole_islands,
 };
 use super::round_off::{own_lengths, raised_lengths, write_back_round_off_bound};
-use super::settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
+use super::settings::{
+    BridgeSettings, CouplingMode, FAST_BODY_REACH_FRACTION, closed_contact_allowance,
+};
 use crate::body::{BodyDesc, MassSpec};
 use crate::scene::{Scene, SceneError};
 use crate::settings::Settings;
@@ -204,6 +206,9 @@ impl RapierBridge {
         let sync = self.sync(bodies, colliders)?;
         let joints = self.sync_joints(impulse_joints, multibody_joints)?;
         let asleep = self.hold_sleeping(bodies);
+        if self.settings.hold_struck_bodies {
+            self.hold_struck(bodies, parameters);
+        }
         let previous = std::mem::take(&mut self.last_output);
         self.rest_streak = match is_resting(&previous, &self.scene, &self.map, bodies, parameters) {
             true => self.rest_streak + 1,
@@ -346,6 +351,61 @@ impl RapierBridge {
             }
         }
         held
+    }
+
+    /// Struck bodies ([`BridgeSettings::hold_struck_bodies`]): holds still
+    /// every dynamic body that is not fast and that a fast body reaches
+    /// through overlapping bounding boxes of dynamic bodies; returns how
+    /// many.
+    fn hold_struck(&mut self, bodies: &RigidBodySet, parameters: &IntegrationParameters) -> usize {
+        let dt = f64::from(parameters.dt).max(0.0);
+        let fast: Vec<bool> = self
+            .map
+            .entries()
+            .iter()
+            .zip(self.scene.bodies())
+            .map(|(entry, body)| {
+                let speed = entry
+                    .body
+                    .filter(|_| entry.is_dynamic() && !body.is_held())
+                    .and_then(|h| bodies.get(h))
+                    .map_or(0.0, |b| f64::from(b.linvel().length()));
+                speed * dt > FAST_BODY_REACH_FRACTION * body.reach()
+            })
+            .collect();
+        if !fast.contains(&true) {
+            return 0;
+        }
+        let boxes: Vec<_> = self.scene.bodies().iter().map(|b| b.world_aabb()).collect();
+        let overlaps = |a: usize, b: usize| {
+            let ((amin, amax), (bmin, bmax)) = (&boxes[a], &boxes[b]);
+            (0..3).all(|k| amin[k] <= bmax[k] && bmin[k] <= amax[k])
+        };
+        // Every dynamic body reached from a fast one through overlapping
+        // bounding boxes of dynamic bodies (fixed ones do not pass it on):
+        // the whole group a fast body struck, held as one.
+        let movable = |i: usize| !self.scene.bodies()[i].is_fixed();
+        let mut reached: Vec<bool> = fast.clone();
+        let mut queue: Vec<usize> = (0..boxes.len()).filter(|&i| fast[i]).collect();
+        while let Some(f) = queue.pop() {
+            let newly: Vec<usize> = (0..boxes.len())
+                .filter(|&i| !reached[i] && movable(i) && overlaps(i, f))
+                .collect();
+            for i in newly {
+                reached[i] = true;
+                queue.push(i);
+            }
+        }
+        let struck: Vec<usize> = (0..boxes.len())
+            .filter(|&i| reached[i] && !fast[i] && movable(i))
+            .collect();
+        for &i in &struck {
+            if let Some(body) = self.scene.bodies_mut().get_mut(i) {
+                body.hold_fixed();
+            }
+        }
+        log::debug!("struck bodies held: {}", struck.len());
+        struck.len()
     }
 
     /// Velocity consistency: reads the velocities of the dynamic bodies,

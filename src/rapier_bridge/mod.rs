@@ -152,5 +152,7 @@ pub use engine_mass::ENGINE_COM_ROUNDING;
 pub use error::BridgeError;
 pub use joints::{JointReadReport, JointSkipReason, RapierJoint, SkippedJoint};
 pub use report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
-pub use settings::{BridgeSettings, CouplingMode, closed_contact_allowance};
+pub use settings::{
+    BridgeSettings, CouplingMode, FAST_BODY_REACH_FRACTION, closed_contact_allowance,
+};
 pub use world::{GRAVITY_Z_UP, SceneWorld, world_from_scene};

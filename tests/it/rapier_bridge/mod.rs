@@ -14,6 +14,7 @@ mod round;
 mod round_off;
 mod round_off_bound;
 mod stack;
+mod struck;
 mod world_from_scene;
 
 use constraint_stabilization::Settings;
