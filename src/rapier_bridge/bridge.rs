@@ -206,9 +206,10 @@ impl RapierBridge {
         let sync = self.sync(bodies, colliders)?;
         let joints = self.sync_joints(impulse_joints, multibody_joints)?;
         let asleep = self.hold_sleeping(bodies);
-        if self.settings.hold_struck_bodies {
-            self.hold_struck(bodies, parameters);
-        }
+        let struck = match self.settings.hold_struck_bodies {
+            true => self.hold_struck(bodies, parameters),
+            false => Vec::new(),
+        };
         let previous = std::mem::take(&mut self.last_output);
         self.rest_streak = match is_resting(&previous, &self.scene, &self.map, bodies, parameters) {
             true => self.rest_streak + 1,
@@ -248,6 +249,17 @@ impl RapierBridge {
             .set_call_lengths(Some(raised.allowing(allowed)));
         let before: Vec<UserPose> = self.scene.bodies().iter().map(user_pose_of).collect();
         report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
+        if !struck.is_empty() {
+            // The struck group released and the call solved again from the
+            // first answer: the contacts inside the group, which the first
+            // solve could not move, are corrected too.
+            for &i in &struck {
+                if let Some(body) = self.scene.bodies_mut().get_mut(i) {
+                    body.release();
+                }
+            }
+            report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
+        }
         if self.settings.hold_cycles
             && !resting
             && self.settings.coupling == CouplingMode::ClosedContacts
@@ -355,9 +367,13 @@ impl RapierBridge {
 
     /// Struck bodies ([`BridgeSettings::hold_struck_bodies`]): holds still
     /// every dynamic body that is not fast and that a fast body reaches
-    /// through overlapping bounding boxes of dynamic bodies; returns how
-    /// many.
-    fn hold_struck(&mut self, bodies: &RigidBodySet, parameters: &IntegrationParameters) -> usize {
+    /// through overlapping bounding boxes of dynamic bodies; returns their
+    /// scene indices.
+    fn hold_struck(
+        &mut self,
+        bodies: &RigidBodySet,
+        parameters: &IntegrationParameters,
+    ) -> Vec<usize> {
         let dt = f64::from(parameters.dt).max(0.0);
         let fast: Vec<bool> = self
             .map
@@ -374,7 +390,7 @@ impl RapierBridge {
             })
             .collect();
         if !fast.contains(&true) {
-            return 0;
+            return Vec::new();
         }
         let boxes: Vec<_> = self.scene.bodies().iter().map(|b| b.world_aabb()).collect();
         let overlaps = |a: usize, b: usize| {
@@ -405,7 +421,7 @@ impl RapierBridge {
             }
         }
         log::debug!("struck bodies held: {}", struck.len());
-        struck.len()
+        struck
     }
 
     /// Velocity consistency: reads the velocities of the dynamic bodies,
