@@ -143,6 +143,7 @@ mod rest;
 mod round_collider;
 pub mod round_off;
 mod settings;
+mod sleep;
 pub(crate) mod world;
 
 pub use body_map::{BodyMap, MappedCollider};

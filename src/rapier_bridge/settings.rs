@@ -169,6 +169,16 @@ pub struct BridgeSettings {
     /// instead of 59.42 (Rapier alone 17.91), but the settled pile of 200
     /// drifts 15.95 mm instead of 0.00.
     pub hold_struck_bodies: bool,
+    /// Held groups put to sleep (`rapier_bridge/sleep.rs`): a group of
+    /// awake bodies (overlapping bounding boxes) whose poses, as the calls
+    /// leave them, have passed Rapier's sleep test for Rapier's
+    /// `time_until_sleep` gets its velocities zeroed, and at the next call,
+    /// if Rapier's step moved it by less than that test allows, is held
+    /// still (not written) and put to sleep with `RigidBody::sleep`. A held
+    /// cycle writes its bodies at every call, and Rapier wakes a written
+    /// body and its neighbours at its next step, so without this a scene
+    /// the calls hold still never sleeps. Default true.
+    pub sleep_held_groups: bool,
 }
 
 /// A body whose speed times the step's time step exceeds this fraction of
@@ -194,6 +204,7 @@ impl BridgeSettings {
             resting_calls: true,
             hold_cycles: true,
             hold_struck_bodies: false,
+            sleep_held_groups: true,
         }
     }
 
