@@ -253,6 +253,7 @@ impl RapierBridge {
         };
         if self.scene.bodies().iter().all(|b| b.is_fixed()) {
             self.put_to_sleep(bodies, &sleepers);
+            self.clock.record_asleep(&self.scene, &self.map);
             return Ok(report);
         }
         let allowed = self
@@ -302,17 +303,16 @@ impl RapierBridge {
             report.velocities_written = count;
         }
         self.put_to_sleep(bodies, &sleepers);
-        if self.settings.sleep_held_groups {
-            let prepared = self.clock.advance(
-                &previous,
-                &self.last_output,
-                &self.scene,
-                &self.map,
-                bodies,
-                parameters,
-            );
-            report.velocities_zeroed = self.zero_velocities(bodies, &prepared);
-        }
+        let prepared = self.clock.advance(
+            &previous,
+            &self.last_output,
+            &self.scene,
+            &self.map,
+            bodies,
+            parameters,
+            self.settings.sleep_held_groups,
+        );
+        report.velocities_zeroed = self.zero_velocities(bodies, &prepared);
         Ok(report)
     }
 
@@ -466,9 +466,21 @@ impl RapierBridge {
         let movable: Vec<usize> = (0..fast.len())
             .filter(|&i| !self.scene.bodies()[i].is_fixed())
             .collect();
+        // Only a group that was at rest when the last call ended (its bodies
+        // other than the fast ones asleep or passing Rapier's sleep test):
+        // a struck standing stack, not a pile still settling, whose bodies
+        // strike each other as they fall.
+        let at_rest = |i: usize| {
+            self.map
+                .entry(i)
+                .is_some_and(|e| self.clock.was_at_rest(e.collider))
+        };
         let struck: Vec<usize> = overlap_groups(&self.scene, &movable, 0.0)
             .into_iter()
-            .filter(|group| group.iter().any(|&i| fast[i]))
+            .filter(|group| {
+                group.iter().any(|&i| fast[i])
+                    && group.iter().filter(|&&i| !fast[i]).all(|&i| at_rest(i))
+            })
             .flatten()
             .filter(|&i| !fast[i])
             .collect();

@@ -66,9 +66,30 @@ use crate::scene::Scene;
 pub(crate) struct SleepClock {
     timers: HashMap<ColliderHandle, f64>,
     pending: HashSet<ColliderHandle>,
+    /// The dynamic bodies held still as asleep when the last call ended.
+    asleep: HashSet<ColliderHandle>,
 }
 
 impl SleepClock {
+    /// Whether the body was at rest when the last call ended: asleep, or
+    /// its pose as left by the last call passed Rapier's sleep test against
+    /// the one the call before left.
+    pub(crate) fn was_at_rest(&self, collider: ColliderHandle) -> bool {
+        self.asleep.contains(&collider) || self.timers.get(&collider).is_some_and(|t| *t > 0.0)
+    }
+
+    /// Remembers the dynamic bodies held still (asleep, or put to sleep)
+    /// as the call ends.
+    pub(crate) fn record_asleep(&mut self, scene: &Scene, map: &BodyMap) {
+        self.asleep = map
+            .entries()
+            .iter()
+            .zip(scene.bodies())
+            .filter(|(entry, body)| entry.is_dynamic() && body.is_held())
+            .map(|(entry, _)| entry.collider)
+            .collect();
+    }
+
     /// Whether a call zeroed velocities before a sleep decision.
     pub(crate) fn has_pending(&self) -> bool {
         !self.pending.is_empty()
@@ -111,10 +132,11 @@ impl SleepClock {
     }
 
     /// After a call: advances the timers from `previous` to `now` (the
-    /// poses the last call and this call left) and returns the scene
-    /// indices of the groups all of whose timers reached their
+    /// poses the last call and this call left) and, when `prepare`, returns
+    /// the scene indices of the groups all of whose timers reached their
     /// `time_until_sleep`, unless Rapier's own timers already all have;
     /// they are remembered as prepared for the next call.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn advance(
         &mut self,
         previous: &RestPoses,
@@ -123,6 +145,7 @@ impl SleepClock {
         map: &BodyMap,
         bodies: &RigidBodySet,
         parameters: &IntegrationParameters,
+        prepare: bool,
     ) -> Vec<usize> {
         let dt = f64::from(parameters.dt).max(0.0);
         let awake = awake_dynamic(scene, map);
@@ -143,6 +166,10 @@ impl SleepClock {
             timers.insert(entry.collider, time);
         }
         self.timers = timers;
+        self.record_asleep(scene, map);
+        if !prepare {
+            return Vec::new();
+        }
         let ready = |i: usize| {
             let entry = &map.entries()[i];
             let rigid_body = entry.body.and_then(|h| bodies.get(h));
