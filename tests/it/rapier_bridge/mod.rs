@@ -16,6 +16,7 @@ mod round_off_bound;
 mod stack;
 mod struck;
 mod world_from_scene;
+mod worlds;
 
 use constraint_stabilization::Settings;
 use constraint_stabilization::rapier_bridge::{
