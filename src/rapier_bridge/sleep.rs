@@ -29,25 +29,39 @@
 //! restarts at 0 otherwise. A held body's `d` is 0.
 //!
 //! A *group* is a connected component of the awake dynamic bodies whose
-//! bounding boxes, grown by Rapier's prediction distance, overlap: a
-//! superset of the bodies Rapier's touching contacts join into one island,
-//! so a group never splits one of Rapier's islands. When every body of a
+//! bounding boxes, grown by Rapier's broad-phase margin ([`group_margin`]),
+//! overlap, or that a joint the bridge read links: a superset of the
+//! bodies Rapier's contact graph and joints join (Rapier wakes the contact
+//! graph neighbours of a written body, and its islands hold touching and
+//! jointed bodies), so a group never splits one of Rapier's islands and no
+//! written body wakes it. When every body of a
 //! group has a timer of at least its `time_until_sleep` (and Rapier's own
 //! timers do not already say so), the call zeroes their velocities (a
 //! velocity write does not wake: no change flag). At the next call, if the
-//! group is the same, and every body of it moved in Rapier's step by less
-//! than the sleep test allows, its bodies are held still (not solved, not
-//! written) and put to sleep with `RigidBody::sleep` (no pose write, so no
-//! wake): Rapier pins their sleep eligibility and its island manager puts
-//! their island to sleep at the end of its next step. Two calls, because a
-//! call that writes a pose cannot put that body to sleep (the write wakes
-//! it at the next step).
+//! group is the same (all of it prepared, nothing added), and every body of
+//! it moved in Rapier's step by at most Rapier's allowed linear error, its
+//! bodies are held still (not solved, not written) and put to sleep with
+//! `RigidBody::sleep` (no pose write, so no wake): Rapier pins their sleep
+//! eligibility and its island manager puts their island to sleep within
+//! its next steps. Two calls, because a call that writes a pose cannot put
+//! that body to sleep (the write wakes it at the next step).
 //!
-//! The sleeping group is left where Rapier's one step from the corrected
-//! state, at rest, put it: within Rapier's allowed linear error, as Rapier
-//! leaves its own sleeping bodies. A body that wakes it (an awake body
-//! touching it in Rapier's step) wakes its island, and the call corrects it
-//! again.
+//! Why the margin: with boxes grown by the prediction distance only, the
+//! pile of 200 was put to sleep at step 161 as a group of 196 and four
+//! single bodies the calls still wrote; Rapier woke the group's bodies
+//! near them at the next steps, and the pile crept 28 mm.
+//!
+//! The check at the second call allows each body to have moved, in
+//! Rapier's step from the corrected state at rest, by up to Rapier's
+//! allowed linear error: with Rapier's sleep test instead, the pile of 200
+//! of `examples/with_and_without.rs` never slept (one body of 196 moves
+//! 1.7 mm in that step, the test allows 1.67). The sleeping group is left
+//! where Rapier's steps from the corrected state at rest put it before its
+//! island manager commits the sleep (two or three steps: an island that
+//! lost contacts is split first): on that pile 6.3 mm deep at most, where
+//! Rapier alone sleeps at 10.0 mm. A body that wakes it (an awake body
+//! touching it in Rapier's step) wakes its island, and the call corrects
+//! it again.
 
 use std::collections::{HashMap, HashSet};
 
@@ -224,8 +238,9 @@ fn awake_dynamic(scene: &Scene, map: &BodyMap) -> Vec<usize> {
 }
 
 /// The connected components of `members` (scene indices) whose world
-/// bounding boxes, grown by `margin` on every side, overlap (sweep along
-/// x, then union-find).
+/// bounding boxes, grown by `margin` on every side, overlap, or that a
+/// scene joint links (Rapier's islands join jointed bodies too): a sweep
+/// along x, then union-find.
 pub(crate) fn overlap_groups(scene: &Scene, members: &[usize], margin: f64) -> Vec<Vec<usize>> {
     let boxes: Vec<(Point3<f64>, Point3<f64>)> = members
         .iter()
@@ -246,6 +261,13 @@ pub(crate) fn overlap_groups(scene: &Scene, members: &[usize], margin: f64) -> V
             {
                 sets.join(a, b);
             }
+        }
+    }
+    let position: HashMap<usize, usize> =
+        members.iter().enumerate().map(|(k, &i)| (i, k)).collect();
+    for joint in scene.joints() {
+        if let (Some(&a), Some(&b)) = (position.get(&joint.body_a), position.get(&joint.body_b)) {
+            sets.join(a, b);
         }
     }
     let mut groups: HashMap<usize, Vec<usize>> = HashMap::new();
