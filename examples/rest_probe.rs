@@ -14,8 +14,9 @@
 //! at 60 Hz), the horizontal displacement summed since `S` (signed, the
 //! creep) by the steps and by the calls for the body that moved most, the
 //! bodies asleep, the bodies whose sleep timer is running, the bodies the
-//! call wrote, whether the call was a resting one, and the exact depth
-//! Rapier's step left. `--no-resting` turns the bridge's resting calls off
+//! call wrote and held (held cycles), whether the call was a resting one,
+//! the bodies whose motion in Rapier's step fails Rapier's sleep test, and
+//! the exact depth Rapier's step left. `--no-resting` turns the bridge's resting calls off
 //! (`BridgeSettings::resting_calls`).
 
 #[path = "common/rapier_scenes.rs"]
