@@ -244,6 +244,7 @@ impl RapierBridge {
             bodies_left_asleep: asleep,
             resting: false,
             bodies_held: 0,
+            bodies_struck_held: struck.len(),
             bodies_put_to_sleep: sleepers.len(),
             velocities_zeroed: 0,
             write_back_round_off: WriteBackRoundOff::default(),
