@@ -304,16 +304,20 @@ impl RapierBridge {
             report.velocities_written = count;
         }
         self.put_to_sleep(bodies, &sleepers);
-        let prepared = self.clock.advance(
+        self.clock.advance(
             &previous,
             &self.last_output,
             &self.scene,
             &self.map,
             bodies,
             parameters,
-            self.settings.sleep_held_groups,
         );
-        report.velocities_zeroed = self.zero_velocities(bodies, &prepared);
+        if self.settings.sleep_held_groups {
+            let prepared = self
+                .clock
+                .prepare(&self.scene, &self.map, bodies, parameters);
+            report.velocities_zeroed = self.zero_velocities(bodies, &prepared);
+        }
         Ok(report)
     }
 

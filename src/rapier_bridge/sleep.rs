@@ -146,11 +146,8 @@ impl SleepClock {
     }
 
     /// After a call: advances the timers from `previous` to `now` (the
-    /// poses the last call and this call left) and, when `prepare`, returns
-    /// the scene indices of the groups all of whose timers reached their
-    /// `time_until_sleep`, unless Rapier's own timers already all have;
-    /// they are remembered as prepared for the next call.
-    #[allow(clippy::too_many_arguments)]
+    /// poses the last call and this call left) and remembers the bodies
+    /// held as asleep.
     pub(crate) fn advance(
         &mut self,
         previous: &RestPoses,
@@ -159,8 +156,7 @@ impl SleepClock {
         map: &BodyMap,
         bodies: &RigidBodySet,
         parameters: &IntegrationParameters,
-        prepare: bool,
-    ) -> Vec<usize> {
+    ) {
         let dt = f64::from(parameters.dt).max(0.0);
         let awake = awake_dynamic(scene, map);
         let mut timers = HashMap::with_capacity(awake.len());
@@ -181,9 +177,19 @@ impl SleepClock {
         }
         self.timers = timers;
         self.record_asleep(scene, map);
-        if !prepare {
-            return Vec::new();
-        }
+    }
+
+    /// The scene indices of the groups all of whose timers reached their
+    /// `time_until_sleep`, unless Rapier's own timers already all have;
+    /// they are remembered as prepared for the next call.
+    pub(crate) fn prepare(
+        &mut self,
+        scene: &Scene,
+        map: &BodyMap,
+        bodies: &RigidBodySet,
+        parameters: &IntegrationParameters,
+    ) -> Vec<usize> {
+        let awake = awake_dynamic(scene, map);
         let ready = |i: usize| {
             let entry = &map.entries()[i];
             let rigid_body = entry.body.and_then(|h| bodies.get(h));
