@@ -462,14 +462,7 @@ fn deepest_and_awake(
     measure.sync(&world.bodies, &world.colliders)?;
     let scene = measure.scene();
     let map = measure.body_map();
-    let awake = |i: usize| {
-        map.entry(i).is_some_and(|e| {
-            e.is_dynamic()
-                && e.body
-                    .and_then(|h| world.bodies.get(h))
-                    .is_some_and(|b| !b.is_sleeping())
-        })
-    };
+    let awake = |i: usize| map.is_awake_dynamic(i, &world.bodies);
     let depths =
         dev_support::sat::pair_depths(scene, |a, b| dev_support::sat::sat_depth(scene, a, b));
     let all = depths.iter().fold(0.0, |m: f64, (_, d)| m.max(*d));

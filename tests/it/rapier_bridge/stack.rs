@@ -10,7 +10,7 @@
 use constraint_stabilization::rapier_bridge::{BridgeSettings, RapierBridge};
 use rapier3d::prelude::*;
 
-use super::{f32_world_depth, stated_tolerance, worlds};
+use super::{f32_awake_depth, f32_world_depth, stated_tolerance, worlds};
 
 /// Steps of the run: 5 s at Rapier's 60 Hz.
 const STEPS: usize = 300;
@@ -115,5 +115,44 @@ fn the_1_to_1000_stack_drifts_under_1_mm_and_sleeps() {
     assert!(
         asleep_from as f64 <= SLEEP_STEP_RATIO * alone as f64,
         "asleep from step {asleep_from} under the bridge, {alone} under Rapier alone"
+    );
+}
+
+/// A stack the bridge put to sleep is woken by Rapier where a newcomer
+/// lands in it, and the call corrects what is awake: the exact depth of
+/// every pair with an awake body within the call's tolerance. (Rapier
+/// wakes the top box only: the boxes under it stay asleep, obstacles for
+/// the call, their contacts at Rapier's depth; Rapier alone wakes its
+/// whole sleeping 1:1 or 1:100 stack.)
+#[test]
+fn a_stack_put_to_sleep_is_woken_and_corrected_by_a_newcomer() {
+    let (mut world, handles) = worlds::aligned_heavy_stack(RATIO);
+    let mut bridge =
+        RapierBridge::with_settings(BridgeSettings::default()).expect("default settings are valid");
+    let asleep = (1..=STEPS).find(|_| {
+        world.step();
+        bridge
+            .stabilize_world(&mut world)
+            .expect("the call succeeds");
+        handles.iter().all(|&h| world.bodies[h].is_sleeping())
+    });
+    assert!(asleep.is_some(), "the stack falls asleep");
+    // A 1 kg box 2 cm into the top box.
+    let top = world.bodies[handles[4]].translation();
+    worlds::box_at(&mut world, top + Vector::new(0.05, 0.0, 0.18), 0.1, 1.0);
+    world.step();
+    assert!(
+        !world.bodies[handles[4]].is_sleeping(),
+        "Rapier wakes the top box"
+    );
+    let report = bridge
+        .stabilize_world(&mut world)
+        .expect("the call succeeds");
+    assert!(report.bodies_written >= 1);
+    let depth = f32_awake_depth(&world);
+    let bound = stated_tolerance(&report) + 2.0 * report.round_off_bound;
+    assert!(
+        depth <= bound,
+        "depth {depth:e} beyond the call's {bound:e}"
     );
 }
