@@ -34,7 +34,8 @@
 //! bodies Rapier's contact graph and joints join (Rapier wakes the contact
 //! graph neighbours of a written body, and its islands hold touching and
 //! jointed bodies), so a group never splits one of Rapier's islands and no
-//! written body wakes it. When every body of a
+//! written body wakes it (with Rapier's default broad phase: its adaptive
+//! margin, off by default, can be larger). When every body of a
 //! group has a timer of at least its `time_until_sleep` (and Rapier's own
 //! timers do not already say so), the call zeroes their velocities (a
 //! velocity write does not wake: no change flag). At the next call, if the
@@ -54,8 +55,10 @@
 //! The check at the second call allows each body to have moved, in
 //! Rapier's step from the corrected state at rest, by up to Rapier's
 //! allowed linear error: with Rapier's sleep test instead, the pile of 200
-//! of `examples/with_and_without.rs` never slept (one body of 196 moves
-//! 1.7 mm in that step, the test allows 1.67). The sleeping group is left
+//! of `examples/with_and_without.rs` never slept (one body of 196 failed
+//! it in that step at every try: 1.57 mm by `examples/rest_probe.rs`'s
+//! measure, above 1.67 mm by the bridge's larger bound on the farthest
+//! point). The sleeping group is left
 //! where Rapier's steps from the corrected state at rest put it before its
 //! island manager commits the sleep (two or three steps: an island that
 //! lost contacts is split first): on that pile 6.3 mm deep at most, where
