@@ -14,8 +14,9 @@
 //! at 60 Hz), the horizontal displacement summed since `S` (signed, the
 //! creep) by the steps and by the calls for the body that moved most, the
 //! bodies asleep, the bodies whose sleep timer is running, the bodies the
-//! call wrote, whether the call was a resting one, and the exact depth
-//! Rapier's step left. `--no-resting` turns the bridge's resting calls off
+//! call wrote and held (held cycles), whether the call was a resting one,
+//! the bodies whose motion in Rapier's step fails Rapier's sleep test, and
+//! the exact depth Rapier's step left. `--no-resting` turns the bridge's resting calls off
 //! (`BridgeSettings::resting_calls`).
 
 #[path = "common/rapier_scenes.rs"]
@@ -98,19 +99,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .collect();
         measure.sync(&world.bodies, &world.colliders)?;
         let depth_after_step = dev_support::sat::sat_deepest(measure.scene()).0;
-        let (written, resting) = match coupling {
+        let (written, resting, held) = match coupling {
             Some(_) => {
                 let report = bridge.stabilize_world(&mut world)?;
-                (report.bodies_written, report.resting)
+                (report.bodies_written, report.resting, report.bodies_held)
             }
-            None => (0, false),
+            None => (0, false, 0),
         };
         let p2: Vec<Pose> = handles
             .iter()
             .map(|&h| *world.bodies[h].position())
             .collect();
         let (mut by_step, mut by_call, mut net) = (0.0f64, 0.0f64, 0.0f64);
+        let mut step_fails = 0;
         for i in 0..n {
+            if point_motion(&p0[i], &p1[i], reach[i]) >= f64::from(threshold) {
+                step_fails += 1;
+            }
             net = net.max(point_motion(&p0[i], &p2[i], reach[i]));
             by_step = by_step.max(point_motion(&p0[i], &p1[i], reach[i]));
             by_call = by_call.max(point_motion(&p1[i], &p2[i], reach[i]));
@@ -149,7 +154,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .max_by(|&a, &b| total(a).total_cmp(&total(b)))
                 .unwrap_or(0);
             println!(
-                "step {step}: per-step point motion, step {by_step:.2e} call {by_call:.2e} net {net:.2e} | shortest sleep timer {timer:.3} s, fastest spin {spin:.2e} rad/s | creep of body {worst} since {from}: {:.2e} m (steps {:+.2e} {:+.2e}, calls {:+.2e} {:+.2e}) | asleep {asleep}/{n}, eligible for sleep {timing} | written {written}, resting call {resting} | depth after Rapier's step {depth_after_step:.2e}",
+                "step {step}: per-step point motion, step {by_step:.2e} call {by_call:.2e} net {net:.2e} | shortest sleep timer {timer:.3} s, fastest spin {spin:.2e} rad/s | creep of body {worst} since {from}: {:.2e} m (steps {:+.2e} {:+.2e}, calls {:+.2e} {:+.2e}) | asleep {asleep}/{n}, eligible for sleep {timing} | written {written}, held {held}, resting call {resting}, bodies failing the sleep test in Rapier's step {step_fails} | depth after Rapier's step {depth_after_step:.2e}",
                 total(worst),
                 creep_step[worst][0],
                 creep_step[worst][1],

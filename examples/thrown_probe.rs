@@ -72,9 +72,9 @@ fn variants() -> Vec<(&'static str, Option<BridgeSettings>)> {
             }),
         ),
         (
-            "hold-struck",
+            "no-hold-struck",
             Some(BridgeSettings {
-                hold_struck_bodies: true,
+                hold_struck_bodies: false,
                 ..d()
             }),
         ),

@@ -16,7 +16,7 @@
 use std::collections::HashMap;
 
 use nalgebra::Isometry3;
-use rapier3d::dynamics::RigidBodyHandle;
+use rapier3d::dynamics::{RigidBodyHandle, RigidBodySet};
 use rapier3d::geometry::ColliderHandle;
 
 use super::collider_shape::{ReadCollider, ReadPart, ShapeSignature};
@@ -117,6 +117,18 @@ impl BodyMap {
     /// The Rapier collider (and its parent body) behind scene body `index`.
     pub fn entry(&self, index: usize) -> Option<&MappedCollider> {
         self.entries.get(index)
+    }
+
+    /// Whether scene body `index` is a dynamic Rapier body that is awake:
+    /// a body a call reads (a pair of two sleeping bodies is not read).
+    pub fn is_awake_dynamic(&self, index: usize, bodies: &RigidBodySet) -> bool {
+        self.entry(index).is_some_and(|entry| {
+            entry.is_dynamic()
+                && entry
+                    .body
+                    .and_then(|h| bodies.get(h))
+                    .is_some_and(|b| !b.is_sleeping())
+        })
     }
 
     /// The collider behind scene body `index`.

@@ -45,6 +45,7 @@ use super::round_off::{own_lengths, raised_lengths, write_back_round_off_bound};
 use super::settings::{
     BridgeSettings, CouplingMode, FAST_BODY_REACH_FRACTION, closed_contact_allowance,
 };
+use super::sleep::{SleepClock, overlap_groups};
 use crate::body::{BodyDesc, MassSpec};
 use crate::scene::{Scene, SceneError};
 use crate::settings::Settings;
@@ -67,6 +68,8 @@ pub struct RapierBridge {
     hold_anchor: RestPoses,
     /// Consecutive calls whose step passed the rest test.
     rest_streak: usize,
+    /// Rapier's sleep timers on the poses the calls leave (`super::sleep`).
+    clock: SleepClock,
 }
 
 /// A user pose as stored: translation and `[x, y, z, w]`, compared bit for
@@ -91,6 +94,7 @@ impl RapierBridge {
             last_output: RestPoses::default(),
             hold_anchor: RestPoses::default(),
             rest_streak: 0,
+            clock: SleepClock::default(),
         })
     }
 
@@ -206,11 +210,25 @@ impl RapierBridge {
         let sync = self.sync(bodies, colliders)?;
         let joints = self.sync_joints(impulse_joints, multibody_joints)?;
         let asleep = self.hold_sleeping(bodies);
+        let previous = std::mem::take(&mut self.last_output);
+        let sleepers = match self.settings.sleep_held_groups && self.clock.has_pending() {
+            true => {
+                let sleepers =
+                    self.clock
+                        .take_sleepers(&previous, &self.scene, &self.map, parameters);
+                for &i in &sleepers {
+                    if let Some(body) = self.scene.bodies_mut().get_mut(i) {
+                        body.hold_fixed();
+                    }
+                }
+                sleepers
+            }
+            false => Vec::new(),
+        };
         let struck = match self.settings.hold_struck_bodies {
             true => self.hold_struck(bodies, parameters),
             false => Vec::new(),
         };
-        let previous = std::mem::take(&mut self.last_output);
         self.rest_streak = match is_resting(&previous, &self.scene, &self.map, bodies, parameters) {
             true => self.rest_streak + 1,
             false => 0,
@@ -226,12 +244,17 @@ impl RapierBridge {
             bodies_left_asleep: asleep,
             resting: false,
             bodies_held: 0,
+            bodies_struck_held: struck.len(),
+            bodies_put_to_sleep: sleepers.len(),
+            velocities_zeroed: 0,
             write_back_round_off: WriteBackRoundOff::default(),
             round_off_bound,
             velocities: None,
             velocities_written: 0,
         };
         if self.scene.bodies().iter().all(|b| b.is_fixed()) {
+            self.put_to_sleep(bodies, &sleepers);
+            self.clock.record_asleep(&self.scene, &self.map);
             return Ok(report);
         }
         let allowed = self
@@ -279,6 +302,21 @@ impl RapierBridge {
             let (velocities, count) = self.project_velocities(bodies, &moved, parameters)?;
             report.velocities = Some(velocities);
             report.velocities_written = count;
+        }
+        self.put_to_sleep(bodies, &sleepers);
+        self.clock.advance(
+            &previous,
+            &self.last_output,
+            &self.scene,
+            &self.map,
+            bodies,
+            parameters,
+        );
+        if self.settings.sleep_held_groups {
+            let prepared = self
+                .clock
+                .prepare(&self.scene, &self.map, bodies, parameters);
+            report.velocities_zeroed = self.zero_velocities(bodies, &prepared);
         }
         Ok(report)
     }
@@ -340,6 +378,41 @@ impl RapierBridge {
         Ok(())
     }
 
+    /// Puts the Rapier bodies of `sleepers` (scene indices) to sleep
+    /// (`super::sleep`): velocities zeroed, sleep eligibility pinned, no
+    /// pose written.
+    fn put_to_sleep(&self, bodies: &mut RigidBodySet, sleepers: &[usize]) {
+        for &i in sleepers {
+            let handle = self.map.entries().get(i).and_then(|e| e.body);
+            if let Some(rigid_body) = handle.and_then(|h| bodies.get_mut(h)) {
+                rigid_body.sleep();
+            }
+        }
+        if !sleepers.is_empty() {
+            log::debug!("held groups put to sleep: {} bodies", sleepers.len());
+        }
+    }
+
+    /// Zeroes the velocities of the Rapier bodies of `indices` (scene
+    /// indices) without waking them (`super::sleep`); returns how many.
+    fn zero_velocities(&self, bodies: &mut RigidBodySet, indices: &[usize]) -> usize {
+        let mut zeroed = 0;
+        for &i in indices {
+            let handle = self.map.entries().get(i).and_then(|e| e.body);
+            if let Some(rigid_body) = handle.and_then(|h| bodies.get_mut(h)) {
+                rigid_body.set_linvel(Vector::ZERO, false);
+                rigid_body.set_angvel(Vector::ZERO, false);
+                zeroed += 1;
+            }
+        }
+        if zeroed > 0 {
+            log::debug!(
+                "held groups at rest for Rapier's time until sleep: {zeroed} velocities zeroed"
+            );
+        }
+        zeroed
+    }
+
     /// Holds every dynamic scene body whose Rapier body sleeps still (an
     /// obstacle for the awake ones, never read as moving nor written) and
     /// releases the awake ones; returns how many are held. Rapier wakes a
@@ -392,28 +465,29 @@ impl RapierBridge {
         if !fast.contains(&true) {
             return Vec::new();
         }
-        let boxes: Vec<_> = self.scene.bodies().iter().map(|b| b.world_aabb()).collect();
-        let overlaps = |a: usize, b: usize| {
-            let ((amin, amax), (bmin, bmax)) = (&boxes[a], &boxes[b]);
-            (0..3).all(|k| amin[k] <= bmax[k] && bmin[k] <= amax[k])
-        };
         // Every dynamic body reached from a fast one through overlapping
         // bounding boxes of dynamic bodies (fixed ones do not pass it on):
         // the whole group a fast body struck, held as one.
-        let movable = |i: usize| !self.scene.bodies()[i].is_fixed();
-        let mut reached: Vec<bool> = fast.clone();
-        let mut queue: Vec<usize> = (0..boxes.len()).filter(|&i| fast[i]).collect();
-        while let Some(f) = queue.pop() {
-            let newly: Vec<usize> = (0..boxes.len())
-                .filter(|&i| !reached[i] && movable(i) && overlaps(i, f))
-                .collect();
-            for i in newly {
-                reached[i] = true;
-                queue.push(i);
-            }
-        }
-        let struck: Vec<usize> = (0..boxes.len())
-            .filter(|&i| reached[i] && !fast[i] && movable(i))
+        let movable: Vec<usize> = (0..fast.len())
+            .filter(|&i| !self.scene.bodies()[i].is_fixed())
+            .collect();
+        // Only a group that was at rest when the last call ended (its bodies
+        // other than the fast ones asleep or passing Rapier's sleep test):
+        // a struck standing stack, not a pile still settling, whose bodies
+        // strike each other as they fall.
+        let at_rest = |i: usize| {
+            self.map
+                .entry(i)
+                .is_some_and(|e| self.clock.was_at_rest(e.collider))
+        };
+        let struck: Vec<usize> = overlap_groups(&self.scene, &movable, 0.0)
+            .into_iter()
+            .filter(|group| {
+                group.iter().any(|&i| fast[i])
+                    && group.iter().filter(|&&i| !fast[i]).all(|&i| at_rest(i))
+            })
+            .flatten()
+            .filter(|&i| !fast[i])
             .collect();
         for &i in &struck {
             if let Some(body) = self.scene.bodies_mut().get_mut(i) {

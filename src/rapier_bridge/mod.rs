@@ -44,7 +44,12 @@
 //! scene sleeps only if the calls stop writing it: in the default coupling
 //! a *resting call* (every awake body passed Rapier's own sleep test in
 //! its last three steps) accepts Rapier's allowed linear error (`rest.rs`,
-//! [`BridgeSettings::resting_calls`]).
+//! [`BridgeSettings::resting_calls`]). Where Rapier cannot hold a scene
+//! and the calls hold it still by writing it back (held cycles,
+//! [`BridgeSettings::hold_cycles`]), a group of bodies held for Rapier's
+//! `time_until_sleep` is put to sleep by the bridge: velocities zeroed,
+//! then `RigidBody::sleep` at the next call, with no pose written
+//! (`sleep.rs`, [`BridgeSettings::sleep_held_groups`]).
 //!
 //! # Frames
 //!
@@ -143,6 +148,7 @@ mod rest;
 mod round_collider;
 pub mod round_off;
 mod settings;
+mod sleep;
 pub(crate) mod world;
 
 pub use body_map::{BodyMap, MappedCollider};

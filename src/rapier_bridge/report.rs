@@ -78,6 +78,16 @@ pub struct BridgeReport {
     /// resting one left them ([`super::BridgeSettings::hold_cycles`],
     /// `rapier_bridge/rest.rs`); 0 when the call held nothing.
     pub bodies_held: usize,
+    /// Bodies struck by a fast body and held still for the call's first
+    /// solve ([`super::BridgeSettings::hold_struck_bodies`]); 0 when none.
+    pub bodies_struck_held: usize,
+    /// Awake bodies this call put to sleep (`rapier_bridge/sleep.rs`,
+    /// [`super::BridgeSettings::sleep_held_groups`]): held still, not
+    /// written, and `RigidBody::sleep` called; 0 when none.
+    pub bodies_put_to_sleep: usize,
+    /// Awake bodies whose velocities this call zeroed to put them to sleep
+    /// at the next call (`rapier_bridge/sleep.rs`); 0 when none.
+    pub velocities_zeroed: usize,
     /// f32 rounding of the written poses, as measured.
     pub write_back_round_off: WriteBackRoundOff,
     /// `delta`: the most any collider point of a dynamic body can move when

@@ -154,7 +154,7 @@ pub(crate) fn held_poses(
 /// Whether the body's motion from `before` to its current user pose passes
 /// Rapier's sleep test for one step (module docs); false without a Rapier
 /// body.
-fn passes_sleep_test(
+pub(crate) fn passes_sleep_test(
     entry: &super::body_map::MappedCollider,
     body: &crate::body::Body,
     now: &Isometry3<f64>,
@@ -168,13 +168,23 @@ fn passes_sleep_test(
     let dt = f64::from(parameters.dt);
     let length_unit = f64::from(parameters.length_unit);
     let threshold = f64::from(rigid_body.activation().normalized_linear_threshold);
-    // The farthest point from the shape-frame origin, about which the user
-    // pose turns.
+    let motion = farthest_point_motion(body, now, before);
+    threshold >= 0.0 && 0.5 * motion < threshold * length_unit * dt
+}
+
+/// A bound on how far any point of the body moves from user pose `before`
+/// to `now`: the translation plus the chord `2 |sin(theta / 2)| r` of the
+/// farthest point (`r` the reach from the shape-frame origin, about which
+/// the user pose turns).
+pub(crate) fn farthest_point_motion(
+    body: &crate::body::Body,
+    now: &Isometry3<f64>,
+    before: &Isometry3<f64>,
+) -> f64 {
     let reach = body.reach() + body.com_offset().norm();
     let half_angle = before.rotation.angle_to(&now.rotation) / 2.0;
-    let motion = (now.translation.vector - before.translation.vector).norm()
-        + 2.0 * half_angle.sin().abs() * reach;
-    threshold >= 0.0 && 0.5 * motion < threshold * length_unit * dt
+    (now.translation.vector - before.translation.vector).norm()
+        + 2.0 * half_angle.sin().abs() * reach
 }
 
 /// The entries of `held` whose island holds no moved body left out of
@@ -208,14 +218,14 @@ pub(crate) fn whole_islands(
 }
 
 /// Union-find over `0..n` (path halving).
-struct DisjointSets(Vec<usize>);
+pub(crate) struct DisjointSets(Vec<usize>);
 
 impl DisjointSets {
-    fn new(n: usize) -> Self {
+    pub(crate) fn new(n: usize) -> Self {
         DisjointSets((0..n).collect())
     }
 
-    fn root(&mut self, mut i: usize) -> usize {
+    pub(crate) fn root(&mut self, mut i: usize) -> usize {
         while self.0[i] != i {
             self.0[i] = self.0[self.0[i]];
             i = self.0[i];
@@ -223,7 +233,7 @@ impl DisjointSets {
         i
     }
 
-    fn join(&mut self, a: usize, b: usize) {
+    pub(crate) fn join(&mut self, a: usize, b: usize) {
         let (a, b) = (self.root(a), self.root(b));
         self.0[a] = b;
     }

@@ -151,24 +151,36 @@ pub struct BridgeSettings {
     /// instead of 11.3 and 7.4 (`benchmarks/results/coupling.md`). Default
     /// true.
     pub hold_cycles: bool,
-    /// Struck bodies (`rapier_bridge/bridge.rs`, issue 22): in a call, a
-    /// dynamic body that Rapier's step moved, at its speed, by more than
-    /// [`FAST_BODY_REACH_FRACTION`] of its reach (a body that may have
-    /// passed into another within one step) is *fast*; every other awake
-    /// dynamic body whose bounding box overlaps a fast body's is held still
-    /// for the call, so the correction of a deep, fast penetration moves
-    /// the fast body only, not the stack it struck (the minimal
-    /// mass-weighted correction of a box tunnelled into another pushes
-    /// both apart sideways). The struck group is every dynamic body a fast
-    /// one reaches through overlapping bounding boxes of dynamic bodies;
-    /// after the call's solve it is released and the call solved again
-    /// from that answer, so the contacts inside the group are corrected
-    /// too. Default false, chosen by measurement
-    /// (`benchmarks/results/coupling.md`, "The thrown box"): on, the
-    /// thrown box's stack of `examples/with_and_without.rs` drifts 0.32 mm
-    /// instead of 59.42 (Rapier alone 17.91), but the settled pile of 200
-    /// drifts 15.95 mm instead of 0.00.
+    /// Struck bodies (`rapier_bridge/bridge.rs`): in a call, a dynamic
+    /// body that Rapier's step moved, at its speed, by more than
+    /// [`FAST_BODY_REACH_FRACTION`] times its reach (a body that may have
+    /// passed into another within one step) is *fast*. The struck group is
+    /// every dynamic body a fast one reaches through overlapping bounding
+    /// boxes of dynamic bodies; if every body of it other than the fast
+    /// ones was at rest when the last call ended (asleep, or its pose as
+    /// the last call left it within Rapier's sleep test of the one before:
+    /// `rapier_bridge/sleep.rs`), it is held still for the call's first
+    /// solve, so the correction of a deep, fast penetration moves the fast
+    /// body only, not the stack it struck (the minimal mass-weighted
+    /// correction of a box tunnelled into another pushes both apart
+    /// sideways); then it is released and the call solved again from that
+    /// answer, so the contacts inside the group are corrected too. A group
+    /// still moving (a pile settling, whose falling bodies strike each
+    /// other) is not held. Default true, chosen by measurement
+    /// (`benchmarks/results/coupling.md`, "The thrown box"): the thrown
+    /// box's stack of `examples/with_and_without.rs` drifts 0.32 mm
+    /// instead of 59.42 (Rapier alone 17.91), the other scenes as without.
     pub hold_struck_bodies: bool,
+    /// Held groups put to sleep (`rapier_bridge/sleep.rs`): a group of
+    /// awake bodies (overlapping bounding boxes) whose poses, as the calls
+    /// leave them, have passed Rapier's sleep test for Rapier's
+    /// `time_until_sleep` gets its velocities zeroed, and at the next call,
+    /// if Rapier's step moved it by less than that test allows, is held
+    /// still (not written) and put to sleep with `RigidBody::sleep`. A held
+    /// cycle writes its bodies at every call, and Rapier wakes a written
+    /// body and its neighbours at its next step, so without this a scene
+    /// the calls hold still never sleeps. Default true.
+    pub sleep_held_groups: bool,
 }
 
 /// A body whose speed times the step's time step exceeds this fraction of
@@ -193,7 +205,8 @@ impl BridgeSettings {
             velocity_friction: VelocityFriction::None,
             resting_calls: true,
             hold_cycles: true,
-            hold_struck_bodies: false,
+            hold_struck_bodies: true,
+            sleep_held_groups: true,
         }
     }
 

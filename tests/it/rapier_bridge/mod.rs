@@ -16,6 +16,7 @@ mod round_off_bound;
 mod stack;
 mod struck;
 mod world_from_scene;
+mod worlds;
 
 use constraint_stabilization::Settings;
 use constraint_stabilization::rapier_bridge::{
@@ -100,6 +101,23 @@ fn f32_world_depth(world: &PhysicsWorld) -> f64 {
         .sync(&world.bodies, &world.colliders)
         .expect("the world is read");
     dev_support::sat::sat_deepest(reader.scene()).0
+}
+
+/// The exact deepest penetration of the world as Rapier holds it (f32
+/// poses) over the pairs with an awake dynamic body: what a call reads and
+/// states its tolerance for (a pair of two sleeping bodies keeps Rapier's
+/// depth).
+fn f32_awake_depth(world: &PhysicsWorld) -> f64 {
+    let mut reader = bridge();
+    reader
+        .sync(&world.bodies, &world.colliders)
+        .expect("the world is read");
+    let (scene, map) = (reader.scene(), reader.body_map());
+    let awake = |i: usize| map.is_awake_dynamic(i, &world.bodies);
+    dev_support::sat::pair_depths(scene, |a, b| dev_support::sat::sat_depth(scene, a, b))
+        .into_iter()
+        .filter(|((a, b), _)| awake(*a) || awake(*b))
+        .fold(0.0, |deepest, (_, depth)| deepest.max(depth))
 }
 
 fn deepest_left(bridge: &RapierBridge) -> f64 {

@@ -9,7 +9,7 @@ use constraint_stabilization::rapier_bridge::{BridgeSettings, RapierBridge, pose
 use nalgebra::{Point3, Vector3};
 use rapier3d::prelude::*;
 
-use super::{f32_world_depth, stated_tolerance};
+use super::{f32_world_depth, stated_tolerance, worlds};
 
 /// Steps within which a box dropped 1 cm onto the ground falls asleep
 /// under Rapier alone (0.5 s of Rapier's time until sleep, plus landing).
@@ -18,24 +18,14 @@ const SLEEP_STEPS: usize = 120;
 /// f32 rounding of a world point near 1 (a few ulps of 2^-23).
 const F32_POINT_TOLERANCE: f64 = 1e-6;
 
-/// A z-up world with the ground's top face at z = 0.
-fn ground_world() -> PhysicsWorld {
-    let mut world = PhysicsWorld {
-        gravity: Vector::new(0.0, 0.0, -9.81),
-        ..PhysicsWorld::default()
-    };
-    let ground = world.insert_body(RigidBodyBuilder::fixed());
-    let floor = ColliderBuilder::cuboid(5.0, 5.0, 0.5).translation(Vector::new(0.0, 0.0, -0.5));
-    world.insert_collider(floor, Some(ground));
-    world
+/// The ground of these tests: a 10 m slab.
+fn ground() -> PhysicsWorld {
+    worlds::ground_world(5.0)
 }
 
-/// A 20 cm box of 8 kg with its centre at height `z`.
+/// A 20 cm box of `mass` kg with its centre at `(x, 0, z)`.
 fn box_at(world: &mut PhysicsWorld, x: f32, z: f32, mass: f32) -> RigidBodyHandle {
-    let body = RigidBodyBuilder::dynamic().translation(Vector::new(x, 0.0, z));
-    world
-        .insert(body, ColliderBuilder::cuboid(0.1, 0.1, 0.1).mass(mass))
-        .0
+    worlds::box_at(world, Vector::new(x, 0.0, z), 0.1, mass)
 }
 
 fn default_bridge() -> RapierBridge {
@@ -61,7 +51,7 @@ fn settle(world: &mut PhysicsWorld, bridge: &mut RapierBridge, body: RigidBodyHa
 #[test]
 fn a_settled_box_on_the_ground_is_a_fixed_point() {
     let sleeps_alone = {
-        let mut world = ground_world();
+        let mut world = ground();
         let body = box_at(&mut world, 0.0, 0.11, 8.0);
         (1..=SLEEP_STEPS)
             .find(|_| {
@@ -70,7 +60,7 @@ fn a_settled_box_on_the_ground_is_a_fixed_point() {
             })
             .expect("Rapier alone puts the box to sleep")
     };
-    let mut world = ground_world();
+    let mut world = ground();
     let body = box_at(&mut world, 0.0, 0.11, 8.0);
     let mut bridge = default_bridge();
     let sleeps = settle(&mut world, &mut bridge, body);
@@ -93,7 +83,7 @@ fn a_settled_box_on_the_ground_is_a_fixed_point() {
 /// still: not written, left asleep.
 #[test]
 fn a_sleeping_body_is_never_written() {
-    let mut world = ground_world();
+    let mut world = ground();
     let body = box_at(&mut world, 0.0, 0.09, 8.0);
     world.bodies[body].sleep();
     let mut bridge = default_bridge();
@@ -109,7 +99,7 @@ fn a_sleeping_body_is_never_written() {
 /// within the call's tolerance.
 #[test]
 fn a_body_woken_by_a_penetrating_newcomer_is_corrected() {
-    let mut world = ground_world();
+    let mut world = ground();
     let light = box_at(&mut world, 0.0, 0.1, 1.0);
     let mut bridge = default_bridge();
     settle(&mut world, &mut bridge, light);
@@ -131,7 +121,7 @@ fn a_body_woken_by_a_penetrating_newcomer_is_corrected() {
 /// top face, and the collider's pose is its body's.
 #[test]
 fn a_scene_query_after_the_call_sees_the_corrected_collider() {
-    let mut world = ground_world();
+    let mut world = ground();
     let body = box_at(&mut world, 0.0, 0.05, 8.0);
     let mut bridge = default_bridge();
     // One step puts the colliders in the broad phase; Rapier pushes the
@@ -158,7 +148,7 @@ fn a_scene_query_after_the_call_sees_the_corrected_collider() {
 /// penetration.
 #[test]
 fn a_compound_of_two_densities_is_corrected_about_rapiers_centre_of_mass() {
-    let mut world = ground_world();
+    let mut world = ground();
     let rotation = Rotation::from_rotation_z(0.4);
     let body = world.insert_body(
         RigidBodyBuilder::dynamic().pose(Pose::from_parts(Vector::new(0.3, 0.2, 0.08), rotation)),
