@@ -8,7 +8,7 @@
 //! ```
 //!
 //! Inputs: (1) the scenes that the Rapier bridge's stabilizer receives on
-//! the 1:1000 aligned stack of `examples/slide_probe.rs` (Rapier's
+//! the 1:1000 aligned stack of `examples/probes/slide_probe.rs` (Rapier's
 //! colliders' friction, 0.5), recorded once with the bridge's default
 //! settings over `--steps` steps; (2) the demonstration pile of
 //! `--pile` bodies (`demo_scene`, 5 seeds) with `Settings::friction = 0.5`.

@@ -3,11 +3,14 @@
 //! convex polyhedra as the smallest overlap of their projections over every
 //! face normal of either body and every cross product of an edge of A with
 //! an edge of B (the facet normals of the Minkowski difference are among
-//! these). Cost O((F + E_A E_B)(V_A + V_B)) per pair: for checking, never
-//! for the library.
+//! these). Cost O((F + E_A E_B)(V_A + V_B)) per pair at most (an axis's
+//! projection scan stops once its overlap cannot be the minimum): for
+//! checking, never for the library.
 //!
 //! Per pair: [`sat_axes`] (the minima over face normals and over all axes,
-//! and the axis), [`sat_overlap`], [`sat_axis`], [`separating_axis_depth`].
+//! and the axis), [`sat_overlap`], [`sat_axis`], [`separating_axis_depth`],
+//! [`sat_overlap_at_most`] (a bound on the minimum, decided at the first
+//! axis that meets it).
 //! Over a scene (the pairs with a dynamic body, compound bodies part by
 //! part): [`sat_depth`] of one pair of bodies, [`sat_deepest`],
 //! [`exact_depth`] (deepest and the count of pairs beyond a tolerance).
@@ -19,6 +22,7 @@
 use constraint_stabilization::internals::geometry::ConvexPolyhedron;
 use constraint_stabilization::scene::Scene;
 use nalgebra::{Isometry3, Vector3};
+use std::ops::ControlFlow;
 
 /// Edge pairs whose cross product is shorter than this fraction of the
 /// product of their lengths give no axis (their directions are parallel
@@ -40,64 +44,188 @@ pub struct SatAxes {
     pub axis: Vector3<f64>,
 }
 
-/// The separating-axis minima of A at `pose_a` and B at `pose_b` (world
-/// frame).
-pub fn sat_axes(
+/// Whether a candidate axis of [`visit_axes`] is a face normal or an
+/// edge–edge cross product.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum AxisKind {
+    Face,
+    EdgePair,
+}
+
+/// What walks the candidate axes ([`visit_axes`]): a cutoff below which an
+/// overlap matters, and what to do with one that does.
+trait AxisVisitor {
+    /// Overlaps at or above this cannot change the visitor's answer: the
+    /// walk may skip them without finishing their projections.
+    fn cutoff(&self) -> f64;
+    /// One axis's overlap (below the cutoff), its axis oriented from B
+    /// towards A, and its kind; `Break` ends the walk.
+    fn visit(&mut self, overlap: f64, axis: Vector3<f64>, kind: AxisKind) -> ControlFlow<()>;
+}
+
+/// Walks the candidate axes of A at `pose_a` and B at `pose_b` (world
+/// frame) in a fixed order: the face normals of A, those of B, then the
+/// cross product of every edge of A with every edge of B (pairs parallel
+/// within [`PARALLEL_EDGES`] left out). Each axis's overlap is the smaller
+/// translation of A along `±axis` that makes the projections touch; an
+/// axis whose overlap is at least the visitor's cutoff is skipped.
+///
+/// The projections are scanned a vertex of A and a vertex of B at a time;
+/// both candidate translations (`max_b - min_a` and `max_a - min_b`) only
+/// grow as vertices are added, so once both reach the cutoff the overlap
+/// does too and the rest of the scan is skipped. Minima and maxima do not
+/// round: an overlap that is finished is the same number whatever the
+/// order of the scan.
+fn visit_axes(
     a: &ConvexPolyhedron,
     pose_a: &Isometry3<f64>,
     b: &ConvexPolyhedron,
     pose_b: &Isometry3<f64>,
-) -> SatAxes {
+    visitor: &mut impl AxisVisitor,
+) {
     let world = |poly: &ConvexPolyhedron, pose: &Isometry3<f64>| -> Vec<Vector3<f64>> {
         poly.vertices().iter().map(|p| (pose * p).coords).collect()
     };
     let (va, vb) = (world(a, pose_a), world(b, pose_b));
     // Moving A along +n separates after max_b - min_a, along -n after
-    // max_a - min_b: the smaller, with its direction.
-    let overlap = |n: Vector3<f64>| -> (f64, Vector3<f64>) {
-        let range = |vs: &[Vector3<f64>]| {
-            vs.iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                    let x = n.dot(v);
-                    (lo.min(x), hi.max(x))
-                })
-        };
-        let ((lo_a, hi_a), (lo_b, hi_b)) = (range(&va), range(&vb));
+    // max_a - min_b: the smaller, with its direction; `None` when both
+    // reach `cutoff`.
+    let overlap = |n: Vector3<f64>, cutoff: f64| -> Option<(f64, Vector3<f64>)> {
+        let (mut lo_a, mut hi_a) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut lo_b, mut hi_b) = (f64::INFINITY, f64::NEG_INFINITY);
+        for k in 0..va.len().max(vb.len()) {
+            if let Some(v) = va.get(k) {
+                let x = n.dot(v);
+                (lo_a, hi_a) = (lo_a.min(x), hi_a.max(x));
+            }
+            if let Some(v) = vb.get(k) {
+                let x = n.dot(v);
+                (lo_b, hi_b) = (lo_b.min(x), hi_b.max(x));
+            }
+            if hi_b - lo_a >= cutoff && hi_a - lo_b >= cutoff {
+                return None;
+            }
+        }
         let (along, against) = (hi_b - lo_a, hi_a - lo_b);
-        if along <= against {
+        Some(if along <= against {
             (along, n)
         } else {
             (against, -n)
-        }
+        })
     };
-    let smaller = |best: (f64, Vector3<f64>), next: (f64, Vector3<f64>)| {
-        if next.0 < best.0 { next } else { best }
-    };
-    let start = (f64::INFINITY, Vector3::zeros());
-    let face_best = a
+    let face_normals = a
         .faces()
         .iter()
         .map(|f| pose_a.rotation * f.plane.normal)
-        .chain(b.faces().iter().map(|f| pose_b.rotation * f.plane.normal))
-        .map(overlap)
-        .fold(start, smaller);
-    let mut best = face_best;
+        .chain(b.faces().iter().map(|f| pose_b.rotation * f.plane.normal));
+    for n in face_normals {
+        if let Some((depth, axis)) = overlap(n, visitor.cutoff())
+            && visitor.visit(depth, axis, AxisKind::Face).is_break()
+        {
+            return;
+        }
+    }
     for ea in a.edges() {
         let u = va[ea.head] - va[ea.tail];
         for eb in b.edges() {
             let v = vb[eb.head] - vb[eb.tail];
             let n = u.cross(&v);
             let norm = n.norm();
-            if norm > PARALLEL_EDGES * u.norm() * v.norm() {
-                best = smaller(best, overlap(n / norm));
+            if norm > PARALLEL_EDGES * u.norm() * v.norm()
+                && let Some((depth, axis)) = overlap(n / norm, visitor.cutoff())
+                && visitor.visit(depth, axis, AxisKind::EdgePair).is_break()
+            {
+                return;
             }
         }
     }
-    SatAxes {
-        faces: face_best.0,
-        all: best.0,
-        axis: best.1,
+}
+
+/// The running minima of [`sat_axes`].
+struct Minima {
+    faces: f64,
+    best: (f64, Vector3<f64>),
+}
+
+impl AxisVisitor for Minima {
+    /// Only a strictly smaller overlap replaces the minimum.
+    fn cutoff(&self) -> f64 {
+        self.best.0
     }
+
+    fn visit(&mut self, overlap: f64, axis: Vector3<f64>, kind: AxisKind) -> ControlFlow<()> {
+        if overlap < self.best.0 {
+            self.best = (overlap, axis);
+        }
+        if kind == AxisKind::Face {
+            self.faces = self.best.0;
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+/// The separating-axis minima of A at `pose_a` and B at `pose_b` (world
+/// frame): the smallest overlap over the candidate axes of [`visit_axes`]
+/// (the first of equal ones).
+pub fn sat_axes(
+    a: &ConvexPolyhedron,
+    pose_a: &Isometry3<f64>,
+    b: &ConvexPolyhedron,
+    pose_b: &Isometry3<f64>,
+) -> SatAxes {
+    let mut minima = Minima {
+        faces: f64::INFINITY,
+        best: (f64::INFINITY, Vector3::zeros()),
+    };
+    visit_axes(a, pose_a, b, pose_b, &mut minima);
+    SatAxes {
+        faces: minima.faces,
+        all: minima.best.0,
+        axis: minima.best.1,
+    }
+}
+
+/// The search of [`sat_overlap_at_most`]: whether an overlap at most
+/// `bound` has been seen.
+struct AtMost {
+    bound: f64,
+    found: bool,
+}
+
+impl AxisVisitor for AtMost {
+    /// Overlaps above the bound are skipped: the next double above it.
+    fn cutoff(&self) -> f64 {
+        self.bound.next_up()
+    }
+
+    fn visit(&mut self, overlap: f64, _: Vector3<f64>, _: AxisKind) -> ControlFlow<()> {
+        if overlap <= self.bound {
+            self.found = true;
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+}
+
+/// Whether [`sat_overlap`] of the pair is at most `bound`, decided at the
+/// first candidate axis whose overlap is at most `bound` (the minimum over
+/// the axes is at most `bound` exactly when one of them is): the same
+/// answer as `sat_overlap(..) <= bound`, usually after a few face normals
+/// when the bodies are apart.
+pub fn sat_overlap_at_most(
+    a: &ConvexPolyhedron,
+    pose_a: &Isometry3<f64>,
+    b: &ConvexPolyhedron,
+    pose_b: &Isometry3<f64>,
+    bound: f64,
+) -> bool {
+    let mut search = AtMost {
+        bound,
+        found: false,
+    };
+    visit_axes(a, pose_a, b, pose_b, &mut search);
+    search.found
 }
 
 /// The smallest overlap of the projections of two posed polyhedra over

@@ -36,7 +36,7 @@
 //! an open contact has no friction row and may close while sliding
 //! freely, whatever `mu`: an engine step that leaves a light box's lower
 //! contact slightly open lets the call slide it (measured on the 1:1000
-//! stack of `examples/slide_probe.rs`: `benchmarks/results/coupling.md`,
+//! stack of `examples/probes/slide_probe.rs`: `benchmarks/results/coupling.md`,
 //! "Friction in the position projection"). The relaxation's price, as in
 //! Anitescu and Tasora's scheme: an open contact that stays open may
 //! slide only by `mu` times the gap it keeps; beyond that the correction

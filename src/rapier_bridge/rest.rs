@@ -5,7 +5,7 @@
 //!
 //! Rapier's contacts are soft: from a contact the call left closed (depth
 //! about one tolerance, ~1e-6 m) Rapier's next step sinks it again by
-//! about 1.5e-4 m on the settled pyramid of 55 (`examples/rest_probe.rs`),
+//! about 1.5e-4 m on the settled pyramid of 55 (`examples/probes/rest_probe.rs`),
 //! towards its own resting depth (about 1.5 mm there, below its allowed
 //! linear error of 5 mm). A call that corrects that sink writes every body
 //! at every step, and Rapier treats a written pose as a user change: its
@@ -44,7 +44,7 @@
 //! Where Rapier cannot hold a scene (a 1,000 kg box on four 1 kg ones:
 //! Rapier alone crushes it), every ordinary call lifts back what Rapier's
 //! step sank, and the two alternate in a cycle. That cycle is deterministic
-//! (`examples/slide_probe.rs --ratio 1000 --verbose 200 201` prints the same
+//! (`examples/probes/slide_probe.rs --ratio 1000 --verbose 200 201` prints the same
 //! step twice): from the same corrected state Rapier's step sinks the stack
 //! by the same ~1 mm, unevenly (its contact solver's order), tilting each
 //! box by ~6e-4 rad about a point above its contact; the call, a

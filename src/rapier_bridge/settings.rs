@@ -56,7 +56,7 @@ pub enum CouplingMode {
     /// corners of a box cross it at different substeps of the next step:
     /// the box is pushed out unevenly, tilts, and its face slides on its
     /// support; with the contacts closed the slide is about ten times
-    /// smaller (probed with `examples/slide_probe.rs`:
+    /// smaller (probed with `examples/probes/slide_probe.rs`:
     /// `benchmarks/results/coupling.md`, "What drives the stacks' drift").
     ///
     /// The default, chosen by measurement (`examples/with_and_without.rs`:

@@ -56,7 +56,7 @@
 //! Rapier's step from the corrected state at rest, by up to Rapier's
 //! allowed linear error: with Rapier's sleep test instead, the pile of 200
 //! of `examples/with_and_without.rs` never slept (one body of 196 failed
-//! it in that step at every try: 1.57 mm by `examples/rest_probe.rs`'s
+//! it in that step at every try: 1.57 mm by `examples/probes/rest_probe.rs`'s
 //! measure, above 1.67 mm by the bridge's larger bound on the farthest
 //! point). The sleeping group is left
 //! where Rapier's steps from the corrected state at rest put it before its

@@ -5,15 +5,13 @@
 //! changed) gives a cold call's answer; an unchanged problem costs zero
 //! iterations.
 
-use std::path::PathBuf;
-
-use constraint_stabilization::io::scene_file::read_scene;
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::{SolverChoice, SolverKind};
-use constraint_stabilization::{Report, Settings, Stabilizer};
+use constraint_stabilization::{Settings, Stabilizer};
 use nalgebra::{Translation3, UnitQuaternion, Vector3};
 use proptest::prelude::*;
 
+use crate::support::engine_states::{call, engine_state, pose_difference, settings};
 use crate::support::proptest_config::config;
 
 /// Agreement of a warm call's body positions with a cold call's by the
@@ -34,18 +32,6 @@ const POSE_AGREEMENT_REL: f64 = 1e-4;
 /// ended 2.8e-6 m apart for a largest motion of 9.6e-3 m (2.9e-4).
 const POSE_AGREEMENT_WITH_CLARABEL_REL: f64 = 2e-6;
 
-fn engine_state(stem: &str) -> Scene {
-    let path = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/engine"))
-        .join(format!("{stem}.json"));
-    read_scene(&path).expect("a valid engine state")
-}
-
-fn settings(choice: SolverChoice) -> Settings {
-    let mut settings = Settings::default();
-    settings.solver.choice = choice;
-    settings
-}
-
 /// Every dynamic body lowered along `-z` by `step` times 1, 2 or 3 (by
 /// index), and turned by `angle` about `x` for every fourth body: new
 /// penetrations of several depths, and new contact features.
@@ -65,27 +51,6 @@ fn pressed(scene: &Scene, step: f64, angle: f64) -> Scene {
         scene.set_com_pose(index, moved).expect("a finite pose");
     }
     scene
-}
-
-fn call(stabilizer: &mut Stabilizer, input: &Scene) -> (Report, Scene) {
-    let mut scene = input.clone();
-    let report = stabilizer.stabilize(&mut scene).expect("a valid scene");
-    (report, scene)
-}
-
-/// The largest difference of the two outputs' body positions, and the
-/// largest motion of a body from the input.
-fn pose_difference(input: &Scene, a: &Scene, b: &Scene) -> (f64, f64) {
-    let mut difference: f64 = 0.0;
-    let mut motion: f64 = 0.0;
-    for ((x, y), z) in input.bodies().iter().zip(a.bodies()).zip(b.bodies()) {
-        let p_in = x.com_pose().translation.vector;
-        let p_a = y.com_pose().translation.vector;
-        let p_b = z.com_pose().translation.vector;
-        difference = difference.max((p_a - p_b).norm());
-        motion = motion.max((p_b - p_in).norm());
-    }
-    (difference, motion)
 }
 
 fn assert_same_answer(input: &Scene, warm: &Scene, cold: &Scene, label: &str) {

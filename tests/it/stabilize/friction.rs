@@ -131,7 +131,7 @@ const PYRAMID_CORNER: f64 = std::f64::consts::SQRT_2;
 
 /// Issue 10's drift inside the call: a contact open at the start of the
 /// call got no friction rows, and the correction closed it while sliding it
-/// freely (the 1:1000 stack of `examples/slide_probe.rs`: 6e-5 to 2.4e-4 m
+/// freely (the 1:1000 stack of `examples/probes/slide_probe.rs`: 6e-5 to 2.4e-4 m
 /// per call, whatever `mu`). A light box floating just above the ground
 /// under a tilted box 1,000 times heavier that penetrates it: the cheap
 /// correction pushes the light box down along the heavy box's tilted

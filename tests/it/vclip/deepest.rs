@@ -7,11 +7,12 @@ use constraint_stabilization::internals::vclip::{
     BodyRole, DeepestVertex, FallbackReason, Outcome, VClip, VClipSettings, vclip,
 };
 use dev_support::random::{random_hull_varied, random_pose};
-use dev_support::sat::separating_axis_depth;
+use dev_support::sat::{AxisDepths, separating_axis_depth};
 use dev_support::vclip::{
     parry_depth, parry_distance, parry_intersects, parry_shape, pushed_out, separated_distance,
 };
 use nalgebra::{Isometry3, Point3};
+use parry3d_f64::shape::ConvexPolyhedron as ParryPolyhedron;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -54,15 +55,43 @@ const REFINED_OVER_EXACT: &[(f64, f64)] = &[(0.5, 1.01), (0.9, 1.15), (0.99, 2.5
 const REFINED_OVER_FACES: &[(f64, f64)] =
     &[(0.5, 1.0 + 1e-6), (0.9, 1.01), (0.99, 1.8), (1.0, 5.0)];
 
+/// What the oracles say about one posed pair, whichever engine answered
+/// it: the separating-axis depths, the parry shapes and parry's EPA depth
+/// (computed once per pair, checked against every answer).
+struct PairOracles {
+    exact: AxisDepths,
+    parry_a: ParryPolyhedron,
+    parry_b: ParryPolyhedron,
+    epa: f64,
+}
+
+fn pair_oracles(
+    a: &ConvexPolyhedron,
+    pose_a: &Isometry3<f64>,
+    b: &ConvexPolyhedron,
+    pose_b: &Isometry3<f64>,
+) -> PairOracles {
+    let (parry_a, parry_b) = (parry_shape(a), parry_shape(b));
+    let epa = parry_depth(&parry_a, pose_a, &parry_b, pose_b);
+    PairOracles {
+        exact: separating_axis_depth(a, pose_a, b, pose_b),
+        parry_a,
+        parry_b,
+        epa,
+    }
+}
+
 /// Checks a deepest vertex against brute force over all vertices, against
 /// the separating-axis depths and parry (EPA depth, separation after the
-/// push-out), and returns its ratios to the exact depths.
+/// push-out) of its pair (`oracles`), and returns its ratios to the exact
+/// depths.
 fn check_deepest(
     dv: &DeepestVertex,
     a: &ConvexPolyhedron,
     pose_a: &Isometry3<f64>,
     b: &ConvexPolyhedron,
     pose_b: &Isometry3<f64>,
+    oracles: &PairOracles,
 ) -> DepthRatios {
     let scale = a.scale().max(b.scale());
     let (vertex_poly, vertex_pose, face_poly, face_pose) = match dv.vertex_body {
@@ -89,7 +118,7 @@ fn check_deepest(
     assert!(
         (dv.vertex_world - vertex_pose * vertex_poly.vertices()[dv.vertex]).norm() <= 1e-12 * scale
     );
-    let exact = separating_axis_depth(a, pose_a, b, pose_b);
+    let exact = oracles.exact;
     assert!(
         dv.depth >= exact.faces - ROUNDING * scale,
         "depth {} below the face-normal minimum {}",
@@ -97,8 +126,7 @@ fn check_deepest(
         exact.faces
     );
     assert!(exact.all <= exact.faces);
-    let (pa, pb) = (parry_shape(a), parry_shape(b));
-    let epa = parry_depth(&pa, pose_a, &pb, pose_b);
+    let (pa, pb, epa) = (&oracles.parry_a, &oracles.parry_b, oracles.epa);
     let epa_reliable = (epa - exact.all).abs() <= EPA_AGREEMENT * scale;
     assert!(
         !epa_reliable || dv.depth >= epa - ROUNDING * scale,
@@ -106,12 +134,12 @@ fn check_deepest(
         dv.depth
     );
     let (moved_a, moved_b) = pushed_out(dv, pose_a, pose_b, PUSH_OUT_GAP * scale);
-    let after = parry_distance(&pa, &moved_a, &pb, &moved_b);
+    let after = parry_distance(pa, &moved_a, pb, &moved_b);
     assert!(
         after >= PUSH_OUT_GAP * scale * (1.0 - 1e-3),
         "after push-out: {after}"
     );
-    assert!(!parry_intersects(&pa, &moved_a, &pb, &moved_b));
+    assert!(!parry_intersects(pa, &moved_a, pb, &moved_b));
     DepthRatios {
         depth: dv.depth,
         exact: dv.depth / exact.all,
@@ -173,8 +201,9 @@ fn deepest_vertex_is_the_brute_force_minimum_and_bounds_epa() {
         assert!(!w.fell_back() && !r.fell_back());
         match (w.outcome, r.outcome) {
             (Outcome::Penetrating(dw), Outcome::Penetrating(dr)) => {
-                witness.push(check_deepest(&dw, &a, &pose_a, &b, &pose_b));
-                refine.push(check_deepest(&dr, &a, &pose_a, &b, &pose_b));
+                let oracles = pair_oracles(&a, &pose_a, &b, &pose_b);
+                witness.push(check_deepest(&dw, &a, &pose_a, &b, &pose_b, &oracles));
+                refine.push(check_deepest(&dr, &a, &pose_a, &b, &pose_b, &oracles));
                 by_role[(dr.vertex_body == BodyRole::B) as usize] += 1;
             }
             (Outcome::Separated { .. }, Outcome::Separated { .. }) => {}
@@ -229,7 +258,8 @@ fn body_inside_another_is_a_vertex_face_penetration() {
         let Outcome::Penetrating(dv) = result.outcome else {
             panic!("containment not detected: {:?}", result.outcome);
         };
-        check_deepest(&dv, &small, &pose_small, &big, &pose_big);
+        let oracles = pair_oracles(&small, &pose_small, &big, &pose_big);
+        check_deepest(&dv, &small, &pose_small, &big, &pose_big, &oracles);
     }
 }
 
@@ -274,7 +304,13 @@ fn forced_fallback_is_correct_and_reported() {
                 assert!(
                     parry_intersects(&pa, &pose_a, &pb, &pose_b) || parry_d <= ROUNDING * scale
                 );
-                check_deepest(&dv, &a, &pose_a, &b, &pose_b);
+                let oracles = PairOracles {
+                    exact: separating_axis_depth(&a, &pose_a, &b, &pose_b),
+                    epa: parry_depth(&pa, &pose_a, &pb, &pose_b),
+                    parry_a: pa,
+                    parry_b: pb,
+                };
+                check_deepest(&dv, &a, &pose_a, &b, &pose_b, &oracles);
                 seen[1] += 1;
             }
         }

@@ -6,6 +6,7 @@ use constraint_stabilization::internals::vclip::{Outcome, vclip};
 use dev_support::random::{random_hull_varied, random_pose};
 use dev_support::vclip::{parry_distance, parry_intersects, parry_shape};
 use nalgebra::Vector3;
+use parry3d_f64::shape::ConvexPolyhedron as ParryPolyhedron;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -109,14 +110,17 @@ fn random_cuboids_agree_with_parry() {
     );
 }
 
-/// Checks one query against parry; returns whether V-Clip said separated.
+/// A polyhedron with its parry shape (built once, queried at several
+/// poses).
+type WithParry<'a> = (&'a ConvexPolyhedron, &'a ParryPolyhedron);
+
+/// Checks one query against parry; returns V-Clip's outcome.
 fn check_against_parry(
-    a: &ConvexPolyhedron,
+    (a, pa): WithParry,
     pose_a: &nalgebra::Isometry3<f64>,
-    b: &ConvexPolyhedron,
+    (b, pb): WithParry,
     pose_b: &nalgebra::Isometry3<f64>,
-) -> Option<f64> {
-    let (pa, pb) = (parry_shape(a), parry_shape(b));
+) -> Outcome {
     let result = vclip(a, pose_a, b, pose_b, None).unwrap();
     assert!(
         !result.fell_back(),
@@ -125,8 +129,8 @@ fn check_against_parry(
     );
     let scale =
         a.scale().max(b.scale()) + (pose_a.translation.vector - pose_b.translation.vector).norm();
-    let parry_d = parry_distance(&pa, pose_a, &pb, pose_b);
-    let intersects = parry_intersects(&pa, pose_a, &pb, pose_b);
+    let parry_d = parry_distance(pa, pose_a, pb, pose_b);
+    let intersects = parry_intersects(pa, pose_a, pb, pose_b);
     match result.outcome {
         Outcome::Separated { distance, .. } => {
             assert!(
@@ -137,16 +141,15 @@ fn check_against_parry(
                 !intersects || distance <= PARRY_INTERSECTION_FUZZ * scale,
                 "parry intersects, v-clip {distance}"
             );
-            Some(distance)
         }
         Outcome::Penetrating(_) => {
             assert!(
                 intersects || parry_d <= TOUCHING_BAND * scale,
                 "parry distance {parry_d}"
             );
-            None
         }
     }
+    result.outcome
 }
 
 /// 10,000 random pairs of random hulls (4 to 200 points), random poses, and
@@ -164,20 +167,17 @@ fn random_hulls_agree_with_parry() {
         let (n, r) = (rng.random_range(4..=200), rng.random_range(0.5..2.0));
         let b = random_hull_varied(&mut rng, n, r);
         let (pose_a, pose_b) = (random_pose(&mut rng, 1.2), random_pose(&mut rng, 1.2));
-        let Some(distance) = check_against_parry(&a, &pose_a, &b, &pose_b) else {
+        let (pa, pb) = (parry_shape(&a), parry_shape(&b));
+        let Outcome::Separated {
+            distance,
+            witness_a_world,
+            witness_b_world,
+        } = check_against_parry((&a, &pa), &pose_a, (&b, &pb), &pose_b)
+        else {
             penetrating += 1;
             continue;
         };
         separated += 1;
-        let result = vclip(&a, &pose_a, &b, &pose_b, None).unwrap();
-        let Outcome::Separated {
-            witness_a_world,
-            witness_b_world,
-            ..
-        } = result.outcome
-        else {
-            unreachable!()
-        };
         if distance <= 0.0 {
             continue;
         }
@@ -186,9 +186,11 @@ fn random_hulls_agree_with_parry() {
         for gap in [1e-4, 1e-8, 1e-11, -1e-6] {
             let shift = nalgebra::Translation3::from(-direction * (distance - gap * scale));
             let moved_b = shift * pose_b;
-            let near_distance = check_against_parry(&a, &pose_a, &b, &moved_b);
+            let outcome = check_against_parry((&a, &pa), &pose_a, (&b, &pb), &moved_b);
             if gap > TOUCHING_BAND {
-                let d = near_distance.expect("a positive gap stays separated");
+                let Outcome::Separated { distance: d, .. } = outcome else {
+                    panic!("gap {gap}: a positive gap stays separated, V-Clip says {outcome:?}");
+                };
                 assert!(
                     (d - gap * scale).abs() <= DISTANCE_AGREEMENT * scale,
                     "gap {gap}: {d}"

@@ -2,8 +2,8 @@
 //! body, with the debug log (`RUST_LOG`).
 //!
 //! ```text
-//! RUST_LOG=constraint_stabilization=debug cargo run --release --features serde \
-//!     --example friction_probe -- tests/data/engine/mj01_box_bin.json 1.0 [cone] [polish]
+//! RUST_LOG=constraint_stabilization=debug cargo run --release --features rapier,serde \
+//!     --example probes -- friction tests/data/engine/mj01_box_bin.json 1.0 [cone] [polish]
 //! ```
 //!
 //! `cone`: `FrictionModel::Cone` (else the pyramid); `polish`: clarabel's
@@ -16,9 +16,8 @@ use std::time::Instant;
 use constraint_stabilization::io::scene_file::read_scene;
 use constraint_stabilization::{FrictionModel, Settings, Stabilizer};
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     let _ = env_logger::try_init();
-    let args: Vec<String> = std::env::args().skip(1).collect();
     let path = args.first().ok_or("a scene file")?;
     let mu: f64 = args.get(1).map_or(Ok(1.0), |s| s.parse())?;
     let mut scene = read_scene(std::path::Path::new(path))?;

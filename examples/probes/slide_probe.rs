@@ -6,7 +6,7 @@
 //! apart).
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example slide_probe -- [--steps N] [--ratio R] [--levels N] [--coupling plain|velocity|closed|allowed|positions] [--velocity-friction none|change|velocity] [--allowed A] [--tolerance T] [--target-margin M] [--verbose FROM TO] [--trace] [--solver-iterations N] [--no-recycling] [--coulomb] [--no-sleep] [--drift-every N] [--calls] [--no-resting] [--no-hold] [--no-collider-friction]
+//! cargo run --release --features rapier,serde --example probes -- slide [--steps N] [--ratio R] [--levels N] [--coupling plain|velocity|closed|allowed|positions] [--velocity-friction none|change|velocity] [--allowed A] [--tolerance T] [--target-margin M] [--verbose FROM TO] [--trace] [--solver-iterations N] [--no-recycling] [--coulomb] [--no-sleep] [--drift-every N] [--calls] [--no-resting] [--no-hold] [--no-collider-friction]
 //! ```
 //!
 //! - `--coupling`: the bridge's `CouplingMode` (its default otherwise);
@@ -40,8 +40,7 @@
 //! The summary ends with the largest horizontal drift of any box over the
 //! run (the figure of `examples/with_and_without.rs`) and the top's height.
 
-#[path = "common/rapier_scenes.rs"]
-mod scenes;
+use crate::scenes;
 
 use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
 use constraint_stabilization::scene::Scene;
@@ -132,8 +131,7 @@ fn add(a: &mut [f64; 2], b: [f64; 2]) {
     a[1] += b[1];
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     let value = |flag: &str, k: usize| {
         args.iter()
             .position(|a| a == flag)

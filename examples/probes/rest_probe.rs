@@ -4,7 +4,7 @@
 //! step made and the part the call made, with Rapier's sleep test.
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example rest_probe -- [--scene pyramid|pile|compound] [--steps N] [--from S] [--coupling closed|velocity|positions|plain] [--every K] [--velocity-friction none|velocity] [--no-resting]
+//! cargo run --release --features rapier,serde --example probes -- rest [--scene pyramid|pile|compound] [--steps N] [--from S] [--coupling closed|velocity|positions|plain] [--every K] [--velocity-friction none|velocity] [--no-resting]
 //! ```
 //!
 //! Every `K` steps from step `S` (default 60, every 20) it prints: the
@@ -19,8 +19,7 @@
 //! the exact depth Rapier's step left. `--no-resting` turns the bridge's resting calls off
 //! (`BridgeSettings::resting_calls`).
 
-#[path = "common/rapier_scenes.rs"]
-mod scenes;
+use crate::scenes;
 
 use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
 use constraint_stabilization::stabilizer::VelocityFriction;
@@ -39,8 +38,7 @@ fn flag_value(args: &[String], flag: &str) -> Option<String> {
     args.windows(2).find(|w| w[0] == flag).map(|w| w[1].clone())
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     let value = |flag: &str| flag_value(&args, flag);
     let steps: usize = value("--steps").map_or(Ok(300), |s| s.parse())?;
     let from: usize = value("--from").map_or(Ok(60), |s| s.parse())?;

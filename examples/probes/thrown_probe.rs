@@ -7,11 +7,10 @@
 //! velocity along x after Rapier's step and after the call.
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example thrown_probe -- [--steps N] [--trace VARIANT FROM TO]
+//! cargo run --release --features rapier,serde --example probes -- thrown [--steps N] [--trace VARIANT FROM TO]
 //! ```
 
-#[path = "common/rapier_scenes.rs"]
-mod scenes;
+use crate::scenes;
 
 use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
 use constraint_stabilization::stabilizer::VelocityFriction;
@@ -104,8 +103,7 @@ fn variants() -> Vec<(&'static str, Option<BridgeSettings>)> {
     ]
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     let steps: usize = flag_values(&args, "--steps", 1).map_or(Ok(300), |s| s[0].parse())?;
     let trace = flag_values(&args, "--trace", 3);
     for (name, settings) in variants() {

@@ -10,7 +10,7 @@
 //! times.
 //!
 //! ```text
-//! cargo run --release --example polish_probe
+//! cargo run --release --features rapier,serde --example probes -- polish
 //! ```
 
 use std::time::Instant;
@@ -28,7 +28,7 @@ fn median(values: &mut [f64]) -> f64 {
     values[values.len() / 2]
 }
 
-fn main() {
+pub fn run() {
     let tolerance = SolverSettings::default().tol_residual;
     let (mut problems, mut raw_accepted, mut polish_needed, mut neither) = (0, 0, 0, 0);
     let (mut largest_raw, mut seconds_with, mut seconds_without) = (0.0_f64, 0.0, 0.0);

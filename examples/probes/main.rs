@@ -1,0 +1,48 @@
+//! The diagnostic probes, one example with a subcommand per probe (one
+//! binary for `cargo test` to build and link instead of five):
+//!
+//! ```text
+//! cargo run --release --features rapier,serde --example probes -- PROBE [ARGS...]
+//! ```
+//!
+//! - `slide`: where the heavy stacks' sideways drift comes from (issue 10),
+//!   [`slide_probe`];
+//! - `rest`: what keeps a settled pile or pyramid moving under the bridge
+//!   (issue 22), [`rest_probe`];
+//! - `thrown`: why the thrown box's stack drifts under the bridge (issue
+//!   22), [`thrown_probe`];
+//! - `polish`: whether clarabel's polish decides any answer, and its time,
+//!   on random stacks (`benchmarks/results/polish.md`), [`polish_probe`];
+//! - `friction`: one call on an engine state with friction on every body,
+//!   logged (issue 21), [`friction_probe`].
+//!
+//! Each probe reads the arguments after its name as it documents them.
+
+#[path = "../common/rapier_scenes.rs"]
+mod scenes;
+
+mod friction_probe;
+mod polish_probe;
+mod rest_probe;
+mod slide_probe;
+mod thrown_probe;
+
+/// The probes' names, as the first argument.
+const PROBES: &str = "slide | rest | thrown | polish | friction";
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let probe = args.next();
+    let args: Vec<String> = args.collect();
+    match probe.as_deref() {
+        Some("slide") => slide_probe::run(args),
+        Some("rest") => rest_probe::run(args),
+        Some("thrown") => thrown_probe::run(args),
+        Some("polish") => {
+            polish_probe::run();
+            Ok(())
+        }
+        Some("friction") => friction_probe::run(args),
+        other => Err(format!("usage: probes <{PROBES}> [ARGS...] (got {other:?})").into()),
+    }
+}
