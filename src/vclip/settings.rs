@@ -72,7 +72,7 @@ impl Default for VClipSettings {
             tie_tolerance: DEFAULT_TIE_TOLERANCE,
             touch_tolerance: DEFAULT_TOUCH_TOLERANCE,
             refine_face: true,
-            curved_support_functions: false,
+            curved_support_functions: true,
         }
     }
 }

@@ -164,7 +164,7 @@ fn lifted_by_its_depth(
     assert!((oracle - depth).abs() <= 1e-9, "{label}: oracle {oracle}");
     let count = support_points(solid, boxed, 0.001);
     println!("{label}: {count} rows");
-    assert!(count >= rows, "{label}: {count} rows");
+    assert_eq!(count, rows, "{label}: rows");
     let (report, _) = stabilize_with(&mut scene, tight_support());
     // The oracle on the true solids (the harness's residual adds parry's
     // depth of the library's polyhedra, which stand out of a lying
@@ -236,7 +236,7 @@ fn support_rim_on_a_face_is_resolved() {
     );
     let rows = support_points(c, floor, 0.001);
     println!("rim on a face: {rows} rows");
-    assert!(rows >= 1);
+    assert_eq!(rows, 1, "a tilted rim touches at one point");
     let mut scene = scene;
     let (report, residual) = stabilize_with(&mut scene, tight_support());
     println!("{}", describe("rim on a face (support)", &report, residual));
