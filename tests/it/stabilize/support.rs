@@ -61,10 +61,9 @@ pub fn parry_pair_depth(scene: &Scene, shapes: &[Vec<ParryPolyhedron>], a: usize
             .collect()
     };
     let round = |body: usize| {
-        scene.bodies()[body]
-            .parts()
-            .iter()
-            .any(|p| p.rounding().is_some() || p.curved().is_some())
+        let body = &scene.bodies()[body];
+        (0..body.parts().len())
+            .any(|k| body.parts()[k].rounding().is_some() || body.part_curved(k).is_some())
     };
     if round(a) || round(b) {
         // A round part's polyhedron is its core or a bounding box, a
