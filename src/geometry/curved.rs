@@ -1,5 +1,8 @@
-//! Cylinders and cones as polyhedra that bound the true solid within a
-//! stated deviation (`docs/round-shapes.md`, "Cylinders and cones").
+//! Cylinders and cones: their true solids ([`CurvedSolid`], the default
+//! narrow phase's: support function, outline, signed distance of a point)
+//! and the polyhedra that bound them within a stated deviation (the narrow
+//! phase's with `VClipSettings::curved_support_functions` off;
+//! `docs/round-shapes.md`, "Cylinders and cones").
 //!
 //! The circle of radius `r` is replaced by the regular `N`-gon
 //! *circumscribed* about it: its edges touch the circle and its vertices

@@ -25,8 +25,9 @@
 //! - two points or segments: their closest points ([`segments`]), and for
 //!   two nearly parallel segments the ends of their common stretch;
 //! - a cylinder or cone with anything, when
-//!   `VClipSettings::curved_support_functions` is on: support functions on
-//!   the true solids ([`support_pair`], [`support_manifold`]).
+//!   `VClipSettings::curved_support_functions` is on (the default):
+//!   support functions on the true solids ([`support_pair`],
+//!   [`support_manifold`], rows by [`point_distance`]).
 
 pub mod against_polyhedron;
 pub mod point_distance;
