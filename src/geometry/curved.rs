@@ -222,7 +222,7 @@ impl CurvedSolid {
             let norm = (height * height + r * r).sqrt();
             (height / norm, r / norm)
         };
-        let edges: &[((f64, f64), (f64, f64), (f64, f64))] = match self {
+        let edges: &[ProfileEdge] = match self {
             CurvedSolid::Cylinder { .. } => &[
                 ((0.0, base), (r, base), (0.0, -1.0)),
                 ((r, base), (r, top), (1.0, 0.0)),
@@ -280,6 +280,13 @@ impl CurvedSolid {
         })
     }
 }
+
+/// A point or a direction in the half plane `(rho, z)` through the axis.
+type InPlane = (f64, f64);
+
+/// An edge of a profile in the half plane through the axis: its start,
+/// its end and its outward unit normal.
+type ProfileEdge = (InPlane, InPlane, InPlane);
 
 /// The signed distance of a point to a solid's surface (negative inside),
 /// the nearest surface point, the outward unit normal there, and whether
