@@ -77,16 +77,15 @@ def capsule(radius: float, half_height: float) -> Shape:
 
 def cylinder(radius: float, half_height: float) -> Shape:
     """A solid cylinder along z centred on its frame's origin. The library
-    works on a circumscribed polygonal prism that departs from the round
-    side by at most a small fixed fraction of the radius (the library's
-    ``CURVED_DEVIATION_RELATIVE``): it is never smaller than the true
-    cylinder."""
+    works on the true solid by support functions (its default; the
+    circumscribed polygonal prism of ``CURVED_DEVIATION_RELATIVE`` remains
+    behind the Rust setting ``VClipSettings::curved_support_functions``)."""
     return Shape.cylinder(_length(radius, "radius"), _length(half_height, "half_height"))
 
 
 def cone(radius: float, half_height: float) -> Shape:
     """A solid cone along z: base of ``radius`` at ``-half_height``, apex
-    at ``+half_height`` (circumscribed like a cylinder)."""
+    at ``+half_height`` (the true solid, like a cylinder)."""
     return Shape.cone(_length(radius, "radius"), _length(half_height, "half_height"))
 
 

@@ -110,9 +110,11 @@ pub enum Shape {
         /// Rounding radius (length, >= 0).
         radius: f64,
     },
-    /// A solid cylinder along `z`, centred on the shape-frame origin; its
-    /// curved side is approximated within
-    /// [`crate::geometry::curved::CURVED_DEVIATION_RELATIVE`] of the radius.
+    /// A solid cylinder along `z`, centred on the shape-frame origin;
+    /// queried on its true solid by support functions (or, with
+    /// [`crate::vclip::VClipSettings::curved_support_functions`] off, as a
+    /// polyhedron within
+    /// [`crate::geometry::curved::CURVED_DEVIATION_RELATIVE`] of the radius).
     Cylinder {
         /// Half the height (length, > 0).
         half_height: f64,
@@ -121,7 +123,7 @@ pub enum Shape {
     },
     /// A solid cone along `z`: base of radius `radius` at
     /// `z = -half_height`, apex at `z = half_height` (Rapier's convention,
-    /// along `z`); curved side approximated as a cylinder's.
+    /// along `z`); queried like a cylinder.
     Cone {
         /// Half the height (length, > 0).
         half_height: f64,
@@ -155,16 +157,15 @@ impl Shape {
         }
     }
 
-    /// The largest distance between the surface the narrow phase works on
-    /// and the true surface (length): `r (1/cos(π/N) - 1)` for a cylinder
-    /// or cone of radius `r` (its circumscribed `N`-gon,
-    /// [`crate::geometry::curved`]; at most
-    /// [`crate::geometry::curved::CURVED_DEVIATION_RELATIVE`] of `r`), the
-    /// largest part's for a compound, 0 for every exact shape. This is the
-    /// default narrow phase's; with
-    /// [`crate::vclip::VClipSettings::curved_support_functions`] cylinders
-    /// and cones are queried on their true solids and this bound does not
-    /// apply (their error is then measured: `docs/round-shapes.md`).
+    /// The largest distance between a cylinder's or cone's circumscribed
+    /// polyhedron and its true surface (length): `r (1/cos(π/N) - 1)` for
+    /// radius `r` (its circumscribed `N`-gon, [`crate::geometry::curved`];
+    /// at most [`crate::geometry::curved::CURVED_DEVIATION_RELATIVE`] of
+    /// `r`), the largest part's for a compound, 0 for every exact shape.
+    /// It bounds the narrow phase's error when
+    /// [`crate::vclip::VClipSettings::curved_support_functions`] is off; by
+    /// default cylinders and cones are queried on their true solids and
+    /// their error is measured instead (`docs/round-shapes.md`).
     pub fn surface_deviation(&self) -> f64 {
         let sides = curved::sides_for(curved::CURVED_DEVIATION_RELATIVE);
         match self {

@@ -15,7 +15,10 @@
 //! | sphere, capsule | the box that holds the solid (never queried) | point / segment core | closed form |
 //! | rounded cuboid | the cuboid (the core) | polyhedron core | closed form |
 //! | rounded hull | the hull (the core) | polyhedron core | inscribed approximation |
-//! | cylinder, cone | circumscribed approximation (`geometry::curved`), and the true solid (`curved`) | none | closed form of the true solid |
+//! | cylinder, cone | circumscribed approximation (`geometry::curved`) | none | closed form of the true solid |
+//!
+//! A cylinder's or cone's true solid (the support-function narrow
+//! phase's) is not stored: [`curved_solid`] reads it off the shape.
 
 use std::sync::Arc;
 
@@ -32,9 +35,6 @@ use crate::geometry::{
 pub(crate) struct PartSolid {
     pub polyhedron: Arc<ConvexPolyhedron>,
     pub rounding: Option<Rounding>,
-    /// A cylinder's or cone's true solid, part frame (`polyhedron` is then
-    /// its circumscribed approximation).
-    pub curved: Option<CurvedSolid>,
     /// Volume.
     pub volume: f64,
     /// Centre of mass in the shape frame.
@@ -53,7 +53,6 @@ impl PartSolid {
             inertia_unit_density: mass.inertia_unit_density,
             polyhedron,
             rounding: None,
-            curved: None,
         }
     }
 
@@ -74,7 +73,6 @@ impl PartSolid {
                 inertia_unit_density: mass.inertia_unit_density,
                 polyhedron,
                 rounding,
-                curved: None,
             }
         };
         let rounded = |core: RoundCore, radius: f64| Some(Rounding { core, radius });
@@ -125,31 +123,19 @@ impl PartSolid {
             Shape::Cylinder {
                 half_height,
                 radius,
-            } => PartSolid {
-                curved: Some(CurvedSolid::Cylinder {
-                    half_height: *half_height,
-                    radius: *radius,
-                }),
-                ..at_frame(
-                    curved::cylinder(*half_height, *radius)?,
-                    None,
-                    round_mass::cylinder(*half_height, *radius),
-                )
-            },
+            } => at_frame(
+                curved::cylinder(*half_height, *radius)?,
+                None,
+                round_mass::cylinder(*half_height, *radius),
+            ),
             Shape::Cone {
                 half_height,
                 radius,
-            } => PartSolid {
-                curved: Some(CurvedSolid::Cone {
-                    half_height: *half_height,
-                    radius: *radius,
-                }),
-                ..at_frame(
-                    curved::cone(*half_height, *radius)?,
-                    None,
-                    round_mass::cone(*half_height, *radius),
-                )
-            },
+            } => at_frame(
+                curved::cone(*half_height, *radius)?,
+                None,
+                round_mass::cone(*half_height, *radius),
+            ),
             Shape::Compound { .. } => {
                 return Err(GeometryError::NotConvex(
                     "a compound has one polyhedron per part".into(),
@@ -191,7 +177,6 @@ impl PartSolid {
             inertia_unit_density: mass.inertia_unit_density,
             polyhedron: core,
             rounding,
-            curved: None,
         })
     }
 }
@@ -201,5 +186,28 @@ fn check_positive(name: &'static str, value: f64) -> Result<(), GeometryError> {
         Ok(())
     } else {
         Err(GeometryError::InvalidDimension { name, value })
+    }
+}
+
+/// A cylinder's or cone's true solid, read off its shape (part frame:
+/// the shape's `z` axis, origin at the centre of mass); `None` for every
+/// other shape.
+pub fn curved_solid(shape: &Shape) -> Option<CurvedSolid> {
+    match *shape {
+        Shape::Cylinder {
+            half_height,
+            radius,
+        } => Some(CurvedSolid::Cylinder {
+            half_height,
+            radius,
+        }),
+        Shape::Cone {
+            half_height,
+            radius,
+        } => Some(CurvedSolid::Cone {
+            half_height,
+            radius,
+        }),
+        _ => None,
     }
 }

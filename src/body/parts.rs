@@ -33,6 +33,8 @@ use std::sync::Arc;
 
 use nalgebra::{Isometry3, Matrix3, Translation3, Vector3};
 
+use super::Body;
+use super::part_solid::curved_solid;
 use super::{BodyError, PartSolid, Shape, check_translation, unit_rotation};
 use crate::geometry::curved::CurvedSolid;
 use crate::geometry::{ConvexPolyhedron, Rounding};
@@ -62,7 +64,6 @@ pub struct ShapePart {
 pub struct BodyPart {
     polyhedron: Arc<ConvexPolyhedron>,
     rounding: Option<Rounding>,
-    curved: Option<CurvedSolid>,
     offset: Option<Isometry3<f64>>,
 }
 
@@ -78,13 +79,6 @@ impl BodyPart {
     /// capsule's [`BodyPart::polyhedron`] is only the box that holds it.
     pub fn rounding(&self) -> Option<Rounding> {
         self.rounding
-    }
-
-    /// A cylinder's or cone's true solid (the support-function narrow
-    /// phase's; [`BodyPart::polyhedron`] is its circumscribed
-    /// approximation); `None` for every other shape.
-    pub fn curved(&self) -> Option<CurvedSolid> {
-        self.curved
     }
 
     /// The part's length scale: its polyhedron's, or a round part's reach
@@ -151,7 +145,6 @@ impl Solid {
             parts: vec![BodyPart {
                 polyhedron,
                 rounding: None,
-                curved: None,
                 offset: None,
             }],
         }
@@ -175,7 +168,6 @@ impl Solid {
                     parts: vec![BodyPart {
                         polyhedron: solid.polyhedron,
                         rounding: solid.rounding,
-                        curved: solid.curved,
                         offset,
                     }],
                 })
@@ -225,7 +217,6 @@ impl Solid {
                 BodyPart {
                     polyhedron: solid.polyhedron,
                     rounding: solid.rounding,
-                    curved: solid.curved,
                     offset: Some(Isometry3::from_parts(
                         Translation3::from(frame - com),
                         rotation,
@@ -239,5 +230,24 @@ impl Solid {
             origin_offset: com,
             inertia_unit_density: inertia,
         })
+    }
+}
+
+impl Body {
+    /// The shape of part `k` (a compound's `k`-th part's, or the body's
+    /// own for its only part).
+    pub fn part_shape(&self, k: usize) -> Option<&Shape> {
+        match &self.shape {
+            Shape::Compound { parts } => parts.get(k).map(|part| &part.shape),
+            shape => (k == 0).then_some(shape),
+        }
+    }
+
+    /// Part `k`'s true solid when it is a cylinder or cone (the
+    /// support-function narrow phase's; [`BodyPart::polyhedron`] is its
+    /// circumscribed approximation), read off its shape; `None` for every
+    /// other shape.
+    pub fn part_curved(&self, k: usize) -> Option<CurvedSolid> {
+        self.part_shape(k).and_then(curved_solid)
     }
 }

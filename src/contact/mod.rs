@@ -447,7 +447,7 @@ fn round_contact_points(
     let mut points: Vec<ContactPoint> = match &round.closed_form {
         Some(contact) => contact.points[..contact.count]
             .iter()
-            .map(|p| round.on_surfaces(p, &contact.normal_world))
+            .map(|p| round.on_surfaces(p))
             .collect(),
         None => {
             let core = PairQuery {
@@ -499,8 +499,9 @@ fn round_contact_points(
                         on_a: p.point_a_world,
                         on_b: p.point_b_world,
                         separation: p.separation,
+                        normal: p.normal_world,
                     };
-                    round.on_surfaces(&core, &p.normal_world)
+                    round.on_surfaces(&core)
                 })
                 .collect()
         }

@@ -45,10 +45,10 @@ impl SceneParts {
             ..SceneParts::default()
         };
         for (index, body) in scene.bodies().iter().enumerate() {
-            for part in body.parts() {
+            for (k, part) in body.parts().iter().enumerate() {
                 parts.shapes.push(part.polyhedron().clone());
                 parts.roundings.push(part.rounding());
-                parts.curved.push(part.curved());
+                parts.curved.push(body.part_curved(k));
                 parts.offsets.push(part.offset().copied());
                 parts.owners.push(index);
             }

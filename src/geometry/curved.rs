@@ -1,5 +1,8 @@
-//! Cylinders and cones as polyhedra that bound the true solid within a
-//! stated deviation (`docs/round-shapes.md`, "Cylinders and cones").
+//! Cylinders and cones: their true solids ([`CurvedSolid`], the default
+//! narrow phase's: support function, outline, signed distance of a point)
+//! and the polyhedra that bound them within a stated deviation (the narrow
+//! phase's with `VClipSettings::curved_support_functions` off;
+//! `docs/round-shapes.md`, "Cylinders and cones").
 //!
 //! The circle of radius `r` is replaced by the regular `N`-gon
 //! *circumscribed* about it: its edges touch the circle and its vertices
@@ -172,9 +175,16 @@ impl CurvedSolid {
         }
     }
 
-    /// Points of the solid's surface that a flat contact may rest on: the
-    /// `samples` points of each rim circle (evenly spaced, on the true
-    /// circle) and a cone's apex, part frame.
+    /// The cone's apex, part frame (`None` for a cylinder).
+    pub fn apex(&self) -> Option<Point3<f64>> {
+        match self {
+            CurvedSolid::Cylinder { .. } => None,
+            CurvedSolid::Cone { .. } => Some(Point3::new(0.0, 0.0, self.base_and_top().1)),
+        }
+    }
+
+    /// Points of a cap resting flat on a face: the `samples` points of
+    /// each rim circle (evenly spaced, on the true circle), part frame.
     pub fn outline(&self, samples: usize) -> Vec<Point3<f64>> {
         let (base, top) = self.base_and_top();
         let circle = |z: f64| {
@@ -185,32 +195,113 @@ impl CurvedSolid {
         };
         match self {
             CurvedSolid::Cylinder { .. } => circle(base).chain(circle(top)).collect(),
-            CurvedSolid::Cone { .. } => circle(base)
-                .chain(std::iter::once(Point3::new(0.0, 0.0, top)))
-                .collect(),
+            CurvedSolid::Cone { .. } => circle(base).collect(),
         }
     }
 
-    /// Whether `p` (part frame) lies in the solid grown by `slack`
-    /// (the cone's slanted side tested by its plane distance).
-    pub fn contains(&self, p: &Point3<f64>, slack: f64) -> bool {
+    /// The signed distance of `p` (part frame) to the solid's surface
+    /// (negative inside), the nearest surface point and the outward unit
+    /// normal there (module `contact::round::point_distance`). The solid
+    /// is turned about its axis, so this is the distance in the half plane
+    /// `(rho, z)` through the axis and `p` to the profile: the rectangle
+    /// `[0, r] x [base, top]` (cylinder) or the triangle
+    /// `(0, base), (r, base), (0, top)` (cone), whose edge on the axis is
+    /// no surface. `None` when the normal is undefined (a point exactly on
+    /// the rim or apex is handled; only non-finite input fails).
+    pub fn signed_distance(&self, p: &Point3<f64>) -> Option<SurfaceDistance> {
         let (base, top) = self.base_and_top();
+        let r = self.radius();
+        let u = Self::radial(&p.coords);
         let rho = (p.x * p.x + p.y * p.y).sqrt();
-        if p.z < base - slack || p.z > top + slack {
-            return false;
+        let lift = |rho: f64, z: f64| Point3::from(u * rho + Vector3::z() * z);
+        let turn = |d_rho: f64, d_z: f64| u * d_rho + Vector3::z() * d_z;
+        // The profile's surface edges, from the axis round to the axis:
+        // (start, end) in (rho, z), with the outward unit normal.
+        let slant = {
+            let height = top - base;
+            let norm = (height * height + r * r).sqrt();
+            (height / norm, r / norm)
+        };
+        let edges: &[ProfileEdge] = match self {
+            CurvedSolid::Cylinder { .. } => &[
+                ((0.0, base), (r, base), (0.0, -1.0)),
+                ((r, base), (r, top), (1.0, 0.0)),
+                ((r, top), (0.0, top), (0.0, 1.0)),
+            ],
+            CurvedSolid::Cone { .. } => &[
+                ((0.0, base), (r, base), (0.0, -1.0)),
+                ((r, base), (0.0, top), slant),
+            ],
+        };
+        // Inside: the largest edge-line value (each edge's nearest point
+        // from inside lies on the edge, the profile being convex).
+        let (inside_value, inside_normal) = edges
+            .iter()
+            .map(|&((s_rho, s_z), _, (n_rho, n_z))| {
+                (n_rho * (rho - s_rho) + n_z * (p.z - s_z), (n_rho, n_z))
+            })
+            .max_by(|x, y| x.0.total_cmp(&y.0))?;
+        if !inside_value.is_finite() {
+            return None;
         }
-        match self {
-            CurvedSolid::Cylinder { .. } => rho <= self.radius() + slack,
-            CurvedSolid::Cone { .. } => {
-                // Side line through (r, base) and (0, top); outward normal
-                // (height, r) / norm in the (rho, z) plane.
-                let height = top - base;
-                let r = self.radius();
-                let norm = (height * height + r * r).sqrt();
-                (height * (rho - r) + r * (p.z - base)) / norm <= slack
-            }
+        if inside_value <= 0.0 {
+            let normal = turn(inside_normal.0, inside_normal.1);
+            return Some(SurfaceDistance {
+                signed: inside_value,
+                closest: p - normal * inside_value,
+                normal,
+                flat: inside_normal.0 == 0.0,
+            });
         }
+        // Outside: the nearest point of the edges.
+        let (distance, (c_rho, c_z), on_cap) = edges
+            .iter()
+            .map(|&((s_rho, s_z), (e_rho, e_z), (n_rho, _))| {
+                let (d_rho, d_z) = (e_rho - s_rho, e_z - s_z);
+                let length_squared = d_rho * d_rho + d_z * d_z;
+                let t = ((rho - s_rho) * d_rho + (p.z - s_z) * d_z) / length_squared;
+                let t = if t.is_finite() {
+                    t.clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let (c_rho, c_z) = (s_rho + t * d_rho, s_z + t * d_z);
+                let on_cap = n_rho == 0.0 && c_rho < r;
+                ((rho - c_rho).hypot(p.z - c_z), (c_rho, c_z), on_cap)
+            })
+            .min_by(|x, y| x.0.total_cmp(&y.0))?;
+        let closest = lift(c_rho, c_z);
+        let normal = (p - closest).try_normalize(0.0)?;
+        Some(SurfaceDistance {
+            signed: distance,
+            closest,
+            normal,
+            flat: on_cap,
+        })
     }
+}
+
+/// A point or a direction in the half plane `(rho, z)` through the axis.
+type InPlane = (f64, f64);
+
+/// An edge of a profile in the half plane through the axis: its start,
+/// its end and its outward unit normal.
+type ProfileEdge = (InPlane, InPlane, InPlane);
+
+/// The signed distance of a point to a solid's surface (negative inside),
+/// the nearest surface point, the outward unit normal there, and whether
+/// that point lies on a flat piece of the surface (a face or a cap, not an
+/// edge, a rim or a curved side), frame of the solid.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceDistance {
+    /// Distance (negative inside).
+    pub signed: f64,
+    /// The nearest surface point.
+    pub closest: Point3<f64>,
+    /// Unit outward normal at `closest` (towards the point outside).
+    pub normal: Vector3<f64>,
+    /// Whether `closest` lies inside a flat face or cap.
+    pub flat: bool,
 }
 
 impl CurvedSolid {

@@ -217,6 +217,7 @@ fn face_points(s: &[Point3<f64>; 2], poly: &ConvexPolyhedron, f: usize) -> Optio
             on_a: c,
             on_b: c - plane.normal * separation,
             separation,
+            normal: plane.normal,
         }
     };
     let (p0, p1) = (point(c0), point(c1));
@@ -242,6 +243,7 @@ fn single(on_a: Point3<f64>, on_b: Point3<f64>, normal: Vector3<f64>, signed: f6
         on_a,
         on_b,
         separation: normal.dot(&(on_a - on_b)),
+        normal,
     };
     CoreContact {
         signed_distance: signed,
@@ -274,6 +276,7 @@ pub fn segment_polyhedron(s: &[Point3<f64>; 2], poly: &ConvexPolyhedron) -> Core
                     on_a: x,
                     on_b: x + axis.normal * depth,
                     separation: -depth,
+                    normal: axis.normal,
                 };
                 contact.count += 1;
             }

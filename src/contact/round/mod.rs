@@ -25,10 +25,12 @@
 //! - two points or segments: their closest points ([`segments`]), and for
 //!   two nearly parallel segments the ends of their common stretch;
 //! - a cylinder or cone with anything, when
-//!   `VClipSettings::curved_support_functions` is on: support functions on
-//!   the true solids ([`support_pair`], [`support_manifold`]).
+//!   `VClipSettings::curved_support_functions` is on (the default):
+//!   support functions on the true solids ([`support_pair`],
+//!   [`support_manifold`], rows by [`point_distance`]).
 
 pub mod against_polyhedron;
+pub mod point_distance;
 pub mod segments;
 pub mod support_manifold;
 pub mod support_map;
@@ -58,6 +60,10 @@ pub struct CorePoint {
     pub on_b: Point3<f64>,
     /// `n . (on_a - on_b)`.
     pub separation: f64,
+    /// The row's unit normal `n` from B towards A: the pair's, or for a
+    /// point of a support-function manifold its own
+    /// (`support_manifold`).
+    pub normal: Vector3<f64>,
 }
 
 /// The cores' answer in closed form (a point or segment core).
@@ -79,6 +85,7 @@ impl CoreContact {
         for p in &mut points {
             p.on_a = pose * p.on_a;
             p.on_b = pose * p.on_b;
+            p.normal = pose.rotation * p.normal;
         }
         CoreContact {
             normal_world: pose.rotation * self.normal_world,
@@ -92,6 +99,7 @@ impl CoreContact {
         let mut points = self.points;
         for p in &mut points {
             std::mem::swap(&mut p.on_a, &mut p.on_b);
+            p.normal = -p.normal;
         }
         CoreContact {
             normal_world: -self.normal_world,
@@ -117,8 +125,10 @@ impl RoundAnswer {
         self.radii[0] + self.radii[1]
     }
 
-    /// A core contact point put on the surfaces (module docs).
-    pub fn on_surfaces(&self, point: &CorePoint, normal: &Vector3<f64>) -> ContactPoint {
+    /// A core contact point put on the surfaces along its normal (module
+    /// docs).
+    pub fn on_surfaces(&self, point: &CorePoint) -> ContactPoint {
+        let normal = &point.normal;
         ContactPoint {
             point_a_world: point.on_a - normal * self.radii[0],
             point_b_world: point.on_b + normal * self.radii[1],
@@ -182,6 +192,7 @@ fn segment_segment(
         on_a,
         on_b,
         separation: normal.dot(&(on_a - on_b)),
+        normal,
     };
     let mut contact = CoreContact {
         signed_distance: distance,

@@ -4,49 +4,61 @@
 //!
 //! With the normal `n` (from B towards A), A's support plane
 //! `n . x = t_A = -h_A(-n)` and B's `n . x = t_B = h_B(n)`
-//! (`t_A - t_B = -o(n)`):
+//! (`t_A - t_B = -o(n)`, the cores' signed distance `s`):
 //!
 //! - the central point: the witnesses of GJK/EPA, each moved along `n`
-//!   onto its support plane (separation `t_A - t_B`, the pair's signed
-//!   distance), or, without witnesses, A's support point and its partner
-//!   straight along `n` on B's plane;
-//! - each outline point `p` of A within [`FEATURE_WINDOW_RELATIVE`] of the
-//!   size above A's plane (its face, side line or rim towards B), paired
-//!   with `q = p - (n . p - t_B) n` on B's plane when `q` lies in B (within
-//!   [`CONTAINS_SLACK_RELATIVE`]): separation `n . p - t_B`, the point's
-//!   own height above B's plane;
-//! - the same for B's outline points, onto A's plane;
-//! - for an outline point whose partner falls outside the other solid,
-//!   the last point of the chord from the central point towards it whose
-//!   partner is still in it (by bisection): the touching feature clipped
-//!   by the other's (a capsule across a cap's rim, a cap over an edge).
+//!   onto its support plane (separation `s`, normal `n`), or, without
+//!   witnesses, A's support point and its partner straight along `n` on
+//!   B's plane;
+//! - the outline points of each core on its own support plane, within
+//!   [`FEATURE_WINDOW_RELATIVE`] of the feature scale (the smaller core's
+//!   reach plus radius): polyhedron vertices, segment ends, the ends of a
+//!   cylinder's or cone's side line facing the other, and a rim's samples
+//!   when the whole rim lies within the window (a cap flat on the plane;
+//!   a tilted rim touches at one point, the central one);
+//! - each such point `p` becomes a row with its own signed distance to
+//!   the other core (`point_distance`): the points `p` and its nearest
+//!   point `c` of the other core, the normal at `c`, the separation
+//!   `sd(p)`; a row only if that normal is within [`ROW_ALIGNMENT_COS`]
+//!   of `n` and `sd(p) <= s + window`. A row so built is the exact
+//!   linearization of the non-penetration of the point (grown by its core's
+//!   radius) and the other solid: it never asks more than that point needs;
+//! - an outline point that fails is replaced by the last point of the
+//!   chord from the central point towards it that passes with its
+//!   nearest point on a flat piece of the other (a face or a cap; by
+//!   bisection, the passing points of a chord being an interval): the
+//!   touching feature clipped by the other's flat feature (a capsule
+//!   across a cap's rim, a cylinder lying across a box's edge). Off a
+//!   curved side (a box face under a lying cylinder) nothing is clipped:
+//!   the contact there is the side's line, whose ends are outline points.
 //!
-//! Every point pairs a point of A with a point of B straight along `n`, so
-//! a row's lever arms are those of the contact. A cylinder on its cap gets
-//! the rim samples over a face (and the face's corners over the cap), a
-//! cylinder lying on its side the ends of its side line; the containment
-//! slack adds clipped points up to `sqrt(2 r slack)` beside a side line or
-//! a rim (rows asking at most the slack more than needed). At most
-//! [`MAX_ROUND_POINTS`] are kept: the deepest, the farthest from it, and
-//! the farthest on each side of the line through those two.
+//! When some outline row carries the pair's separation (within
+//! [`TIE_RELATIVE`] of the size), the central point is dropped: it lies on
+//! the same flat feature. At most [`MAX_ROUND_POINTS`] are kept: the
+//! deepest, the farthest from it, and the farthest on each side of the
+//! line through those two; among rows of equal depth, the extremes of the
+//! feature (a cylinder lying on a face: the two ends of its side line; on
+//! its cap: four rim points; a tilted rim: the central point alone).
 
 use nalgebra::{Point3, Vector3};
 
+use super::point_distance::point_distance;
 use super::support_map::PosedCore;
 use super::{CorePoint, MAX_ROUND_POINTS};
 
-/// Height above a support plane, relative to the pair's size, within
-/// which an outline point belongs to the touching feature (at `1e-2` a
-/// lying cylinder's rim samples next to its bottom line, 1.1 cm above the
-/// face, were kept as the farthest points and then dropped by the contact
-/// margin, leaving no row at the ends of the line).
+/// Height above its own support plane, relative to the feature scale,
+/// within which an outline point belongs to the touching feature, and
+/// by which its own separation may exceed the pair's.
 pub const FEATURE_WINDOW_RELATIVE: f64 = 1e-3;
 
-/// Distance, relative to the pair's size, by which a point projected onto
-/// the other's support plane may lie outside the other solid and still
-/// count as on it (the rounding of the projection; two nearly parallel side
-/// lines).
-pub const CONTAINS_SLACK_RELATIVE: f64 = 1e-2;
+/// Least cosine between a row's own normal and the pair's: a point whose
+/// nearest surface of the other solid faces elsewhere (a side face, the
+/// far face of a thin plate) is not on the contact.
+pub const ROW_ALIGNMENT_COS: f64 = 0.999;
+
+/// A row's separation within this of the pair's, relative to the size,
+/// carries the pair's separation (the central point is then dropped).
+pub const TIE_RELATIVE: f64 = 1e-9;
 
 /// Two contact points closer than this, relative to the pair's size, are
 /// one.
@@ -64,96 +76,93 @@ pub fn points(
 ) -> ([CorePoint; MAX_ROUND_POINTS], usize) {
     let top_a = -a.support_value(&-n);
     let top_b = b.support_value(n);
+    let separation = top_a - top_b;
     let central = match witnesses {
         Some([p_a, p_b]) => CorePoint {
             on_a: p_a + n * (top_a - n.dot(&p_a.coords)),
             on_b: p_b + n * (top_b - n.dot(&p_b.coords)),
-            separation: top_a - top_b,
+            separation,
+            normal: *n,
         },
         None => {
             let p = a.support(&-n);
             CorePoint {
                 on_a: p,
                 on_b: p - n * (n.dot(&p.coords) - top_b),
-                separation: top_a - top_b,
+                separation,
+                normal: *n,
             }
         }
     };
-    let window = FEATURE_WINDOW_RELATIVE * size;
-    let slack = CONTAINS_SLACK_RELATIVE * size;
-    let mut candidates = vec![central];
-    // A's points over B's plane, then B's under A's plane (`flip`): the
-    // outline point, and where it leaves the other solid, the last point
-    // on the chord from the central point towards it that stays over the
-    // other (its feature clipped by the other's).
+    let feature = (a.reach() + a.radius).min(b.reach() + b.radius);
+    let window = FEATURE_WINDOW_RELATIVE * feature;
+    let mut rows: Vec<CorePoint> = Vec::new();
+    // A's points against B, then B's against A (`flip`).
     for (ours, theirs, from, flip) in [(a, b, central.on_a, 1.0), (b, a, central.on_b, -1.0)] {
-        let (own_top, other_top) = if flip > 0.0 {
-            (top_a, top_b)
-        } else {
-            (top_b, top_a)
+        let own_top = if flip > 0.0 { top_a } else { top_b };
+        let row = |p: &Point3<f64>, clipped: bool| -> Option<CorePoint> {
+            let distance = point_distance(theirs, p)?;
+            let normal = distance.normal * flip;
+            let passes = normal.dot(n) >= ROW_ALIGNMENT_COS
+                && distance.signed <= separation + window
+                && (distance.flat || !clipped);
+            let (on_a, on_b) = if flip > 0.0 {
+                (*p, distance.closest)
+            } else {
+                (distance.closest, *p)
+            };
+            passes.then_some(CorePoint {
+                on_a,
+                on_b,
+                separation: distance.signed,
+                normal,
+            })
         };
-        let d = n * flip;
-        let over = |p: &Point3<f64>| {
-            let height = n.dot(&p.coords);
-            theirs.contains(&(p - n * (height - other_top)), slack)
-        };
-        for p in ours.outline(&-d) {
-            let height = n.dot(&p.coords);
-            if flip * (height - own_top) > window {
+        for p in ours.outline(&(-n * flip), window) {
+            if flip * (n.dot(&p.coords) - own_top) > window {
                 continue;
             }
-            let kept = if over(&p) {
-                Some(p)
-            } else {
-                clip(&from, &p, &over, slack)
-            };
-            if let Some(p) = kept {
-                let height = n.dot(&p.coords);
-                let partner = p - n * (height - other_top);
-                let (on_a, on_b) = if flip > 0.0 {
-                    (p, partner)
-                } else {
-                    (partner, p)
-                };
-                candidates.push(CorePoint {
-                    on_a,
-                    on_b,
-                    separation: n.dot(&(on_a - on_b)),
-                });
-            }
+            let kept = row(&p, false).or_else(|| clip(&from, &p, |x| row(x, true), window));
+            rows.extend(kept);
         }
     }
-    reduce(&candidates, n, SAME_POINT_RELATIVE * size)
+    let ties = rows
+        .iter()
+        .any(|r| r.separation <= separation + TIE_RELATIVE * size);
+    if !ties {
+        rows.push(central);
+    }
+    reduce(&rows, n, SAME_POINT_RELATIVE * size)
 }
 
 /// Steps of the bisection that clips a chord to the other solid.
 pub const CLIP_BISECTIONS: usize = 30;
 
-/// The last point of the chord from `from` (over the other solid) towards
-/// `to` (not over it) that is still over it, by bisection to `slack`;
-/// `None` when `from` itself is not over it.
+/// The row of the last point of the chord from `from` towards `to` (which
+/// fails) that passes `row`, by bisection to `resolution`; `None` when
+/// no point of the chord but `from` passes.
 fn clip(
     from: &Point3<f64>,
     to: &Point3<f64>,
-    over: &impl Fn(&Point3<f64>) -> bool,
-    slack: f64,
-) -> Option<Point3<f64>> {
-    if !over(from) {
-        return None;
-    }
-    let (mut inside, mut outside) = (0.0, 1.0);
+    row: impl Fn(&Point3<f64>) -> Option<CorePoint>,
+    resolution: f64,
+) -> Option<CorePoint> {
+    let mut inside = None;
+    let (mut low, mut high) = (0.0, 1.0);
     for _ in 0..CLIP_BISECTIONS {
-        if (outside - inside) * (to - from).norm() <= slack {
+        if (high - low) * (to - from).norm() <= resolution {
             break;
         }
-        let middle = 0.5 * (inside + outside);
-        if over(&(from + (to - from) * middle)) {
-            inside = middle;
-        } else {
-            outside = middle;
+        let middle = 0.5 * (low + high);
+        match row(&(from + (to - from) * middle)) {
+            Some(found) => {
+                inside = Some(found);
+                low = middle;
+            }
+            None => high = middle,
         }
     }
-    (inside > 0.0).then(|| from + (to - from) * inside)
+    inside
 }
 
 /// At most [`MAX_ROUND_POINTS`] of `candidates` (module docs); the first

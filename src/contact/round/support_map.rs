@@ -16,8 +16,10 @@
 //!
 //! The outline (`outline`) is the finite set of surface points a flat
 //! contact may rest on, for a contact along `d`: a polyhedron's vertices, a
-//! segment's ends, a curved solid's rim samples plus the ends of its side
-//! line facing `d` (which realize a cylinder lying on its side exactly).
+//! segment's ends, a curved solid's rim samples when the rim is flat to
+//! the contact (a cap resting on a face), a cone's apex, and the ends of
+//! its side line facing `d` (which realize a cylinder lying on its side
+//! exactly).
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::math::Vector as ParryVector;
@@ -135,9 +137,11 @@ impl<'a> PosedCore<'a> {
         d.dot(&self.support(d).coords)
     }
 
-    /// Surface points of the core a flat contact along world direction `d`
-    /// may rest on, world frame (module docs).
-    pub fn outline(&self, d: &Vector3<f64>) -> Vec<Point3<f64>> {
+    /// Surface points of the core a flat contact along unit world
+    /// direction `d` may rest on, world frame (module docs); a rim's
+    /// samples only when the whole rim lies within `flat` of the plane
+    /// perpendicular to `d` (its height range `2 r sin` of its tilt).
+    pub fn outline(&self, d: &Vector3<f64>, flat: f64) -> Vec<Point3<f64>> {
         let local: Vec<Point3<f64>> = match &self.core {
             CoreShape::Polyhedron(polyhedron) => polyhedron.vertices().to_vec(),
             CoreShape::Point => vec![Point3::origin()],
@@ -147,29 +151,17 @@ impl<'a> PosedCore<'a> {
             ],
             CoreShape::Curved(curved) => {
                 let d_local = self.pose.rotation.inverse_transform_vector(d);
+                let tilt_sine = (1.0 - d_local.z * d_local.z).max(0.0).sqrt();
                 let mut points = curved.outline(RIM_SAMPLES);
+                if 2.0 * curved.radius() * tilt_sine > flat {
+                    points.clear();
+                }
+                points.extend(curved.apex());
                 points.extend(curved.side_line(&d_local));
                 points
             }
         };
         local.into_iter().map(|p| self.pose * p).collect()
-    }
-
-    /// Whether world point `p` lies in the core grown by `slack`.
-    pub fn contains(&self, p: &Point3<f64>, slack: f64) -> bool {
-        let local = self.pose.inverse_transform_point(p);
-        match &self.core {
-            CoreShape::Polyhedron(polyhedron) => polyhedron
-                .faces()
-                .iter()
-                .all(|f| f.plane.normal.dot(&local.coords) + f.plane.offset <= slack),
-            CoreShape::Point => local.coords.norm() <= slack,
-            CoreShape::Segment { half_length } => {
-                let z = local.z.clamp(-half_length, *half_length);
-                (local - Point3::new(0.0, 0.0, z)).norm() <= slack
-            }
-            CoreShape::Curved(curved) => curved.contains(&local, slack),
-        }
     }
 }
 

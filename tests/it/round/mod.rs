@@ -9,6 +9,7 @@ mod oracle;
 mod scenes;
 mod support;
 mod support_closed_forms;
+mod support_gradient;
 
 use constraint_stabilization::body::Body;
 use constraint_stabilization::internals::contact::{self, BodyGeometry, PairQuery};

@@ -7,10 +7,12 @@
 //! - round shapes and polyhedra: the library is exact, the oracle reaches
 //!   the minimum by refinement: agreement within [`ORACLE_AGREEMENT`] of
 //!   the pair's size;
-//! - cylinders and cones: the library works on the circumscribed
-//!   polyhedron, whose depth exceeds the true one by at most the deviation
-//!   (`CURVED_DEVIATION_RELATIVE` of each radius), never less than the
-//!   true depth minus [`ORACLE_AGREEMENT`];
+//! - cylinders and cones, here on the circumscribed polyhedra (the
+//!   pairs are built without their true solid, as with
+//!   `VClipSettings::curved_support_functions` off; the default support
+//!   path is `support.rs`'s): the polyhedron's depth exceeds the true one
+//!   by at most the deviation (`CURVED_DEVIATION_RELATIVE` of each
+//!   radius), never less than the true depth minus [`ORACLE_AGREEMENT`];
 //! - parry (GJK/EPA, f64) within [`PARRY_AGREEMENT`] of the size (a
 //!   cross-check of the oracle itself, at its coarser accuracy).
 

@@ -43,9 +43,11 @@ fn a_mixed_pile_is_resolved_by_the_oracle() {
             describe(&format!("mixed pile {seed}"), &report, residual)
         );
         assert_eq!(report.status, Status::Converged, "seed {seed}");
-        // The library's polyhedra of cylinders and cones hold the true
-        // solids, so the oracle (true shapes) sees at most the library's
-        // residual: within the tolerance.
+        // The library's depths of cylinders and cones (support functions
+        // by default: an overlap reached, never below the true depth; or
+        // polyhedra that hold the true solids) bound the true ones, so the
+        // oracle (true shapes) sees at most the library's residual: within
+        // the tolerance.
         assert!(
             residual <= report.tolerance,
             "seed {seed}: oracle depth {residual:e}"
@@ -149,9 +151,10 @@ fn the_rapier_mixed_pile_state_is_measured_and_resolved_by_the_oracle() {
     // A pile of 60 balls, capsules, cylinders and rounded boxes after 5 s
     // of Rapier (tests/data/engine/rp08_mixed_pile.json). The depth the
     // library reports before the call is the oracle's on the true shapes,
-    // above it by at most the cylinders' stated deviation (their
-    // circumscribed polyhedra hold the true solids); after the call the
-    // oracle's depth is within the tolerance.
+    // above it by at most the cylinders' stated deviation (the bound of
+    // their circumscribed polyhedra with the support path off; the default
+    // support path agrees with the oracle within its measured bound);
+    // after the call the oracle's depth is within the tolerance.
     /// Agreement of the library's depth with the oracle's on exact (round
     /// and polyhedral) pairs, relative to the scene's scale: the oracle's
     /// refinement, not the library, sets it.

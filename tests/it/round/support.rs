@@ -24,7 +24,7 @@ pub const SUPPORT_AGREEMENT: f64 = 2e-8;
 
 /// Part `k` of `body` as the support-function narrow phase sees it.
 pub fn curved_part_geometry(body: &Body, k: usize) -> BodyGeometry<'_> {
-    super::part_geometry(body, k).curved(body.parts()[k].curved())
+    super::part_geometry(body, k).curved(body.part_curved(k))
 }
 
 /// V-Clip settings with the support-function path on.

@@ -2,10 +2,10 @@
 //! (`VClipSettings::curved_support_functions`): a stack of cylinders on
 //! their caps lifted column-wise by the sums of the depths, straight up; a
 //! cylinder lying on a box lifted by its depth on two rows (the ends of its
-//! side line, at least); a cone on its base lifted by its depth; a tilted
-//! cylinder's rim sunk into the ground resolved. The row counts are
-//! printed: the manifold's containment slack (`support_manifold`) adds
-//! points beside a side line or a rim (docs/round-shapes.md).
+//! side line); a cone on its base lifted by its depth on four; a tilted
+//! cylinder's rim sunk into the ground moved by the closed form of its one
+//! row. The row counts are asserted (`support_manifold`,
+//! docs/round-shapes.md).
 
 use super::support::{curved_part_geometry, support_queries, support_signed_distance};
 use crate::stabilize::support::{describe, stabilize_with};
@@ -164,7 +164,7 @@ fn lifted_by_its_depth(
     assert!((oracle - depth).abs() <= 1e-9, "{label}: oracle {oracle}");
     let count = support_points(solid, boxed, 0.001);
     println!("{label}: {count} rows");
-    assert!(count >= rows, "{label}: {count} rows");
+    assert_eq!(count, rows, "{label}: rows");
     let (report, _) = stabilize_with(&mut scene, tight_support());
     // The oracle on the true solids (the harness's residual adds parry's
     // depth of the library's polyhedra, which stand out of a lying
@@ -236,7 +236,19 @@ fn support_rim_on_a_face_is_resolved() {
     );
     let rows = support_points(c, floor, 0.001);
     println!("rim on a face: {rows} rows");
-    assert!(rows >= 1);
+    assert_eq!(rows, 1, "a tilted rim touches at one point");
+    // The closed form of one row at the lowest rim point `p`, normal `y`,
+    // lever `l = p - com`: the mass-weighted projection moves the centre
+    // of mass by `y lambda / m` and turns the body by
+    // `I^-1 (l x y) lambda`, `lambda = (depth + margin) / (1/m + (l x y) . I^-1 (l x y))`.
+    let axis = tilt * Vector3::z();
+    let com = c.com_world();
+    let down = (-Vector3::y() + axis * axis.y)
+        .try_normalize(0.0)
+        .expect("the axis is tilted");
+    let lowest = com - axis * half + down * radius;
+    let arm = (lowest - com).cross(&Vector3::y());
+    let inverse_inertia = c.inverse_inertia_world().expect("a dynamic body");
     let mut scene = scene;
     let (report, residual) = stabilize_with(&mut scene, tight_support());
     println!("{}", describe("rim on a face (support)", &report, residual));
@@ -244,6 +256,26 @@ fn support_rim_on_a_face_is_resolved() {
     assert!(
         residual <= report.tolerance,
         "oracle depth after {residual:e}"
+    );
+    let lambda = (depth + TIGHT * report.scale) / (1.0 + arm.dot(&(inverse_inertia * arm)));
+    let expected_shift = Vector3::y() * lambda;
+    let expected_turn = inverse_inertia * arm * lambda;
+    let moved = &scene.bodies()[1];
+    let shift = moved.com_world() - com;
+    let [x, y, z, w] = moved.rotation_user_xyzw();
+    let turn = (UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(w, x, y, z))
+        * tilt.inverse())
+    .scaled_axis();
+    println!(
+        "rim on a face: shift {shift:?} (closed form {expected_shift:?}), turn {turn:?} (closed form {expected_turn:?})"
+    );
+    assert!(
+        (shift - expected_shift).norm() <= MOTION_AGREEMENT * expected_shift.norm(),
+        "shift {shift:?}, closed form {expected_shift:?}"
+    );
+    assert!(
+        (turn - expected_turn).norm() <= MOTION_AGREEMENT * expected_turn.norm(),
+        "turn {turn:?}, closed form {expected_turn:?}"
     );
 }
 

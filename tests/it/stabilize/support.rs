@@ -61,14 +61,15 @@ pub fn parry_pair_depth(scene: &Scene, shapes: &[Vec<ParryPolyhedron>], a: usize
             .collect()
     };
     let round = |body: usize| {
-        scene.bodies()[body]
-            .parts()
-            .iter()
-            .any(|p| p.rounding().is_some())
+        let body = &scene.bodies()[body];
+        (0..body.parts().len())
+            .any(|k| body.parts()[k].rounding().is_some() || body.part_curved(k).is_some())
     };
     if round(a) || round(b) {
-        // A round part's polyhedron is its core or a bounding box: the
-        // support-function oracle of `sat_depth` measures the pair.
+        // A round part's polyhedron is its core or a bounding box, a
+        // cylinder's or cone's a circumscribed approximation: the
+        // support-function oracle of `sat_depth` measures the pair on the
+        // true solids.
         return 0.0;
     }
     let (poses_a, poses_b) = (poses(a), poses(b));
