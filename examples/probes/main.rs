@@ -1,5 +1,5 @@
 //! The diagnostic probes, one example with a subcommand per probe (one
-//! binary for `cargo test` to build and link instead of five):
+//! binary for `cargo test` to build and link instead of six):
 //!
 //! ```text
 //! cargo run --release --features rapier,serde --example probes -- PROBE [ARGS...]
@@ -14,13 +14,17 @@
 //! - `polish`: whether clarabel's polish decides any answer, and its time,
 //!   on random stacks (`benchmarks/results/polish.md`), [`polish_probe`];
 //! - `friction`: one call on an engine state with friction on every body,
-//!   logged (issue 21), [`friction_probe`].
+//!   logged (issue 21), [`friction_probe`];
+//! - `curved`: cylinders by support functions against their 71-gon
+//!   polyhedra on the Rapier mixed pile, interleaved (issue 25),
+//!   [`curved_speed`].
 //!
 //! Each probe reads the arguments after its name as it documents them.
 
 #[path = "../common/rapier_scenes.rs"]
 mod scenes;
 
+mod curved_speed;
 mod friction_probe;
 mod polish_probe;
 mod rest_probe;
@@ -28,7 +32,7 @@ mod slide_probe;
 mod thrown_probe;
 
 /// The probes' names, as the first argument.
-const PROBES: &str = "slide | rest | thrown | polish | friction";
+const PROBES: &str = "slide | rest | thrown | polish | friction | curved";
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -43,6 +47,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Ok(())
         }
         Some("friction") => friction_probe::run(args),
+        Some("curved") => curved_speed::run(args),
         other => Err(format!("usage: probes <{PROBES}> [ARGS...] (got {other:?})").into()),
     }
 }

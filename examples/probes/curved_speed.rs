@@ -6,7 +6,7 @@
 //! order (interleaved, so that the machine's load falls on both alike).
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example curved_speed -- [--steps N] [--positions]
+//! cargo run --release --features rapier,serde --example probes -- curved [--steps N] [--positions]
 //! ```
 //!
 //! `--positions` uses `CouplingMode::PositionsOnly` instead of the
@@ -18,8 +18,7 @@
 //! the first corrections (their corrections differ), so each variant's
 //! figures are of its own trajectory.
 
-#[path = "common/rapier_scenes.rs"]
-mod scenes;
+use crate::scenes;
 
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -124,8 +123,7 @@ impl Variant {
     }
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     let steps = args
         .iter()
         .position(|a| a == "--steps")
