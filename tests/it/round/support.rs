@@ -56,7 +56,9 @@ pub fn support_signed_distance(a: &Body, b: &Body) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-fn random_body(rng: &mut ChaCha8Rng, kind: usize, at: Vector3<f64>) -> Option<Body> {
+/// A body of shape kind `kind` (of `dev_support::random::mixed_shape`,
+/// size 1) at `at`, randomly turned; `None` when the library rejects it.
+pub(super) fn random_body(rng: &mut ChaCha8Rng, kind: usize, at: Vector3<f64>) -> Option<Body> {
     Body::new(BodyDesc {
         name: "b".into(),
         shape: mixed_shape(rng, kind, 1.0),

@@ -15,12 +15,12 @@
 //! contact) have no such derivative under rotation and are skipped (their
 //! translation derivative is still checked).
 
-use super::support::curved_part_geometry;
+use super::support::{curved_part_geometry, random_body};
 use constraint_stabilization::Settings;
 use constraint_stabilization::body::{Body, BodyDesc, MassSpec};
 use constraint_stabilization::internals::contact;
 use constraint_stabilization::internals::vclip::{VClip, VClipSettings};
-use dev_support::random::{MIXED_SHAPE_KINDS, mixed_shape, random_rotation};
+use dev_support::random::MIXED_SHAPE_KINDS;
 use dev_support::scene::xyzw;
 use dev_support::support_oracle::body_signed_distance;
 use nalgebra::{UnitQuaternion, Vector3};
@@ -42,17 +42,6 @@ const TIE: f64 = 1e-6;
 
 /// Margin within which rows are built (every near pair gets its rows).
 const MARGIN: f64 = 0.5;
-
-fn random_body(rng: &mut ChaCha8Rng, kind: usize, at: Vector3<f64>) -> Option<Body> {
-    Body::new(BodyDesc {
-        name: "b".into(),
-        shape: mixed_shape(rng, kind, 1.0),
-        translation: at,
-        rotation_xyzw: xyzw(&random_rotation(rng)),
-        mass: MassSpec::Mass(1.0),
-    })
-    .ok()
-}
 
 /// `body` moved by `shift` and turned by `turn` (rotation vector) about
 /// its user origin.
