@@ -205,6 +205,12 @@ impl SleepClock {
                 .and_then(|h| bodies.get(h))
                 .is_some_and(|rb| rb.activation().is_eligible_for_sleep())
         };
+        // A group is prepared only if all its bodies are ready: with none
+        // ready, no grouping is needed.
+        if !awake.iter().any(|&i| ready(i)) {
+            self.pending.clear();
+            return Vec::new();
+        }
         let margin = group_margin(parameters);
         let prepared: Vec<usize> = overlap_groups(scene, &awake, margin)
             .into_iter()
