@@ -400,12 +400,13 @@ fn call(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> Call {
     let ms = t.elapsed().as_secs_f64() * 1e3;
     match result {
         Ok(report) => {
-            let (status, resolved, tolerance) = report
+            let (status, resolved) = report
                 .stabilizer
                 .as_ref()
-                .map_or(("no_dynamic_body", true, f64::INFINITY), |r| {
-                    (r.status.name(), r.status.is_resolved(), r.tolerance)
+                .map_or(("no_dynamic_body", true), |r| {
+                    (r.status.name(), r.status.is_resolved())
                 });
+            let tolerance = report.stated_tolerance.unwrap_or(f64::INFINITY);
             Call {
                 ms,
                 status,

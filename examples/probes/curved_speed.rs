@@ -75,12 +75,13 @@ impl Variant {
         let result = self.bridge.stabilize_world(&mut self.world);
         self.call_ms.push(start.elapsed().as_secs_f64() * 1e3);
         let (status, tolerance) = match result {
-            Ok(report) => report
-                .stabilizer
-                .as_ref()
-                .map_or(("no_dynamic_body", f64::INFINITY), |r| {
-                    (r.status.name(), r.tolerance)
-                }),
+            Ok(report) => (
+                report
+                    .stabilizer
+                    .as_ref()
+                    .map_or("no_dynamic_body", |r| r.status.name()),
+                report.stated_tolerance.unwrap_or(f64::INFINITY),
+            ),
             Err(_) => ("error", f64::INFINITY),
         };
         *self.statuses.entry(status.to_string()).or_default() += 1;

@@ -41,7 +41,9 @@ use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, Write
 use super::rest::{
     RESTING_STREAK, RestPoses, dynamic_poses, held_poses, is_resting, whole_islands,
 };
-use super::round_off::{own_lengths, raised_lengths, write_back_round_off_bound};
+use super::round_off::{
+    lowered_for_round_off, own_lengths, raised_lengths, write_back_round_off_bound,
+};
 use super::settings::{
     BridgeSettings, CouplingMode, FAST_BODY_REACH_FRACTION, closed_contact_allowance,
 };
@@ -249,6 +251,7 @@ impl RapierBridge {
             velocities_zeroed: 0,
             write_back_round_off: WriteBackRoundOff::default(),
             round_off_bound,
+            stated_tolerance: None,
             velocities: None,
             velocities_written: 0,
         };
@@ -268,8 +271,13 @@ impl RapierBridge {
             _ => allowed,
         };
         report.resting = resting;
-        self.stabilizer
-            .set_call_lengths(Some(raised.allowing(allowed)));
+        let stated = raised.allowing(allowed);
+        let solved_to = match self.settings.coupling {
+            CouplingMode::ClosedContacts => stated,
+            _ => lowered_for_round_off(stated, round_off_bound),
+        };
+        self.stabilizer.set_call_lengths(Some(solved_to));
+        report.stated_tolerance = Some(stated.tolerance);
         let before: Vec<UserPose> = self.scene.bodies().iter().map(user_pose_of).collect();
         report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
         if !struck.is_empty() {

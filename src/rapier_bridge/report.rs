@@ -96,6 +96,14 @@ pub struct BridgeReport {
     /// stabilizer's f64 scene by at most `2 delta`. The call's tolerance is
     /// at least `8 delta`.
     pub round_off_bound: f64,
+    /// The tolerance this call states for the world as written (f32
+    /// poses); `None` when the stabilizer was not called. Outside
+    /// [`super::CouplingMode::ClosedContacts`] the stabilizer solves to it
+    /// lowered by `2 delta`, so a resolved call leaves the f32 world within
+    /// it; in closed contacts it is the stabilizer's own tolerance, and the
+    /// f32 world is within [`BridgeReport::written_depth_bound`] (module
+    /// docs of `rapier_bridge/round_off.rs`).
+    pub stated_tolerance: Option<f64>,
     /// The velocity projection of [`super::CouplingMode::VelocityConsistency`]
     /// and [`super::CouplingMode::ClosedContacts`]
     /// (`None` in the other modes, or when nothing moved).
@@ -116,6 +124,6 @@ impl BridgeReport {
     /// `None` when the stabilizer was not called (no dynamic body).
     pub fn written_depth_bound(&self) -> Option<f64> {
         let report = self.stabilizer.as_ref()?;
-        Some(report.depth_after + 2.0 * self.round_off_bound)
+        Some(report.depth_after + super::round_off::ROUNDING_DEPTH_FACTOR * self.round_off_bound)
     }
 }

@@ -106,7 +106,7 @@ fn velocity_consistency_removes_the_approach_velocity() {
             "corner ({x}, {z}): {point_velocity:?}"
         );
     }
-    assert!(f32_world_depth(&world) <= stated_tolerance_of(&report));
+    assert!(f32_world_depth(&world) <= super::stated_tolerance(&report));
 
     let (mut world, body) = world_with_box_at(0.45);
     let report = run(&mut super::bridge(), &mut world);
@@ -115,14 +115,6 @@ fn velocity_consistency_removes_the_approach_velocity() {
         (0, true)
     );
     assert_eq!(world.bodies[body].linvel(), before);
-}
-
-fn stated_tolerance_of(report: &constraint_stabilization::rapier_bridge::BridgeReport) -> f64 {
-    report
-        .stabilizer
-        .as_ref()
-        .expect("dynamic bodies")
-        .tolerance
 }
 
 fn velocity_bridge() -> RapierBridge {

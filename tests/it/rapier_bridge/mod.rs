@@ -83,13 +83,11 @@ fn run(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> BridgeReport {
         .expect("the bridge call succeeds")
 }
 
-/// The tolerance the stabilizer's report states for the call.
+/// The tolerance the bridge states for the world it wrote.
 fn stated_tolerance(report: &BridgeReport) -> f64 {
     report
-        .stabilizer
-        .as_ref()
+        .stated_tolerance
         .expect("the world has dynamic bodies")
-        .tolerance
 }
 
 /// The exact deepest penetration of the world as Rapier holds it (f32
