@@ -81,7 +81,7 @@ pub fn candidate_pairs(scene: &Scene, margin: f64) -> Result<Vec<BodyPair>, Broa
 }
 
 /// A body's world AABB as parry's type.
-fn body_aabb(body: &Body) -> Aabb {
+pub(crate) fn body_aabb(body: &Body) -> Aabb {
     let (min, max) = body.world_aabb();
     Aabb::new(
         Vector::new(min.x, min.y, min.z),

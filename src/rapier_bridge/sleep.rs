@@ -68,13 +68,14 @@
 
 use std::collections::{HashMap, HashSet};
 
-use nalgebra::Point3;
 use rapier3d::dynamics::{IntegrationParameters, RigidBodySet};
 use rapier3d::geometry::ColliderHandle;
 
 use super::body_map::BodyMap;
 use super::rest::{DisjointSets, RestPoses, farthest_point_motion, passes_sleep_test};
+use crate::broad_phase::{body_aabb, candidate_pairs_of_aabbs};
 use crate::scene::Scene;
+use parry3d_f64::bounding_volume::Aabb;
 
 /// Per awake dynamic body, the time its poses as left by the calls have
 /// passed Rapier's sleep test (module docs), and the bodies whose
@@ -254,27 +255,26 @@ fn awake_dynamic(scene: &Scene, map: &BodyMap) -> Vec<usize> {
 
 /// The connected components of `members` (scene indices) whose world
 /// bounding boxes, grown by `margin` on every side, overlap, or that a
-/// scene joint links (Rapier's islands join jointed bodies too): a sweep
-/// along x, then union-find.
+/// scene joint links (Rapier's islands join jointed bodies too): the
+/// broad phase's pairs at twice the margin, then union-find.
 pub(crate) fn overlap_groups(scene: &Scene, members: &[usize], margin: f64) -> Vec<Vec<usize>> {
-    let boxes: Vec<(Point3<f64>, Point3<f64>)> = members
+    let boxes: Vec<Aabb> = members
         .iter()
-        .map(|&i| scene.bodies()[i].world_aabb())
+        .map(|&i| body_aabb(&scene.bodies()[i]))
         .collect();
-    let mut order: Vec<usize> = (0..members.len()).collect();
-    order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
+    let none_fixed = vec![false; members.len()];
     let mut sets = DisjointSets::new(members.len());
-    for (k, &a) in order.iter().enumerate() {
-        let (amin, amax) = &boxes[a];
-        for &b in &order[k + 1..] {
-            let (bmin, bmax) = &boxes[b];
-            if bmin.x > amax.x + 2.0 * margin {
-                break;
+    match candidate_pairs_of_aabbs(&boxes, &none_fixed, 2.0 * margin) {
+        Ok(pairs) => {
+            for pair in pairs {
+                sets.join(pair.body_a, pair.body_b);
             }
-            if (1..3)
-                .all(|d| amin[d] <= bmax[d] + 2.0 * margin && bmin[d] <= amax[d] + 2.0 * margin)
-            {
-                sets.join(a, b);
+        }
+        // Only a margin or a box that is not finite fails; then every
+        // member is one group, which sleeps only when all of it is at rest.
+        Err(_) => {
+            for k in 1..members.len() {
+                sets.join(0, k);
             }
         }
     }
