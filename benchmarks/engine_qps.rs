@@ -75,6 +75,10 @@ fn variant(name: &str) -> SolverSettings {
             s.augmented_lagrangian.exact_only = false;
         }
         "ip" => s.choice = SolverChoice::InteriorPoint,
+        "ip_simplicial" => {
+            s.choice = SolverChoice::InteriorPoint;
+            s.interior_point.supernodal = false;
+        }
         "clarabel_nopolish" => {
             s.choice = SolverChoice::Clarabel;
             s.clarabel.polish_above = s.tol_residual;
@@ -101,6 +105,17 @@ fn extra_variant(name: &str, s: &mut SolverSettings) -> bool {
         s.clarabel.tol_feas = gap;
         return true;
     }
+    // `auto_ip:N`: `Auto` with the interior point from `N` rows.
+    if let Some(rows) = name.strip_prefix("auto_ip:").and_then(|f| f.parse().ok()) {
+        s.auto_interior_point_min_rows = rows;
+        return true;
+    }
+    // `ipf:F`: the interior point taking `F` of the step to the boundary.
+    if let Some(fraction) = name.strip_prefix("ipf:").and_then(|f| f.parse().ok()) {
+        s.choice = SolverChoice::InteriorPoint;
+        s.interior_point.step_fraction = fraction;
+        return true;
+    }
     // `ip:F`: the interior point stopping at `F` times the tolerance.
     if let Some(fraction) = name.strip_prefix("ip:").and_then(|f| f.parse().ok()) {
         s.choice = SolverChoice::InteriorPoint;
@@ -125,9 +140,11 @@ struct Outcome {
     solution: Option<ProjectionSolution>,
 }
 
-fn run(p: &RecordedQp, s: &SolverSettings) -> Outcome {
+/// One solve; warm-started from the recorded warm start when `warm`.
+fn run(p: &RecordedQp, s: &SolverSettings, warm: bool) -> Outcome {
+    let warm = if warm { p.warm.as_ref() } else { None };
     let start = Instant::now();
-    let solution = solve_projection_warm(&p.qp, s, None).ok();
+    let solution = solve_projection_warm(&p.qp, s, warm).ok();
     Outcome {
         time: start.elapsed().as_secs_f64(),
         solution,
@@ -160,12 +177,20 @@ fn main() {
         if qps.is_empty() {
             continue;
         }
-        let settings: Vec<SolverSettings> = args.variants.iter().map(|v| variant(v)).collect();
+        // `NAME+warm`: variant NAME warm-started as in the recorded call.
+        let settings: Vec<(SolverSettings, bool)> = args
+            .variants
+            .iter()
+            .map(|v| match v.strip_suffix("+warm") {
+                Some(name) => (variant(name), true),
+                None => (variant(v), false),
+            })
+            .collect();
         let reference =
             variant(&std::env::var("ENGINE_QPS_REFERENCE").unwrap_or("clarabel".into()));
         let reference: Vec<Option<DVector<f64>>> = qps
             .iter()
-            .map(|p| run(p, &reference).solution.map(|s| s.dq))
+            .map(|p| run(p, &reference, false).solution.map(|s| s.dq))
             .collect();
         // times[variant][qp][round]
         let mut times = vec![vec![Vec::new(); qps.len()]; settings.len()];
@@ -173,8 +198,8 @@ fn main() {
             vec![vec![None; qps.len()]; settings.len()];
         for _ in 0..args.rounds {
             for (q, p) in qps.iter().enumerate() {
-                for (v, s) in settings.iter().enumerate() {
-                    let outcome = run(p, s);
+                for (v, (s, warm)) in settings.iter().enumerate() {
+                    let outcome = run(p, s, *warm);
                     times[v][q].push(outcome.time);
                     last[v][q] = outcome.solution;
                 }

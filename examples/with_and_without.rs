@@ -351,6 +351,14 @@ impl Run {
                 .solver
                 .auto_augmented_lagrangian_min_rows = rows;
         }
+        // `WITH_AND_WITHOUT_IP_MIN_ROWS=N`: `Auto` solves islands from N
+        // rows with the interior point on the body-space matrix.
+        if let Some(rows) = std::env::var("WITH_AND_WITHOUT_IP_MIN_ROWS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+        {
+            settings.stabilizer.solver.auto_interior_point_min_rows = rows;
+        }
         Some(RapierBridge::with_settings(settings).expect("valid settings"))
     }
 }

@@ -31,8 +31,9 @@
 //! **Scale.** Rows are measured in the whitened distance of the most
 //! violated row, `l = max_i max(0, -b_i) / g_i` with `g_i = sqrt(a_i)`,
 //! `a_i = J_i M^-1 J_i^T`: the start is `s_i = g_i l max(1, b_i / (g_i l))`,
-//! `lambda_i = l / g_i` (each row's slack and force of order one in those
-//! units), so the iteration is the same whatever the masses and lengths.
+//! `lambda_i = l^2 / s_i` (each row's slack and force of order one in
+//! those units, and the start centred: `s_i lambda_i = l^2` on every row),
+//! so the iteration is the same whatever the masses and lengths.
 //!
 //! **Answer.** After every iteration the candidate `(dq, lambda)` (the
 //! iterate, and `M^-1 J^T lambda` with exact stationarity) is measured by
@@ -45,9 +46,11 @@
 //! neighbouring problem) is measured first as it is, after the scaling of
 //! `super::augmented_lagrangian` (the `s >= 0` that maximizes the dual along
 //! it); when it passes the same stop test it is returned with zero
-//! iterations and no factorization. An interior point cannot start from
-//! it otherwise (its complementarity is exact), so the iteration starts
-//! cold.
+//! iterations and no factorization. Else the warm finish (`warm`: the
+//! method of multipliers on its active set, one factorization and a few
+//! solves) tries to certify it; an interior point cannot start from it
+//! otherwise (its complementarity is exact), so when that fails too the
+//! iteration starts cold.
 //!
 //! **Not applicable** to equality rows and friction cones (the caller
 //! falls back); **infeasible** problems make the iterates diverge: the
@@ -55,6 +58,7 @@
 //! and the caller's fallback (clarabel) certifies the infeasibility.
 
 mod step;
+mod warm;
 
 use std::time::Instant;
 
@@ -86,6 +90,9 @@ pub struct InteriorPointSettings {
     /// Dense Cholesky of `H` up to this many entries of `dq`, sparse above
     /// (as the augmented Lagrangian's). Default 96.
     pub dense_max_dofs: usize,
+    /// The sparse factor is supernodal (as the augmented Lagrangian's)
+    /// rather than left to faer's flop-ratio choice. Default true.
+    pub supernodal: bool,
 }
 
 impl Default for InteriorPointSettings {
@@ -95,6 +102,7 @@ impl Default for InteriorPointSettings {
             stop_fraction: 1e-6,
             step_fraction: 0.99,
             dense_max_dofs: 96,
+            supernodal: true,
         }
     }
 }
@@ -135,11 +143,20 @@ pub fn solve(
         return Err(InteriorPointFailure::NotApplicable);
     }
     let target = settings.stop_fraction * start.tolerance;
-    if let Some(warm) = start.warm
-        && let Some(candidate) = warm_candidate(qp, metric, warm, target)
-    {
-        log::trace!("interior point: warm start accepted as it is");
-        return Ok(candidate);
+    let mut newton = NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal);
+    let mut factorizations = 0;
+    if let Some(warm) = start.warm {
+        let (candidate, scaled) = warm_candidate(qp, metric, warm, target);
+        if let Some(candidate) = candidate {
+            log::trace!("interior point: warm start accepted as it is");
+            return Ok(candidate);
+        }
+        if let Some(candidate) =
+            warm::warm_finish(qp, metric, &mut newton, &scaled, target, &mut factorizations)
+        {
+            log::trace!("interior point: warm start certified by the warm finish");
+            return Ok(candidate);
+        }
     }
     let m = qp.num_rows();
     let b = qp.b();
@@ -173,10 +190,14 @@ pub fn solve(
                 1.0
             }
         }),
-        lambda: DVector::from_fn(m, |i, _| if moved[i] { l / g[i] } else { 0.0 }),
+        lambda: DVector::from_fn(m, |i, _| {
+            if moved[i] {
+                l / (g[i] * (b[i] / (g[i] * l)).max(1.0))
+            } else {
+                0.0
+            }
+        }),
     };
-    let mut newton = NewtonMatrix::new(qp, settings.dense_max_dofs, true);
-    let mut factorizations = 0;
     let mut best: Option<(Candidate, f64)> = None;
     for iteration in 1..=settings.max_iter {
         if start.deadline.is_some_and(|d| Instant::now() >= d) {
@@ -266,13 +287,14 @@ fn best_candidate(
 }
 
 /// The warm start as it is or scaled (module docs), when it passes the
-/// stop test.
+/// stop test; and the multipliers the warm finish starts from (scaled when
+/// the scale is defined).
 fn warm_candidate(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
     warm: &DVector<f64>,
     target: f64,
-) -> Option<Candidate> {
+) -> (Option<Candidate>, DVector<f64>) {
     let lambda = DVector::from_fn(qp.num_rows(), |i, _| {
         warm.get(i)
             .copied()
@@ -291,14 +313,15 @@ fn warm_candidate(
         })
     };
     if let Some(candidate) = accept(&dq, &lambda) {
-        return Some(candidate);
+        return (Some(candidate), lambda);
     }
     // The scale that maximizes the dual along the warm start:
     // s = -b^T lambda / lambda^T J M^-1 J^T lambda.
     let curvature = dq.dot(&m_apply(metric, &dq));
     let scale = -qp.b().dot(&lambda) / curvature;
     if !(scale.is_finite() && scale > 0.0 && curvature > 0.0) {
-        return None;
+        return (None, lambda);
     }
-    accept(&(dq * scale), &(lambda * scale))
+    let lambda = lambda * scale;
+    (accept(&(dq * scale), &lambda), lambda)
 }
