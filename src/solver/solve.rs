@@ -254,7 +254,7 @@ impl Default for SolverSettings {
             fall_back: true,
             stop_on_infeasible: false,
             deadline: None,
-            auto_interior_point_min_rows: 161,
+            auto_interior_point_min_rows: usize::MAX,
             augmented_lagrangian: AugmentedLagrangianSettings::default(),
             interior_point: InteriorPointSettings::default(),
             clarabel: ClarabelSettings::default(),

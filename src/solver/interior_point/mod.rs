@@ -45,7 +45,9 @@
 //! minimizer is unique in `dq`). A **warm start** (multipliers of a
 //! neighbouring problem) is measured first as it is, after the scaling of
 //! `super::augmented_lagrangian` (the `s >= 0` that maximizes the dual along
-//! it); when it passes the same stop test it is returned with zero
+//! it); when it passes the stop test (at the looser of the stop fraction
+//! and `1e-3`, the warm finish's rounding floor being near `1e-10`) it is
+//! returned with zero
 //! iterations and no factorization. Else the warm finish (`warm`: the
 //! method of multipliers on its active set, one factorization and a few
 //! solves) tries to certify it; an interior point cannot start from it
@@ -113,7 +115,8 @@ impl Default for InteriorPointSettings {
 pub enum InteriorPointFailure {
     /// Equality rows or friction cones, which it does not take.
     NotApplicable,
-    /// The iteration limit (an infeasible problem, or rounding).
+    /// The iteration limit, or iterates that are no longer finite (an
+    /// infeasible problem, or rounding).
     NotConverged,
     /// A Cholesky factorization of `H` failed, or an iterate was not finite.
     Factorization,
@@ -146,14 +149,23 @@ pub fn solve(
     let mut newton = NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal);
     let mut factorizations = 0;
     if let Some(warm) = start.warm {
-        let (candidate, scaled) = warm_candidate(qp, metric, warm, target);
+        // The method of multipliers of the warm finish has a rounding floor
+        // near 1e-10 (random stacks): a warm start is accepted at the
+        // rounding-floor fraction of the tolerance.
+        let warm_target = target.max(ROUNDING_FLOOR_FRACTION * start.tolerance);
+        let (candidate, scaled) = warm_candidate(qp, metric, warm, warm_target);
         if let Some(candidate) = candidate {
             log::trace!("interior point: warm start accepted as it is");
             return Ok(candidate);
         }
-        if let Some(candidate) =
-            warm::warm_finish(qp, metric, &mut newton, &scaled, target, &mut factorizations)
-        {
+        if let Some(candidate) = warm::warm_finish(
+            qp,
+            metric,
+            &mut newton,
+            &scaled,
+            warm_target,
+            &mut factorizations,
+        ) {
             log::trace!("interior point: warm start certified by the warm finish");
             return Ok(candidate);
         }
@@ -208,6 +220,7 @@ pub fn solve(
             metric,
             b: &b,
             moved: &moved,
+            a: &a,
         };
         let gap = newton_step(&inputs, &mut newton, &mut it, settings.step_fraction)?;
         factorizations += 1;

@@ -26,7 +26,17 @@ pub(super) struct StepInputs<'a> {
     pub b: &'a DVector<f64>,
     /// Rows some body moves (the others keep `lambda = 0` and no weight).
     pub moved: &'a [bool],
+    /// `a_i = J_i M^-1 J_i^T`.
+    pub a: &'a [f64],
 }
+
+/// When the factorization of `H` fails (rounding: `D` spans more than the
+/// precision near the end of the iteration, or at extreme mass ratios),
+/// it is retried with every `D_i` at most this over `a_i`, the weight at
+/// which row `i` dominates `H` by `1e12` in its own direction. The step
+/// is then an inexact Newton step (the residuals are recomputed exactly
+/// at the next iterate, so the iteration corrects it).
+const CLAMPED_WEIGHT: f64 = 1e12;
 
 /// A direction `(ddq, ds, dlambda)`.
 struct Direction {
@@ -62,9 +72,23 @@ pub(super) fn newton_step(
             }
         })
         .collect();
-    newton
-        .factor(qp, inputs.metric, &d, moved)
-        .map_err(|_| InteriorPointFailure::Factorization)?;
+    if newton.factor(qp, inputs.metric, &d, moved).is_err() {
+        let clamped: Vec<f64> = d
+            .iter()
+            .zip(inputs.a)
+            .map(|(&x, &a)| {
+                if a > 0.0 {
+                    x.min(CLAMPED_WEIGHT / a)
+                } else {
+                    x
+                }
+            })
+            .collect();
+        log::trace!("interior point: factorization failed, retried with clamped weights");
+        newton
+            .factor(qp, inputs.metric, &clamped, moved)
+            .map_err(|_| InteriorPointFailure::Factorization)?;
+    }
     // Predictor: r_c = S lambda.
     let r_c_aff = DVector::from_fn(m, |i, _| it.s[i] * it.lambda[i]);
     let affine = direction(inputs, newton, it, &d, &r_d, &r_p, &r_c_aff)?;
@@ -97,7 +121,8 @@ pub(super) fn newton_step(
         .chain(&it.lambda)
         .all(|x| x.is_finite());
     if !finite {
-        return Err(InteriorPointFailure::Factorization);
+        // The iterates diverged (an infeasible problem).
+        return Err(InteriorPointFailure::NotConverged);
     }
     Ok((0..m)
         .filter(|&i| moved[i])

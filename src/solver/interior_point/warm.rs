@@ -2,8 +2,9 @@
 //! problem's multipliers (the previous pass's or call's) with one
 //! factorization.
 //!
-//! With the warm start's active set `A = {i : lambda_i > 0}` (and the rows
-//! its correction violates) fixed, the method of multipliers on the
+//! With the warm start's active set `A` (the rows its correction
+//! `M^-1 J^T lambda` leaves tight, within `1e-9 ||b||_inf`, or violated)
+//! fixed, the method of multipliers on the
 //! equality-constrained problem of `A` is
 //!
 //! ```text
@@ -34,6 +35,10 @@ use crate::solver::residuals::{projection_residuals, row_diagonal};
 /// The dimensionless penalty `kappa` (the augmented Lagrangian's default).
 const WARM_PENALTY: f64 = 1e6;
 
+/// A row that the warm start's correction leaves open by more than this
+/// fraction of `||b||_inf` is not in the warm active set.
+const WARM_OPEN_REL: f64 = 1e-9;
+
 /// Multiplier iterations (solves with the one factor) before the finish
 /// gives up.
 pub(super) const WARM_ITERATIONS: usize = 6;
@@ -57,9 +62,11 @@ pub(super) fn warm_finish(
         .collect();
     let dq0 = dq_from_lambda(qp, metric, lambda0);
     let w0 = &b + qp.apply_j(&dq0);
-    let active: Vec<bool> = (0..m)
-        .map(|i| rho[i] > 0.0 && (lambda0[i] > 0.0 || w0[i] < 0.0))
-        .collect();
+    // The rows the warm start's correction leaves tight or violated; a row
+    // it leaves open by more than rounding is inactive whatever its
+    // (interior-point) multiplier.
+    let open = WARM_OPEN_REL * b.amax();
+    let active: Vec<bool> = (0..m).map(|i| rho[i] > 0.0 && w0[i] <= open).collect();
     if !active.iter().any(|&x| x) {
         return None;
     }
@@ -85,7 +92,9 @@ pub(super) fn warm_finish(
         });
         let stationary = dq_from_lambda(qp, metric, &lambda);
         let acceptance = projection_residuals(qp, metric, &stationary, &lambda).acceptance();
-        log::trace!("interior point: warm finish iteration {iteration}, acceptance {acceptance:.2e}");
+        log::trace!(
+            "interior point: warm finish iteration {iteration}, acceptance {acceptance:.2e}"
+        );
         if acceptance <= target {
             return Some(Candidate {
                 dq: stationary,
