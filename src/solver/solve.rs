@@ -240,10 +240,12 @@ pub struct SolverSettings {
     /// (`usize::MAX`). At 161 it answers the large islands of the engine
     /// states at 0.17-0.47x clarabel's time, closer to the exact minimizer
     /// than clarabel's default answers, and the pyramid's worst call in
-    /// the Rapier loop fell from 158-312 ms to 39-45 ms; but under the
-    /// Rapier bridge the pile of 200 then settled 50 steps later and
-    /// drifted 10.1 mm against 0.6 mm (cause not found:
-    /// `benchmarks/results/solvers.md`, "The interior point").
+    /// the Rapier loop fell from 157-162 ms to 39-43 ms; but under the
+    /// Rapier bridge the pile of 200 then settled 25 steps later and
+    /// drifted 6.2 mm against 0.6 mm (clarabel at a tighter gap, 1e-10,
+    /// did too: 15.9 mm, 33 steps later; the settle moves with any change
+    /// of the answers: `benchmarks/results/solvers.md`, "The interior
+    /// point").
     pub auto_interior_point_min_rows: usize,
     /// Augmented Lagrangian settings.
     pub augmented_lagrangian: AugmentedLagrangianSettings,
