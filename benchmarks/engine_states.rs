@@ -46,7 +46,8 @@
 //! a full run; `ENGINE_STATES_AL_PCG_ROWS`, `ENGINE_STATES_AL_SUPERNODAL`
 //! (0 or 1) and `ENGINE_STATES_AL_MIN_ROWS` set the augmented Lagrangian's
 //! `max_rows_changed_without_factorization`, `supernodal` and `Auto`'s
-//! `auto_augmented_lagrangian_min_rows`.
+//! `auto_augmented_lagrangian_min_rows`; `ENGINE_STATES_IP_MIN_ROWS` sets
+//! `auto_interior_point_min_rows`.
 
 mod common;
 
@@ -223,6 +224,9 @@ fn call_settings() -> Settings {
     }
     if let Some(rows) = number("ENGINE_STATES_AL_MIN_ROWS") {
         settings.solver.auto_augmented_lagrangian_min_rows = rows;
+    }
+    if let Some(rows) = number("ENGINE_STATES_IP_MIN_ROWS") {
+        settings.solver.auto_interior_point_min_rows = rows;
     }
     settings
 }

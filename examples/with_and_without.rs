@@ -351,6 +351,23 @@ impl Run {
                 .solver
                 .auto_augmented_lagrangian_min_rows = rows;
         }
+        // `WITH_AND_WITHOUT_IP_MIN_ROWS=N`: `Auto` solves islands from N
+        // rows with the interior point on the body-space matrix.
+        if let Some(rows) = std::env::var("WITH_AND_WITHOUT_IP_MIN_ROWS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+        {
+            settings.stabilizer.solver.auto_interior_point_min_rows = rows;
+        }
+        // `WITH_AND_WITHOUT_CLARABEL_GAP=G`: clarabel's gap and feasibility
+        // tolerances (another valid answer of the same problems).
+        if let Some(gap) = std::env::var("WITH_AND_WITHOUT_CLARABEL_GAP")
+            .ok()
+            .and_then(|v| v.parse().ok())
+        {
+            settings.stabilizer.solver.clarabel.tol_gap = gap;
+            settings.stabilizer.solver.clarabel.tol_feas = gap;
+        }
         Some(RapierBridge::with_settings(settings).expect("valid settings"))
     }
 }

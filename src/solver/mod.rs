@@ -17,6 +17,9 @@
 //! - [`augmented_lagrangian`]: the augmented Lagrangian method with a
 //!   semismooth Newton inner solve on `H = M + rho J_A^T J_A` (sparse
 //!   Cholesky), warm-startable from multipliers;
+//! - [`interior_point`]: a primal-dual interior point on the same
+//!   body-space matrix (`H = M + J^T D J`, sparse Cholesky, symbolic
+//!   analysis once per problem);
 //! - [`clarabel_qp::primal`]: clarabel on the primal QP (sparse);
 //! - [`clarabel_qp::dual`]: clarabel on the dual QP `min 1/2 z^T A z + b^T z, z >= 0`;
 //! - [`lemke`]: Lemke's complementary pivoting (also general LCPs, [`Lcp`];
@@ -34,6 +37,7 @@ pub(crate) mod cone_residuals;
 pub(crate) mod cross_check;
 mod error;
 pub mod friction_cone;
+pub mod interior_point;
 mod lcp;
 pub mod lemke;
 pub(crate) mod metric;
@@ -41,6 +45,8 @@ mod outcome;
 pub mod pgs;
 mod projection;
 pub(crate) mod projection_lcp;
+#[doc(hidden)]
+pub mod recorder;
 pub mod residuals;
 pub(crate) mod scaling;
 mod solve;

@@ -7,6 +7,7 @@ use nalgebra::DVector;
 
 use super::augmented_lagrangian::AugmentedLagrangianFailure;
 use super::clarabel_qp::ClarabelFailure;
+use super::interior_point::InteriorPointFailure;
 use super::lemke::LemkeStatus;
 use super::pgs::PgsStatus;
 
@@ -23,6 +24,9 @@ pub enum SolverKind {
     /// The augmented Lagrangian method with semismooth Newton on the
     /// body-space matrix ([`super::augmented_lagrangian`]).
     AugmentedLagrangian,
+    /// The primal-dual interior point on the body-space matrix
+    /// ([`super::interior_point`]).
+    InteriorPoint,
     /// clarabel on the primal QP (variables `dq`).
     Clarabel,
     /// clarabel on the dual QP `min 1/2 z^T A z + b^T z, z >= 0`.
@@ -67,6 +71,8 @@ pub enum FailureReason {
     Pgs(PgsStatus),
     /// The augmented Lagrangian solver gave up.
     AugmentedLagrangian(AugmentedLagrangianFailure),
+    /// The interior point on the body-space matrix gave up.
+    InteriorPoint(InteriorPointFailure),
     /// The caller's deadline ([`super::SolverSettings::deadline`]) had
     /// passed before the solver ran, or while it ran (clarabel's time
     /// limit, Lemke before a pivot, PGS before a sweep, the augmented
@@ -120,6 +126,7 @@ impl fmt::Display for FailureReason {
             Self::Lemke(s) => write!(f, "lemke: {s:?}"),
             Self::Pgs(s) => write!(f, "pgs: {s:?}"),
             Self::AugmentedLagrangian(s) => write!(f, "augmented Lagrangian: {s:?}"),
+            Self::InteriorPoint(s) => write!(f, "interior point: {s:?}"),
             Self::DeadlinePassed => write!(f, "the deadline passed"),
             Self::AboveDenseLimit { rows, limit } => {
                 write!(f, "{rows} rows, above the dense solvers' limit of {limit}")

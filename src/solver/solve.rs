@@ -41,6 +41,14 @@
 //! failure. It alone uses the multipliers of
 //! [`solve_projection_warm`], and stops at [`SolverSettings::deadline`].
 //!
+//! **The interior point** ([`SolverKind::InteriorPoint`],
+//! [`super::interior_point`]) runs first when named, or under `Auto` from
+//! [`SolverSettings::auto_interior_point_min_rows`] rows (default never)
+//! for problems without cones and equality rows; clarabel and the others
+//! follow it on failure. It uses the multipliers of
+//! [`solve_projection_warm`] (checked as they are, then its warm finish)
+//! and stops at [`SolverSettings::deadline`].
+//!
 //! **Lemke's own residual test** ([`LemkeSettings::tol_residual`], 1e-9 on
 //! the scaled LCP) is that of a standalone LCP solver. Here every candidate
 //! passes the projection's acceptance check below, so Lemke's test only has
@@ -97,6 +105,7 @@ use super::closed_form::solve_single_row;
 use super::cross_check::{CrossCheck, CrossCheckOutcome, differences};
 use super::error::SolverError;
 use super::friction_cone::{CONE_DIM, cone_multipliers_of_facets};
+use super::interior_point::{self, InteriorPointSettings, IpStart};
 use super::lcp::Lcp;
 use super::lemke::{self, LemkeSettings};
 use super::metric::BlockMetric;
@@ -117,6 +126,9 @@ pub enum SolverChoice {
     /// The augmented Lagrangian method with semismooth Newton
     /// ([`super::augmented_lagrangian`]).
     AugmentedLagrangian,
+    /// The primal-dual interior point on the body-space matrix
+    /// ([`super::interior_point`]).
+    InteriorPoint,
     /// clarabel on the primal QP.
     Clarabel,
     /// clarabel on the dual QP (the LCP as a QP).
@@ -130,9 +142,10 @@ pub enum SolverChoice {
 impl SolverChoice {
     /// All choices, with [`SolverChoice::name`] as in scene files and on
     /// the command line.
-    pub const ALL: [SolverChoice; 6] = [
+    pub const ALL: [SolverChoice; 7] = [
         SolverChoice::Auto,
         SolverChoice::AugmentedLagrangian,
+        SolverChoice::InteriorPoint,
         SolverChoice::Clarabel,
         SolverChoice::ClarabelDual,
         SolverChoice::Lemke,
@@ -145,6 +158,7 @@ impl SolverChoice {
         match self {
             SolverChoice::Auto => "auto",
             SolverChoice::AugmentedLagrangian => "augmented_lagrangian",
+            SolverChoice::InteriorPoint => "interior_point",
             SolverChoice::Clarabel => "clarabel",
             SolverChoice::ClarabelDual => "clarabel_dual",
             SolverChoice::Lemke => "lemke",
@@ -219,8 +233,24 @@ pub struct SolverSettings {
     /// Every solver gives up at this instant (the caller's time budget;
     /// module docs, "Deadline"); `None`: no limit. Default `None`.
     pub deadline: Option<Instant>,
+    /// Under `Auto`, the interior point on the body-space matrix
+    /// ([`super::interior_point`]) for problems without cones and equality
+    /// rows of at least this many rows (before Lemke and clarabel; the
+    /// augmented Lagrangian's threshold is checked first). Default never
+    /// (`usize::MAX`). At 161 it answers the large islands of the engine
+    /// states at 0.17-0.47x clarabel's time, closer to the exact minimizer
+    /// than clarabel's default answers, and the pyramid's worst call in
+    /// the Rapier loop fell from 157-162 ms to 39-43 ms; but under the
+    /// Rapier bridge the pile of 200 then settled 25 steps later and
+    /// drifted 6.2 mm against 0.6 mm (clarabel at a tighter gap, 1e-10,
+    /// did too: 15.9 mm, 33 steps later; the settle moves with any change
+    /// of the answers: `benchmarks/results/solvers.md`, "The interior
+    /// point").
+    pub auto_interior_point_min_rows: usize,
     /// Augmented Lagrangian settings.
     pub augmented_lagrangian: AugmentedLagrangianSettings,
+    /// Interior-point settings.
+    pub interior_point: InteriorPointSettings,
     /// clarabel settings (both forms).
     pub clarabel: ClarabelSettings,
     /// Lemke settings.
@@ -241,7 +271,9 @@ impl Default for SolverSettings {
             fall_back: true,
             stop_on_infeasible: false,
             deadline: None,
+            auto_interior_point_min_rows: usize::MAX,
             augmented_lagrangian: AugmentedLagrangianSettings::default(),
+            interior_point: InteriorPointSettings::default(),
             clarabel: ClarabelSettings::default(),
             lemke: LemkeSettings::default(),
             pgs: PgsSettings::default(),
@@ -313,6 +345,7 @@ pub fn solve_projection_warm(
 ) -> Result<ProjectionSolution, SolverError> {
     let metric = qp.validate()?;
     check_zero_rows(qp, settings.tol_residual)?;
+    super::recorder::record(qp, warm);
     let pyramid_qp = (!qp.cones.is_empty()).then(|| qp.pyramid().0);
     let pyramid = pyramid_qp.as_ref().map(|pyramid_qp| Problem {
         qp: pyramid_qp,
@@ -344,7 +377,11 @@ pub fn solve_projection_warm(
     for kind in order {
         match problem.run_checked(kind) {
             Ok((candidate, residuals)) => {
-                let warm_started = warm.is_some() && kind == SolverKind::AugmentedLagrangian;
+                let warm_started = warm.is_some()
+                    && matches!(
+                        kind,
+                        SolverKind::AugmentedLagrangian | SolverKind::InteriorPoint
+                    );
                 log::debug!(
                     "  answered by {kind:?} ({}): {} iterations, {} factorizations",
                     if warm_started { "warm" } else { "cold" },
@@ -433,6 +470,7 @@ fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind>
     let first = match settings.choice {
         SolverChoice::Auto => auto_choice(qp, settings),
         SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
+        SolverChoice::InteriorPoint => SolverKind::InteriorPoint,
         SolverChoice::Clarabel => SolverKind::Clarabel,
         SolverChoice::ClarabelDual => SolverKind::ClarabelDual,
         SolverChoice::Lemke => SolverKind::Lemke,
@@ -484,6 +522,10 @@ fn choice_reason(qp: &ProjectionQp, settings: &SolverSettings) -> String {
         (SolverChoice::Auto, SolverKind::Clarabel) if !qp.cones.is_empty() => {
             "auto: friction cones, which only clarabel solves".into()
         }
+        (SolverChoice::Auto, SolverKind::InteriorPoint) => format!(
+            "auto: the interior point on the body-space matrix from {} rows",
+            settings.auto_interior_point_min_rows
+        ),
         (SolverChoice::Auto, SolverKind::AugmentedLagrangian) => format!(
             "auto: the warm-startable Newton method from {} rows",
             settings.auto_augmented_lagrangian_min_rows
@@ -510,6 +552,8 @@ fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
         SolverKind::ClosedForm
     } else if n >= settings.auto_augmented_lagrangian_min_rows {
         SolverKind::AugmentedLagrangian
+    } else if n >= settings.auto_interior_point_min_rows && qp.num_equalities == 0 {
+        SolverKind::InteriorPoint
     } else if n <= settings.auto_lemke_max_rows {
         SolverKind::Lemke
     } else {
@@ -663,6 +707,15 @@ impl Problem<'_> {
                 };
                 augmented_lagrangian::solve(self.qp, self.metric, &s.augmented_lagrangian, &start)
                     .map_err(FailureReason::AugmentedLagrangian)
+            }
+            SolverKind::InteriorPoint => {
+                let start = IpStart {
+                    warm: self.warm,
+                    tolerance: s.tol_residual,
+                    deadline: s.deadline,
+                };
+                interior_point::solve(self.qp, self.metric, &s.interior_point, &start)
+                    .map_err(FailureReason::InteriorPoint)
             }
             SolverKind::Clarabel => {
                 clarabel_qp::primal::solve(self.qp, self.metric, &self.clarabel_settings())

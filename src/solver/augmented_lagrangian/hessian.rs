@@ -28,6 +28,11 @@ use super::super::projection::ProjectionQp;
 /// Which 6x6 blocks of `H` can be nonzero, and where each lower-triangle
 /// entry sits in the compressed-column value array.
 struct BlockPattern {
+    /// Per row, per pair of its blocks `(a, b)` with body `k >= l`:
+    /// `(a, b, base)` with entry `(6 k + r, 6 l + c)` of `H` at
+    /// `base[c] + r` (the positions resolved once per problem, so that an
+    /// assembly does no search).
+    scatter: Vec<Vec<(usize, usize, [usize; 6])>>,
     /// `neighbours[l]`: the bodies `k > l` that share a row with `l`,
     /// ascending.
     neighbours: Vec<Vec<usize>>,
@@ -65,11 +70,37 @@ impl BlockPattern {
                 col_ptr.push(row_idx.len());
             }
         }
-        Self {
+        let mut pattern = Self {
+            scatter: Vec::new(),
             neighbours,
             col_ptr,
             row_idx,
-        }
+        };
+        pattern.scatter = qp
+            .rows
+            .iter()
+            .map(|row| {
+                let mut pairs = Vec::new();
+                for (a, (k, _)) in row.blocks.iter().enumerate() {
+                    for (b, (l, _)) in row.blocks[..=a].iter().enumerate() {
+                        let (a, b, k, l) = if k >= l {
+                            (a, b, *k, *l)
+                        } else {
+                            (b, a, *l, *k)
+                        };
+                        let base = std::array::from_fn(|c| {
+                            // Entry (6k + r, 6l + c) is at base[c] + r; on a
+                            // diagonal block only r >= c is stored.
+                            let first = if k == l { c } else { 0 };
+                            pattern.position(k, l, first, c) - first
+                        });
+                        pairs.push((a, b, base));
+                    }
+                }
+                pairs
+            })
+            .collect();
+        pattern
     }
 
     /// Position of entry `(6 k + r, 6 l + c)`, `k >= l` (and `r >= c` when
@@ -105,7 +136,7 @@ enum Factor {
 
 /// Assembles and factors `H` for one problem; keeps the sparse symbolic
 /// analysis and the value buffers across factorizations.
-pub(super) struct NewtonMatrix {
+pub(crate) struct NewtonMatrix {
     dofs: usize,
     dense: bool,
     supernodal: bool,
@@ -117,13 +148,13 @@ pub(super) struct NewtonMatrix {
 /// Why `H` could not be factored (rounding made a pivot non-positive, or
 /// faer ran out of memory): the solver gives up on the problem.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) struct FactorizationFailed;
+pub(crate) struct FactorizationFailed;
 
 impl NewtonMatrix {
     /// The matrix of `qp`, dense when `6 n_bodies <= dense_max_dofs`; the
     /// sparse factor supernodal when `supernodal` (dense 6x6 kernels on
     /// the blocks of a body), else left to faer's flop-ratio choice.
-    pub(super) fn new(qp: &ProjectionQp, dense_max_dofs: usize, supernodal: bool) -> Self {
+    pub(crate) fn new(qp: &ProjectionQp, dense_max_dofs: usize, supernodal: bool) -> Self {
         let dofs = qp.num_dofs();
         let dense = dofs <= dense_max_dofs;
         Self {
@@ -137,12 +168,12 @@ impl NewtonMatrix {
     }
 
     /// Whether the dense factorization is used.
-    pub(super) fn is_dense(&self) -> bool {
+    pub(crate) fn is_dense(&self) -> bool {
         self.dense
     }
 
     /// Factors `H = M + sum_{i: active[i]} rho[i] J_i^T J_i`.
-    pub(super) fn factor(
+    pub(crate) fn factor(
         &mut self,
         qp: &ProjectionQp,
         metric: &[BlockMetric],
@@ -195,14 +226,31 @@ impl NewtonMatrix {
         let sparse = self.sparse.as_mut().ok_or(FactorizationFailed)?;
         sparse.values.fill(0.0);
         let values = &mut sparse.values;
-        for_each_lower_block(qp, metric, rho, active, |k, l, block| {
+        for (k, b) in metric.iter().enumerate() {
+            let block = b.matrix();
             for c in 0..6 {
-                let rows = if k == l { c..6 } else { 0..6 };
-                for r in rows {
-                    values[pattern.position(k, l, r, c)] += block[(r, c)];
+                for r in c..6 {
+                    values[pattern.position(k, k, r, c)] += block[(r, c)];
                 }
             }
-        });
+        }
+        for (i, row) in qp.rows.iter().enumerate() {
+            if !active[i] || rho[i] == 0.0 {
+                continue;
+            }
+            for &(a, b, base) in &pattern.scatter[i] {
+                let (k, gk) = &row.blocks[a];
+                let (l, gl) = &row.blocks[b];
+                let diagonal = k == l;
+                for c in 0..6 {
+                    let weight = rho[i] * gl[c];
+                    let first = if diagonal { c } else { 0 };
+                    for r in first..6 {
+                        values[base[c] + r] += weight * gk[r];
+                    }
+                }
+            }
+        }
         let matrix = SparseColMatRef::new(symbolic_matrix, &sparse.values);
         let stack = MemStack::new(&mut sparse.workspace);
         sparse
@@ -221,7 +269,7 @@ impl NewtonMatrix {
     }
 
     /// `H^-1 rhs` with the current factor (`None` before a factorization).
-    pub(super) fn solve(&mut self, rhs: &DVector<f64>) -> Option<DVector<f64>> {
+    pub(crate) fn solve(&mut self, rhs: &DVector<f64>) -> Option<DVector<f64>> {
         match self.factor.as_ref()? {
             Factor::Dense(chol) => Some(chol.solve(rhs)),
             Factor::Sparse => {

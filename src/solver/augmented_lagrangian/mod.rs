@@ -79,7 +79,7 @@
 //! (clarabel) certifies the infeasibility.
 
 mod exact;
-mod hessian;
+pub(crate) mod hessian;
 mod line_search;
 
 use std::time::Instant;

@@ -1,11 +1,13 @@
-//! The augmented Lagrangian solver against clarabel and Lemke on random
-//! contact-like stacks (redundant coplanar rows, singular `A`), on
-//! degenerate rows (a row listed twice) and on infeasible rows, and its
-//! warm start: zero iterations on an unchanged problem, the same answer as
-//! a cold solve on a changed one.
+//! The solvers on the body-space matrix, the augmented Lagrangian and the
+//! interior point, against clarabel and Lemke on random contact-like
+//! stacks (redundant coplanar rows, singular `A`), on degenerate rows (a
+//! row listed twice) and on infeasible rows, and their warm starts: zero
+//! iterations on an unchanged problem, the same answer as a cold solve on
+//! a changed one.
 
 use crate::support::solver_oracle::{assert_kkt, relative_metric_distance};
 use constraint_stabilization::solver::augmented_lagrangian::AugmentedLagrangianFailure;
+use constraint_stabilization::solver::interior_point::InteriorPointFailure;
 use constraint_stabilization::solver::{
     FailureReason, ProjectionQp, ProjectionSolution, SolverChoice, SolverError, SolverKind,
     SolverSettings, solve_projection, solve_projection_warm,
@@ -13,10 +15,30 @@ use constraint_stabilization::solver::{
 use dev_support::solver::{StackSpec, random_stacks};
 use nalgebra::DVector;
 
-/// Agreement of the augmented Lagrangian's `dq` with clarabel's and
-/// Lemke's, relative in the M-norm: its answers are certified exact (the
-/// exact finish verifies the KKT conditions to 1e-9 of the correction).
+/// Agreement of the solvers' `dq` with clarabel's and Lemke's, relative in
+/// the M-norm: the augmented Lagrangian's answers are certified exact (the
+/// exact finish verifies the KKT conditions to 1e-9 of the correction), the
+/// interior point's by a duality gap of 1e-12 of the energy.
 const DQ_AGREEMENT_TOL: f64 = 1e-8;
+
+/// The solvers on the body-space matrix, named as a choice, with the kind
+/// that must answer.
+const BODY_SPACE: [(SolverChoice, SolverKind); 2] = [
+    (
+        SolverChoice::AugmentedLagrangian,
+        SolverKind::AugmentedLagrangian,
+    ),
+    (SolverChoice::InteriorPoint, SolverKind::InteriorPoint),
+];
+
+/// Factorizations a warm start that is already the answer may cost: none
+/// for the augmented Lagrangian (its multipliers are checked as they
+/// are), one for the interior point (its multipliers are interior, spread
+/// over every row: its warm finish certifies them with one factorization
+/// of the warm active set, `solver/interior_point/warm.rs`).
+fn max_warm_factorizations(choice: SolverChoice) -> usize {
+    usize::from(choice == SolverChoice::InteriorPoint)
+}
 
 fn settings(choice: SolverChoice) -> SolverSettings {
     SolverSettings {
@@ -31,11 +53,17 @@ fn solve(qp: &ProjectionQp, choice: SolverChoice) -> ProjectionSolution {
 }
 
 /// Random stacks from 10 to about 250 rows (dense and sparse Newton
-/// matrices), at unit and extreme scales: the augmented Lagrangian answers
-/// every one itself, passes the KKT oracle, and agrees with clarabel and
-/// (up to Lemke's size) with Lemke.
+/// matrices), at unit and extreme scales: each solver on the body-space
+/// matrix answers every one itself, passes the KKT oracle, and agrees with
+/// clarabel and (up to Lemke's size) with Lemke.
 #[test]
 fn agrees_with_clarabel_and_lemke_on_random_stacks() {
+    for (choice, kind) in BODY_SPACE {
+        agrees_on_random_stacks(choice, kind);
+    }
+}
+
+fn agrees_on_random_stacks(choice: SolverChoice, kind: SolverKind) {
     let scales = [(1.0, 1.0, 2.0), (1e-3, 1e3, 4.0)];
     for rows in [10, 60, 250] {
         for (length_scale, mass_scale, mass_decades) in scales {
@@ -47,9 +75,9 @@ fn agrees_with_clarabel_and_lemke_on_random_stacks() {
                     ..StackSpec::new(rows, seed)
                 };
                 let qp = random_stacks(&spec);
-                let context = format!("{spec:?}");
-                let ours = solve(&qp, SolverChoice::AugmentedLagrangian);
-                assert_eq!(ours.solver, SolverKind::AugmentedLagrangian, "{context}");
+                let context = format!("{choice:?}, {spec:?}");
+                let ours = solve(&qp, choice);
+                assert_eq!(ours.solver, kind, "{context}");
                 assert!(
                     ours.factorizations >= 1,
                     "{context}: cold solve factored nothing"
@@ -82,16 +110,18 @@ fn duplicated_rows_leave_dq_unchanged() {
     doubled.phi.extend(qp.phi.iter().copied());
     doubled.target.extend(qp.target.iter().copied());
     let once = solve(&qp, SolverChoice::Clarabel);
-    let twice = solve(&doubled, SolverChoice::AugmentedLagrangian);
-    let distance = relative_metric_distance(&qp, &once.dq, &twice.dq);
-    assert!(distance <= DQ_AGREEMENT_TOL, "{distance:e}");
+    for (choice, _) in BODY_SPACE {
+        let twice = solve(&doubled, choice);
+        let distance = relative_metric_distance(&qp, &once.dq, &twice.dq);
+        assert!(distance <= DQ_AGREEMENT_TOL, "{choice:?}: {distance:e}");
+    }
 }
 
 /// Two opposite rows on one body that both ask to move it the same way
 /// (`x >= 1` and `-x >= 1`): no correction satisfies both. The augmented
-/// Lagrangian stops at its iteration limit with a typed failure and
-/// clarabel then certifies the infeasibility, as with any other first
-/// solver.
+/// Lagrangian and the interior point stop at their iteration limits with a
+/// typed failure and clarabel then certifies the infeasibility, as with
+/// any other first solver.
 #[test]
 fn infeasible_rows_fail_typed_and_clarabel_certifies() {
     let mut qp = random_stacks(&StackSpec::new(20, 3));
@@ -105,46 +135,45 @@ fn infeasible_rows_fail_typed_and_clarabel_certifies() {
     qp.phi[0] = -1.0;
     let last = qp.phi.len() - 1;
     qp.phi[last] = -1.0;
-    let settings = SolverSettings {
-        choice: SolverChoice::AugmentedLagrangian,
-        stop_on_infeasible: true,
-        ..SolverSettings::default()
-    };
-    let Err(SolverError::AllSolversFailed(fallbacks)) = solve_projection(&qp, &settings) else {
-        panic!("an infeasible problem was solved");
-    };
-    let reasons: Vec<_> = fallbacks.iter().map(|f| (f.solver, &f.reason)).collect();
-    assert_eq!(
-        reasons[0],
-        (
-            SolverKind::AugmentedLagrangian,
-            &FailureReason::AugmentedLagrangian(AugmentedLagrangianFailure::NotConverged)
-        )
-    );
-    assert_eq!(fallbacks[1].solver, SolverKind::Clarabel);
-    assert!(fallbacks[1].reason.certifies_infeasibility(), "{reasons:?}");
+    let expected = [
+        FailureReason::AugmentedLagrangian(AugmentedLagrangianFailure::NotConverged),
+        FailureReason::InteriorPoint(InteriorPointFailure::NotConverged),
+    ];
+    for ((choice, kind), failure) in BODY_SPACE.into_iter().zip(expected) {
+        let settings = SolverSettings {
+            choice,
+            stop_on_infeasible: true,
+            ..SolverSettings::default()
+        };
+        let Err(SolverError::AllSolversFailed(fallbacks)) = solve_projection(&qp, &settings) else {
+            panic!("{choice:?}: an infeasible problem was solved");
+        };
+        let reasons: Vec<_> = fallbacks.iter().map(|f| (f.solver, &f.reason)).collect();
+        assert_eq!(reasons[0], (kind, &failure));
+        assert_eq!(fallbacks[1].solver, SolverKind::Clarabel);
+        assert!(fallbacks[1].reason.certifies_infeasibility(), "{reasons:?}");
+    }
 }
 
-/// Started from its own answer, the solver returns it with no iteration
+/// Started from its own answer, each solver returns it with no iteration
 /// and no factorization.
 #[test]
 fn warm_start_from_the_answer_costs_nothing() {
-    for rows in [30, 250] {
-        let qp = random_stacks(&StackSpec::new(rows, 11));
-        let cold = solve(&qp, SolverChoice::AugmentedLagrangian);
-        let warm = solve_projection_warm(
-            &qp,
-            &settings(SolverChoice::AugmentedLagrangian),
-            Some(&cold.lambda),
-        )
-        .unwrap();
-        assert!(warm.warm_started);
-        assert_eq!(
-            (warm.iterations, warm.factorizations),
-            (0, 0),
-            "{rows} rows"
-        );
-        assert_eq!(warm.dq, cold.dq);
+    for (choice, _) in BODY_SPACE {
+        for rows in [30, 250] {
+            let qp = random_stacks(&StackSpec::new(rows, 11));
+            let cold = solve(&qp, choice);
+            let warm = solve_projection_warm(&qp, &settings(choice), Some(&cold.lambda)).unwrap();
+            assert!(warm.warm_started);
+            assert_eq!(warm.iterations, 0, "{choice:?}, {rows} rows");
+            assert!(
+                warm.factorizations <= max_warm_factorizations(choice),
+                "{choice:?}, {rows} rows: {} factorizations",
+                warm.factorizations
+            );
+            let distance = relative_metric_distance(&qp, &warm.dq, &cold.dq);
+            assert!(distance <= DQ_AGREEMENT_TOL, "{choice:?}: {distance:e}");
+        }
     }
 }
 
@@ -164,15 +193,13 @@ fn warm_start_from_a_neighbouring_problem_gives_the_cold_answer() {
     let stale_short = DVector::from_element(3, 1.0);
     let mut stale_nan = before.lambda.clone();
     stale_nan[0] = f64::NAN;
-    for warm in [&before.lambda, &stale_short, &stale_nan] {
-        let sol = solve_projection_warm(
-            &moved,
-            &settings(SolverChoice::AugmentedLagrangian),
-            Some(warm),
-        )
-        .unwrap();
-        let distance = relative_metric_distance(&moved, &sol.dq, &cold.dq);
-        assert!(distance <= DQ_AGREEMENT_TOL, "{distance:e}");
+    for (choice, kind) in BODY_SPACE {
+        for warm in [&before.lambda, &stale_short, &stale_nan] {
+            let sol = solve_projection_warm(&moved, &settings(choice), Some(warm)).unwrap();
+            assert_eq!(sol.solver, kind);
+            let distance = relative_metric_distance(&moved, &sol.dq, &cold.dq);
+            assert!(distance <= DQ_AGREEMENT_TOL, "{choice:?}: {distance:e}");
+        }
     }
 }
 
@@ -211,12 +238,19 @@ fn a_warm_start_of_another_size_is_scaled_to_fit() {
     for (phi, target) in larger.phi.iter_mut().zip(&larger.target) {
         *phi = target + 1e3 * (*phi - target);
     }
-    let s = settings(SolverChoice::AugmentedLagrangian);
-    let first = solve_projection(&larger, &s).expect("solved");
-    let warm = solve_projection_warm(&qp, &s, Some(&first.lambda)).expect("solved");
-    assert!(warm.warm_started);
-    assert_eq!((warm.iterations, warm.factorizations), (0, 0));
     let cold = solve(&qp, SolverChoice::Clarabel);
-    let distance = relative_metric_distance(&qp, &warm.dq, &cold.dq);
-    assert!(distance <= DQ_AGREEMENT_TOL, "{distance:e}");
+    for (choice, _) in BODY_SPACE {
+        let s = settings(choice);
+        let first = solve_projection(&larger, &s).expect("solved");
+        let warm = solve_projection_warm(&qp, &s, Some(&first.lambda)).expect("solved");
+        assert!(warm.warm_started);
+        assert_eq!(warm.iterations, 0, "{choice:?}");
+        assert!(
+            warm.factorizations <= max_warm_factorizations(choice),
+            "{choice:?}: {} factorizations",
+            warm.factorizations
+        );
+        let distance = relative_metric_distance(&qp, &warm.dq, &cold.dq);
+        assert!(distance <= DQ_AGREEMENT_TOL, "{choice:?}: {distance:e}");
+    }
 }

@@ -68,6 +68,7 @@ fn kind_of(choice: SolverChoice) -> SolverKind {
         SolverChoice::Lemke => SolverKind::Lemke,
         SolverChoice::Pgs => SolverKind::Pgs,
         SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
+        SolverChoice::InteriorPoint => SolverKind::InteriorPoint,
         SolverChoice::Auto => unreachable!("only named choices here"),
     }
 }

@@ -1,7 +1,9 @@
-//! The augmented Lagrangian's answers are the exact minimizer: on every
+//! The answers of the solvers on the body-space matrix (the augmented
+//! Lagrangian, the interior point) are the exact minimizer: on every
 //! engine state of `tests/data/engine`, a call with every island solved
-//! by it (cold and warm, below) ends where a call solved by clarabel with
-//! its polish does, body by body, within 2e-6 of the largest motion.
+//! by one of them (cold and warm, below) ends where a call solved by
+//! clarabel with its polish does, body by body, within 2e-6 of the largest
+//! motion.
 
 use constraint_stabilization::Stabilizer;
 use constraint_stabilization::solver::{SolverChoice, SolverKind};
@@ -21,22 +23,34 @@ const POSE_AGREEMENT_REL: f64 = 2e-6;
 /// from the first, on the same input): all three end at the same poses.
 #[test]
 fn augmented_lagrangian_calls_end_where_clarabel_does() {
+    calls_end_where_clarabel_does(
+        SolverChoice::AugmentedLagrangian,
+        SolverKind::AugmentedLagrangian,
+    );
+}
+
+/// The same for the interior point.
+#[test]
+fn interior_point_calls_end_where_clarabel_does() {
+    calls_end_where_clarabel_does(SolverChoice::InteriorPoint, SolverKind::InteriorPoint);
+}
+
+fn calls_end_where_clarabel_does(choice: SolverChoice, kind: SolverKind) {
     let mut failures = Vec::new();
     for (stem, input) in engine_states() {
         let mut clarabel = Stabilizer::new(settings(SolverChoice::Clarabel)).expect("settings");
         let (_, reference_scene) = call(&mut clarabel, &input);
-        let mut ours =
-            Stabilizer::new(settings(SolverChoice::AugmentedLagrangian)).expect("settings");
+        let mut ours = Stabilizer::new(settings(choice)).expect("settings");
         for which in ["cold", "warm"] {
             let (report, scene) = call(&mut ours, &input);
             let answered_by_us = report
                 .pass_reports
                 .iter()
                 .flat_map(|pass| &pass.solved)
-                .any(|island| island.solver == Some(SolverKind::AugmentedLagrangian));
+                .any(|island| island.solver == Some(kind));
             let (difference, motion) = pose_difference(&input, &scene, &reference_scene);
             log::debug!(
-                "{stem} {which}: {difference:.3e} of {motion:.3e}, augmented Lagrangian answered: {answered_by_us}"
+                "{stem} {which}: {difference:.3e} of {motion:.3e}, {choice:?} answered: {answered_by_us}"
             );
             if difference > POSE_AGREEMENT_REL * motion {
                 failures.push(format!(

@@ -54,6 +54,7 @@ fn first_solver(qp: &ProjectionQp, choice: SolverChoice) -> SolverKind {
         SolverChoice::Lemke => SolverKind::Lemke,
         SolverChoice::Pgs => SolverKind::Pgs,
         SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
+        SolverChoice::InteriorPoint => SolverKind::InteriorPoint,
     }
 }
 

@@ -249,6 +249,7 @@ fn expected_solver(choice: SolverChoice, rows: usize) -> SolverKind {
         SolverChoice::Lemke => SolverKind::Lemke,
         SolverChoice::Pgs => SolverKind::Pgs,
         SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
+        SolverChoice::InteriorPoint => SolverKind::InteriorPoint,
     }
 }
 

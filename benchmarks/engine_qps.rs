@@ -1,0 +1,242 @@
+//! The solvers on the projection QPs of real calls: every engine state of
+//! `tests/data/engine` is stabilized once with the default settings while
+//! the QPs handed to the solver are recorded
+//! (`constraint_stabilization::solver::recorder`); the frictionless ones
+//! of at least `--min-rows` rows (default 161, above Lemke's range) are
+//! then solved again by each variant, the variants interleaved (one run of
+//! each per round, `--rounds` rounds, default 7), cold (no warm start).
+//! Per state: the median time of each variant summed over the state's QPs
+//! (the solve of one call), its ratio to clarabel's, and the largest
+//! difference in `dq` from clarabel's polished answer, `||dq - dq_ref||_M /
+//! ||dq_ref||_M`, over the QPs; the answering solver, iterations and
+//! factorizations are summed over the QPs.
+//!
+//! `cargo bench --bench engine_qps --features serde -- [--only TEXT]
+//! [--min-rows N] [--rounds N] [--variants a,b,...]`
+//!
+//! Variants: `clarabel` (the reference: the default settings with
+//! `SolverChoice::Clarabel`), `al` (the augmented Lagrangian, named),
+//! `auto` (the default `Auto`), and those listed in [`variants`].
+
+mod common;
+
+use std::time::Instant;
+
+use constraint_stabilization::Settings;
+use constraint_stabilization::solver::recorder::{self, RecordedQp};
+use constraint_stabilization::solver::{
+    ProjectionSolution, SolverChoice, SolverSettings, solve_projection_warm,
+};
+use nalgebra::DVector;
+
+struct Args {
+    only: Option<String>,
+    min_rows: usize,
+    rounds: usize,
+    variants: Vec<String>,
+}
+
+fn parse() -> Args {
+    let mut args = Args {
+        only: None,
+        min_rows: 161,
+        rounds: 7,
+        variants: vec!["clarabel".into(), "al".into()],
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--only" => args.only = it.next(),
+            "--min-rows" => args.min_rows = it.next().and_then(|v| v.parse().ok()).unwrap_or(161),
+            "--rounds" => args.rounds = it.next().and_then(|v| v.parse().ok()).unwrap_or(7),
+            "--variants" => {
+                args.variants = it
+                    .next()
+                    .unwrap_or_default()
+                    .split(',')
+                    .map(String::from)
+                    .collect()
+            }
+            _ => {}
+        }
+    }
+    args
+}
+
+/// The solver settings of a named variant.
+fn variant(name: &str) -> SolverSettings {
+    let mut s = Settings::default().solver;
+    match name {
+        "clarabel" => s.choice = SolverChoice::Clarabel,
+        "auto" => {}
+        "al" => s.choice = SolverChoice::AugmentedLagrangian,
+        "al_inexact" => {
+            s.choice = SolverChoice::AugmentedLagrangian;
+            s.augmented_lagrangian.exact_only = false;
+        }
+        "ip" => s.choice = SolverChoice::InteriorPoint,
+        "ip_simplicial" => {
+            s.choice = SolverChoice::InteriorPoint;
+            s.interior_point.supernodal = false;
+        }
+        "clarabel_nopolish" => {
+            s.choice = SolverChoice::Clarabel;
+            s.clarabel.polish_above = s.tol_residual;
+        }
+        other => {
+            if !extra_variant(other, &mut s) {
+                panic!("no variant named {other}")
+            }
+        }
+    }
+    s.fall_back = true;
+    s
+}
+
+/// Variants of the solvers under study (filled in as they are built).
+fn extra_variant(name: &str, s: &mut SolverSettings) -> bool {
+    // `clarabel_tight:G`: clarabel with gap and feasibility tolerances `G`.
+    if let Some(gap) = name
+        .strip_prefix("clarabel_tight:")
+        .and_then(|f| f.parse().ok())
+    {
+        s.choice = SolverChoice::Clarabel;
+        s.clarabel.tol_gap = gap;
+        s.clarabel.tol_feas = gap;
+        return true;
+    }
+    // `auto_ip:N`: `Auto` with the interior point from `N` rows.
+    if let Some(rows) = name.strip_prefix("auto_ip:").and_then(|f| f.parse().ok()) {
+        s.auto_interior_point_min_rows = rows;
+        return true;
+    }
+    // `ipf:F`: the interior point taking `F` of the step to the boundary.
+    if let Some(fraction) = name.strip_prefix("ipf:").and_then(|f| f.parse().ok()) {
+        s.choice = SolverChoice::InteriorPoint;
+        s.interior_point.step_fraction = fraction;
+        return true;
+    }
+    // `ip:F`: the interior point stopping at `F` times the tolerance.
+    if let Some(fraction) = name.strip_prefix("ip:").and_then(|f| f.parse().ok()) {
+        s.choice = SolverChoice::InteriorPoint;
+        s.interior_point.stop_fraction = fraction;
+        return true;
+    }
+    false
+}
+
+fn m_norm(qp: &constraint_stabilization::solver::ProjectionQp, dq: &DVector<f64>) -> f64 {
+    let mut total = 0.0;
+    for (k, body) in qp.bodies.iter().enumerate() {
+        let lin = dq.fixed_rows::<3>(6 * k);
+        let ang = dq.fixed_rows::<3>(6 * k + 3);
+        total += body.mass * lin.norm_squared() + ang.dot(&(body.inertia_world * ang));
+    }
+    total.sqrt()
+}
+
+struct Outcome {
+    time: f64,
+    solution: Option<ProjectionSolution>,
+}
+
+/// One solve; warm-started from the recorded warm start when `warm`.
+fn run(p: &RecordedQp, s: &SolverSettings, warm: bool) -> Outcome {
+    let warm = if warm { p.warm.as_ref() } else { None };
+    let start = Instant::now();
+    let solution = solve_projection_warm(&p.qp, s, warm).ok();
+    Outcome {
+        time: start.elapsed().as_secs_f64(),
+        solution,
+    }
+}
+
+fn main() {
+    let args = parse();
+    println!(
+        "| state | QP rows | variant | solve ms (median) | / clarabel | max dq diff (M, rel) | worst acceptance | answered by | iterations | factorizations |"
+    );
+    println!("|---|---|---|---:|---:|---:|---:|---|---:|---:|");
+    for (name, scene) in common::engine_states() {
+        if args
+            .only
+            .as_ref()
+            .is_some_and(|o| !name.contains(o.as_str()))
+        {
+            continue;
+        }
+        let mut work = scene.clone();
+        let mut stabilizer =
+            constraint_stabilization::Stabilizer::new(Settings::default()).expect("settings");
+        recorder::start();
+        let _ = stabilizer.stabilize(&mut work);
+        let qps: Vec<RecordedQp> = recorder::stop()
+            .into_iter()
+            .filter(|p| p.qp.cones.is_empty() && p.qp.num_rows() >= args.min_rows)
+            .collect();
+        if qps.is_empty() {
+            continue;
+        }
+        // `NAME+warm`: variant NAME warm-started as in the recorded call.
+        let settings: Vec<(SolverSettings, bool)> = args
+            .variants
+            .iter()
+            .map(|v| match v.strip_suffix("+warm") {
+                Some(name) => (variant(name), true),
+                None => (variant(v), false),
+            })
+            .collect();
+        let reference =
+            variant(&std::env::var("ENGINE_QPS_REFERENCE").unwrap_or("clarabel".into()));
+        let reference: Vec<Option<DVector<f64>>> = qps
+            .iter()
+            .map(|p| run(p, &reference, false).solution.map(|s| s.dq))
+            .collect();
+        // times[variant][qp][round]
+        let mut times = vec![vec![Vec::new(); qps.len()]; settings.len()];
+        let mut last: Vec<Vec<Option<ProjectionSolution>>> =
+            vec![vec![None; qps.len()]; settings.len()];
+        for _ in 0..args.rounds {
+            for (q, p) in qps.iter().enumerate() {
+                for (v, (s, warm)) in settings.iter().enumerate() {
+                    let outcome = run(p, s, *warm);
+                    times[v][q].push(outcome.time);
+                    last[v][q] = outcome.solution;
+                }
+            }
+        }
+        let rows: String = qps
+            .iter()
+            .map(|p| p.qp.num_rows().to_string())
+            .collect::<Vec<_>>()
+            .join("+");
+        let clarabel_time: f64 = times[0].iter().map(|t| common::median(t)).sum();
+        for (v, vname) in args.variants.iter().enumerate() {
+            let time: f64 = times[v].iter().map(|t| common::median(t)).sum();
+            let mut diff: f64 = 0.0;
+            let mut worst_acceptance: f64 = 0.0;
+            let mut answered = Vec::new();
+            let (mut iterations, mut factorizations) = (0, 0);
+            for (q, p) in qps.iter().enumerate() {
+                match (&last[v][q], &reference[q]) {
+                    (Some(sol), Some(r)) => {
+                        let d =
+                            m_norm(&p.qp, &(&sol.dq - r)) / m_norm(&p.qp, r).max(f64::MIN_POSITIVE);
+                        diff = diff.max(d);
+                        worst_acceptance = worst_acceptance.max(sol.residuals.acceptance());
+                        answered.push(format!("{:?}", sol.solver));
+                        iterations += sol.iterations;
+                        factorizations += sol.factorizations;
+                    }
+                    _ => answered.push("failed".into()),
+                }
+            }
+            println!(
+                "| {name} | {rows} | {vname} | {:.2} | {:.2} | {diff:.1e} | {worst_acceptance:.1e} | {} | {iterations} | {factorizations} |",
+                1e3 * time,
+                time / clarabel_time,
+                answered.join(",")
+            );
+        }
+    }
+}

@@ -1,0 +1,340 @@
+//! A primal-dual interior-point method for the projection QP on the
+//! body-space matrix, with the sparse symbolic analysis kept for the whole
+//! solve.
+//!
+//! The problem (`super::projection`, inequality rows only) with slacks `s`:
+//!
+//! ```text
+//! minimize 1/2 dq^T M dq   s.t.   J dq + b - s = 0,   s >= 0
+//! ```
+//!
+//! (`b = phi - target`), multipliers `lambda >= 0` and the KKT conditions
+//! `M dq = J^T lambda`, `s_i lambda_i = 0`. Mehrotra's predictor-corrector
+//! (one factorization, two solves per iteration) applies Newton's method to
+//! the perturbed conditions `s_i lambda_i = sigma mu`. Eliminating the
+//! slacks and multipliers (`D = Lambda S^-1`)
+//!
+//! ```text
+//! ds      = J ddq + r_p                                    (r_p = J dq + b - s)
+//! dlambda = -S^-1 (r_c + Lambda ds)                        (r_c = S lambda - sigma mu + corrector)
+//! (M + J^T D J) ddq = -r_d - J^T (S^-1 r_c + D r_p)        (r_d = M dq - J^T lambda)
+//! ```
+//!
+//! leaves the body-space matrix `H = M + J^T D J` of the augmented
+//! Lagrangian (`super::augmented_lagrangian`, whose assembly and sparse
+//! Cholesky it shares): `6 n_bodies` unknowns instead of clarabel's KKT
+//! system of `6 n_bodies + rows`, positive definite however redundant the
+//! rows are (`H >= M`), and of the same pattern in every iteration: the
+//! ordering and symbolic factorization are done once, each iteration costs
+//! one numeric factorization and two solves.
+//!
+//! **Scale.** Rows are measured in the whitened distance of the most
+//! violated row, `l = max_i max(0, -b_i) / g_i` with `g_i = sqrt(a_i)`,
+//! `a_i = J_i M^-1 J_i^T`: the start is `s_i = g_i l max(1, b_i / (g_i l))`,
+//! `lambda_i = l^2 / s_i` (each row's slack and force of order one in
+//! those units, and the start centred: `s_i lambda_i = l^2` on every row),
+//! so the iteration is the same whatever the masses and lengths.
+//!
+//! **Answer.** After every iteration the candidate `(dq, lambda)` (the
+//! iterate, and `M^-1 J^T lambda` with exact stationarity) is measured by
+//! the acceptance test of every solver (`super::residuals`); the solver
+//! stops once it is at most
+//! [`InteriorPointSettings::stop_fraction`] of the caller's tolerance: the
+//! duality gap then certifies `dq` to that relative error in the `M`-norm,
+//! so the answer is clarabel's polished one to that precision (the
+//! minimizer is unique in `dq`). A **warm start** (multipliers of a
+//! neighbouring problem) is measured first as it is, after the scaling of
+//! `super::augmented_lagrangian` (the `s >= 0` that maximizes the dual along
+//! it); when it passes the stop test (at the looser of the stop fraction
+//! and `1e-3`, the warm finish's rounding floor being near `1e-10`) it is
+//! returned with zero
+//! iterations and no factorization. Else the warm finish (`warm`: the
+//! method of multipliers on its active set, one factorization and a few
+//! solves) tries to certify it; an interior point cannot start from it
+//! otherwise (its complementarity is exact), so when that fails too the
+//! iteration starts cold.
+//!
+//! **Not applicable** to equality rows and friction cones (the caller
+//! falls back); **infeasible** problems make the iterates diverge: the
+//! solver stops at its iteration limit ([`InteriorPointFailure::NotConverged`])
+//! and the caller's fallback (clarabel) certifies the infeasibility.
+
+mod step;
+mod warm;
+
+use std::time::Instant;
+
+use nalgebra::DVector;
+
+use super::augmented_lagrangian::hessian::NewtonMatrix;
+use super::metric::BlockMetric;
+use super::outcome::Candidate;
+use super::projection::ProjectionQp;
+use super::projection_lcp::dq_from_lambda;
+use super::residuals::{m_apply, projection_residuals, row_diagonal};
+use step::{Iterate, StepInputs, newton_step};
+
+/// Settings of the interior-point solver.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InteriorPointSettings {
+    /// Iterations before giving up. Default 60.
+    pub max_iter: usize,
+    /// The solver stops once the acceptance measure is at most this
+    /// fraction of the tolerance. Default 1e-6 (1e-12 at the default
+    /// tolerance): the answers then agree with clarabel's at gap
+    /// tolerance 1e-12 within 4e-7 relative in `dq` on the engine states,
+    /// where at 1e-3 they were up to 1e-5 apart (as were clarabel's at its
+    /// default 1e-8 from the tight ones: `benchmarks/results/solvers.md`).
+    pub stop_fraction: f64,
+    /// Fraction of the step to the boundary of `s, lambda >= 0` taken.
+    /// Default 0.99.
+    pub step_fraction: f64,
+    /// Dense Cholesky of `H` up to this many entries of `dq`, sparse above
+    /// (as the augmented Lagrangian's). Default 96.
+    pub dense_max_dofs: usize,
+    /// The sparse factor is supernodal (as the augmented Lagrangian's)
+    /// rather than left to faer's flop-ratio choice. Default true.
+    pub supernodal: bool,
+}
+
+impl Default for InteriorPointSettings {
+    fn default() -> Self {
+        Self {
+            max_iter: 60,
+            stop_fraction: 1e-6,
+            step_fraction: 0.99,
+            dense_max_dofs: 96,
+            supernodal: true,
+        }
+    }
+}
+
+/// Why the interior-point solver gave up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum InteriorPointFailure {
+    /// Equality rows or friction cones, which it does not take.
+    NotApplicable,
+    /// The iteration limit, or iterates that are no longer finite (an
+    /// infeasible problem, or rounding).
+    NotConverged,
+    /// A Cholesky factorization of `H` failed, or an iterate was not finite.
+    Factorization,
+    /// The deadline passed.
+    Deadline,
+}
+
+/// The inputs of one solve beside the problem.
+pub struct IpStart<'a> {
+    /// Multipliers of a neighbouring problem, one per row (module docs).
+    pub warm: Option<&'a DVector<f64>>,
+    /// The caller's acceptance tolerance.
+    pub tolerance: f64,
+    /// Give up at this instant.
+    pub deadline: Option<Instant>,
+}
+
+/// Solves `qp` (module docs). `Candidate::iterations` counts interior-point
+/// iterations, `Candidate::factorizations` numeric factorizations of `H`.
+pub fn solve(
+    qp: &ProjectionQp,
+    metric: &[BlockMetric],
+    settings: &InteriorPointSettings,
+    start: &IpStart<'_>,
+) -> Result<Candidate, InteriorPointFailure> {
+    if qp.num_equalities > 0 || !qp.cones.is_empty() {
+        return Err(InteriorPointFailure::NotApplicable);
+    }
+    let target = settings.stop_fraction * start.tolerance;
+    let mut newton = NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal);
+    let mut factorizations = 0;
+    if let Some(warm) = start.warm {
+        // The method of multipliers of the warm finish has a rounding floor
+        // near 1e-10 (random stacks): a warm start is accepted at the
+        // rounding-floor fraction of the tolerance.
+        let warm_target = target.max(ROUNDING_FLOOR_FRACTION * start.tolerance);
+        let (candidate, scaled) = warm_candidate(qp, metric, warm, warm_target);
+        if let Some(candidate) = candidate {
+            log::trace!("interior point: warm start accepted as it is");
+            return Ok(candidate);
+        }
+        if let Some(candidate) = warm::warm_finish(
+            qp,
+            metric,
+            &mut newton,
+            &scaled,
+            warm_target,
+            &mut factorizations,
+        ) {
+            log::trace!("interior point: warm start certified by the warm finish");
+            return Ok(candidate);
+        }
+    }
+    let m = qp.num_rows();
+    let b = qp.b();
+    let a = row_diagonal(qp, metric);
+    let g: Vec<f64> = a.iter().map(|&x| x.sqrt()).collect();
+    // The whitened distance of the most violated row (module docs); the
+    // caller only solves problems with a violated row, but a problem with
+    // none starts at the scale of its nearest row.
+    let mut l = (0..m)
+        .filter(|&i| g[i] > 0.0)
+        .map(|i| (-b[i]).max(0.0) / g[i])
+        .fold(0.0, f64::max);
+    if l <= 0.0 {
+        l = (0..m)
+            .filter(|&i| g[i] > 0.0)
+            .map(|i| b[i].abs() / g[i])
+            .fold(0.0, f64::max);
+    }
+    if !(l > 0.0 && l.is_finite()) {
+        return Err(InteriorPointFailure::NotApplicable);
+    }
+    // Rows no body moves hold (the caller rejected them otherwise): they
+    // stay out with a zero multiplier.
+    let moved: Vec<bool> = g.iter().map(|&x| x > 0.0 && x.is_finite()).collect();
+    let mut it = Iterate {
+        dq: DVector::zeros(qp.num_dofs()),
+        s: DVector::from_fn(m, |i, _| {
+            if moved[i] {
+                g[i] * l * (b[i] / (g[i] * l)).max(1.0)
+            } else {
+                1.0
+            }
+        }),
+        lambda: DVector::from_fn(m, |i, _| {
+            if moved[i] {
+                l / (g[i] * (b[i] / (g[i] * l)).max(1.0))
+            } else {
+                0.0
+            }
+        }),
+    };
+    let mut best: Option<(Candidate, f64)> = None;
+    for iteration in 1..=settings.max_iter {
+        if start.deadline.is_some_and(|d| Instant::now() >= d) {
+            return Err(InteriorPointFailure::Deadline);
+        }
+        let inputs = StepInputs {
+            qp,
+            metric,
+            b: &b,
+            moved: &moved,
+            a: &a,
+        };
+        let gap = newton_step(&inputs, &mut newton, &mut it, settings.step_fraction)?;
+        factorizations += 1;
+        // The acceptance test costs several products with `J`: it is only
+        // measured once the complementarity gap, relative to the energy
+        // scale `l^2`, is small enough for it to pass.
+        if gap > CHECK_GAP_REL * l * l && iteration < settings.max_iter {
+            continue;
+        }
+        let (candidate, acceptance) = best_candidate(qp, metric, &it, iteration, factorizations);
+        log::trace!("interior point: iteration {iteration}, acceptance {acceptance:.2e}");
+        if best.as_ref().is_none_or(|(_, b)| acceptance < *b) {
+            best = Some((candidate, acceptance));
+        }
+        if acceptance <= target {
+            break;
+        }
+    }
+    // The iteration can stall at the rounding floor short of a very small
+    // target: the best candidate within the tolerance's stop fraction of
+    // the default answers then.
+    match best {
+        Some((candidate, acceptance))
+            if acceptance <= target.max(ROUNDING_FLOOR_FRACTION * start.tolerance) =>
+        {
+            log::trace!(
+                "interior point: answered after {} iterations, acceptance {acceptance:.2e} ({})",
+                candidate.iterations,
+                if newton.is_dense() { "dense" } else { "sparse" }
+            );
+            Ok(candidate)
+        }
+        _ => Err(InteriorPointFailure::NotConverged),
+    }
+}
+
+/// The acceptance test is measured once the complementarity gap
+/// `sum_i s_i lambda_i` is at most this times `l^2` (the energy of the
+/// most violated row alone; module docs).
+const CHECK_GAP_REL: f64 = 1e-8;
+
+/// An answer whose acceptance measure is at most this fraction of the
+/// tolerance is returned when the iteration limit stops a smaller
+/// [`InteriorPointSettings::stop_fraction`].
+const ROUNDING_FLOOR_FRACTION: f64 = 1e-3;
+
+/// The better of the iterate and its multipliers' `M^-1 J^T lambda`, by
+/// the acceptance measure (NaN counts as infinite).
+fn best_candidate(
+    qp: &ProjectionQp,
+    metric: &[BlockMetric],
+    it: &Iterate,
+    iterations: usize,
+    factorizations: usize,
+) -> (Candidate, f64) {
+    let lambda = it.lambda.map(|x| x.max(0.0));
+    let stationary = dq_from_lambda(qp, metric, &lambda);
+    let measure = |dq: &DVector<f64>| {
+        let a = projection_residuals(qp, metric, dq, &lambda).acceptance();
+        if a.is_nan() { f64::INFINITY } else { a }
+    };
+    let (from_iterate, from_lambda) = (measure(&it.dq), measure(&stationary));
+    let (dq, acceptance) = if from_lambda <= from_iterate {
+        (stationary, from_lambda)
+    } else {
+        (it.dq.clone(), from_iterate)
+    };
+    (
+        Candidate {
+            dq,
+            lambda,
+            iterations,
+            factorizations,
+        },
+        acceptance,
+    )
+}
+
+/// The warm start as it is or scaled (module docs), when it passes the
+/// stop test; and the multipliers the warm finish starts from (scaled when
+/// the scale is defined).
+fn warm_candidate(
+    qp: &ProjectionQp,
+    metric: &[BlockMetric],
+    warm: &DVector<f64>,
+    target: f64,
+) -> (Option<Candidate>, DVector<f64>) {
+    let lambda = DVector::from_fn(qp.num_rows(), |i, _| {
+        warm.get(i)
+            .copied()
+            .filter(|x| x.is_finite())
+            .unwrap_or(0.0)
+            .max(0.0)
+    });
+    let dq = dq_from_lambda(qp, metric, &lambda);
+    let accept = |dq: &DVector<f64>, lambda: &DVector<f64>| {
+        let a = projection_residuals(qp, metric, dq, lambda).acceptance();
+        (a <= target).then(|| Candidate {
+            dq: dq.clone(),
+            lambda: lambda.clone(),
+            iterations: 0,
+            factorizations: 0,
+        })
+    };
+    if let Some(candidate) = accept(&dq, &lambda) {
+        return (Some(candidate), lambda);
+    }
+    // The scale that maximizes the dual along the warm start:
+    // s = -b^T lambda / lambda^T J M^-1 J^T lambda.
+    let curvature = dq.dot(&m_apply(metric, &dq));
+    let scale = -qp.b().dot(&lambda) / curvature;
+    if !(scale.is_finite() && scale > 0.0 && curvature > 0.0) {
+        return (None, lambda);
+    }
+    let lambda = lambda * scale;
+    (accept(&(dq * scale), &lambda), lambda)
+}

@@ -1,0 +1,188 @@
+//! One predictor-corrector step of the interior-point method (module docs
+//! of [`super`]): the affine direction, Mehrotra's centring parameter
+//! `sigma = (mu_aff / mu)^3`, the corrected direction with the same factor,
+//! and the step to [`super::InteriorPointSettings::step_fraction`] of the
+//! boundary.
+
+use nalgebra::DVector;
+
+use super::InteriorPointFailure;
+use crate::solver::augmented_lagrangian::hessian::NewtonMatrix;
+use crate::solver::metric::BlockMetric;
+use crate::solver::projection::ProjectionQp;
+use crate::solver::residuals::m_apply;
+
+/// The iterate: correction, slacks and multipliers.
+pub(super) struct Iterate {
+    pub dq: DVector<f64>,
+    pub s: DVector<f64>,
+    pub lambda: DVector<f64>,
+}
+
+/// The fixed data of a step.
+pub(super) struct StepInputs<'a> {
+    pub qp: &'a ProjectionQp,
+    pub metric: &'a [BlockMetric],
+    pub b: &'a DVector<f64>,
+    /// Rows some body moves (the others keep `lambda = 0` and no weight).
+    pub moved: &'a [bool],
+    /// `a_i = J_i M^-1 J_i^T`.
+    pub a: &'a [f64],
+}
+
+/// When the factorization of `H` fails (rounding: `D` spans more than the
+/// precision near the end of the iteration, or at extreme mass ratios),
+/// it is retried with every `D_i` at most this over `a_i`, the weight at
+/// which row `i` dominates `H` by `1e12` in its own direction. The step
+/// is then an inexact Newton step (the residuals are recomputed exactly
+/// at the next iterate, so the iteration corrects it).
+const CLAMPED_WEIGHT: f64 = 1e12;
+
+/// A direction `(ddq, ds, dlambda)`.
+struct Direction {
+    dq: DVector<f64>,
+    s: DVector<f64>,
+    lambda: DVector<f64>,
+}
+
+/// Takes one step; `newton` is refactored with the iterate's `D`. Returns
+/// the complementarity gap `sum_i s_i lambda_i` after the step.
+pub(super) fn newton_step(
+    inputs: &StepInputs<'_>,
+    newton: &mut NewtonMatrix,
+    it: &mut Iterate,
+    step_fraction: f64,
+) -> Result<f64, InteriorPointFailure> {
+    let (qp, moved) = (inputs.qp, inputs.moved);
+    let m = qp.num_rows();
+    let active_rows = moved.iter().filter(|&&x| x).count().max(1);
+    let r_d = m_apply(inputs.metric, &it.dq) - qp.apply_jt(&it.lambda);
+    let r_p = qp.apply_j(&it.dq) + inputs.b - &it.s;
+    let mu = (0..m)
+        .filter(|&i| moved[i])
+        .map(|i| it.s[i] * it.lambda[i])
+        .sum::<f64>()
+        / active_rows as f64;
+    let d: Vec<f64> = (0..m)
+        .map(|i| {
+            if moved[i] {
+                it.lambda[i] / it.s[i]
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    if newton.factor(qp, inputs.metric, &d, moved).is_err() {
+        let clamped: Vec<f64> = d
+            .iter()
+            .zip(inputs.a)
+            .map(|(&x, &a)| {
+                if a > 0.0 {
+                    x.min(CLAMPED_WEIGHT / a)
+                } else {
+                    x
+                }
+            })
+            .collect();
+        log::trace!("interior point: factorization failed, retried with clamped weights");
+        newton
+            .factor(qp, inputs.metric, &clamped, moved)
+            .map_err(|_| InteriorPointFailure::Factorization)?;
+    }
+    // Predictor: r_c = S lambda.
+    let r_c_aff = DVector::from_fn(m, |i, _| it.s[i] * it.lambda[i]);
+    let affine = direction(inputs, newton, it, &d, &r_d, &r_p, &r_c_aff)?;
+    let alpha_aff = max_step(it, &affine, moved).min(1.0);
+    let mu_aff = (0..m)
+        .filter(|&i| moved[i])
+        .map(|i| {
+            (it.s[i] + alpha_aff * affine.s[i]) * (it.lambda[i] + alpha_aff * affine.lambda[i])
+        })
+        .sum::<f64>()
+        / active_rows as f64;
+    let sigma = (mu_aff / mu).clamp(0.0, 1.0).powi(3);
+    // Corrector: r_c = S lambda + ds_aff dlambda_aff - sigma mu.
+    let r_c = DVector::from_fn(m, |i, _| {
+        if moved[i] {
+            it.s[i] * it.lambda[i] + affine.s[i] * affine.lambda[i] - sigma * mu
+        } else {
+            0.0
+        }
+    });
+    let step = direction(inputs, newton, it, &d, &r_d, &r_p, &r_c)?;
+    let alpha = (step_fraction * max_step(it, &step, moved)).min(1.0);
+    it.dq.axpy(alpha, &step.dq, 1.0);
+    it.s.axpy(alpha, &step.s, 1.0);
+    it.lambda.axpy(alpha, &step.lambda, 1.0);
+    let finite = it
+        .dq
+        .iter()
+        .chain(&it.s)
+        .chain(&it.lambda)
+        .all(|x| x.is_finite());
+    if !finite {
+        // The iterates diverged (an infeasible problem).
+        return Err(InteriorPointFailure::NotConverged);
+    }
+    Ok((0..m)
+        .filter(|&i| moved[i])
+        .map(|i| it.s[i] * it.lambda[i])
+        .sum())
+}
+
+/// The direction for the complementarity residual `r_c` (module docs of
+/// [`super`]).
+fn direction(
+    inputs: &StepInputs<'_>,
+    newton: &mut NewtonMatrix,
+    it: &Iterate,
+    d: &[f64],
+    r_d: &DVector<f64>,
+    r_p: &DVector<f64>,
+    r_c: &DVector<f64>,
+) -> Result<Direction, InteriorPointFailure> {
+    let qp = inputs.qp;
+    let m = qp.num_rows();
+    let moved = inputs.moved;
+    // S^-1 r_c + D r_p
+    let weighted = DVector::from_fn(m, |i, _| {
+        if moved[i] {
+            r_c[i] / it.s[i] + d[i] * r_p[i]
+        } else {
+            0.0
+        }
+    });
+    let rhs = -(r_d + qp.apply_jt(&weighted));
+    let ddq = newton
+        .solve(&rhs)
+        .ok_or(InteriorPointFailure::Factorization)?;
+    let ds = qp.apply_j(&ddq) + r_p;
+    let dlambda = DVector::from_fn(m, |i, _| {
+        if moved[i] {
+            -(r_c[i] + it.lambda[i] * ds[i]) / it.s[i]
+        } else {
+            0.0
+        }
+    });
+    Ok(Direction {
+        dq: ddq,
+        s: ds,
+        lambda: dlambda,
+    })
+}
+
+/// The largest `alpha` with `s + alpha ds >= 0` and
+/// `lambda + alpha dlambda >= 0` on the moved rows (infinite when no
+/// entry decreases).
+fn max_step(it: &Iterate, dir: &Direction, moved: &[bool]) -> f64 {
+    let mut alpha = f64::INFINITY;
+    for i in (0..moved.len()).filter(|&i| moved[i]) {
+        if dir.s[i] < 0.0 {
+            alpha = alpha.min(-it.s[i] / dir.s[i]);
+        }
+        if dir.lambda[i] < 0.0 {
+            alpha = alpha.min(-it.lambda[i] / dir.lambda[i]);
+        }
+    }
+    alpha
+}

@@ -1,0 +1,53 @@
+//! A recorder of the projection QPs [`super::solve_projection_warm`] is
+//! given, for the benchmarks that time solvers on the problems of real
+//! calls (`benchmarks/engine_qps.rs`). Off by default: one relaxed atomic
+//! load per solve. Not part of the stable API.
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use nalgebra::DVector;
+
+use super::projection::ProjectionQp;
+
+/// One recorded problem: the QP and the warm start it was given.
+#[derive(Debug, Clone)]
+pub struct RecordedQp {
+    /// The problem.
+    pub qp: ProjectionQp,
+    /// The multipliers it was warm-started from, if any.
+    pub warm: Option<DVector<f64>>,
+}
+
+static ON: AtomicBool = AtomicBool::new(false);
+static RECORDED: Mutex<Vec<RecordedQp>> = Mutex::new(Vec::new());
+
+/// Starts recording (and clears what was recorded).
+pub fn start() {
+    if let Ok(mut recorded) = RECORDED.lock() {
+        recorded.clear();
+    }
+    ON.store(true, Ordering::Relaxed);
+}
+
+/// Stops recording and returns the problems recorded since [`start`].
+pub fn stop() -> Vec<RecordedQp> {
+    ON.store(false, Ordering::Relaxed);
+    RECORDED
+        .lock()
+        .map(|mut recorded| std::mem::take(&mut *recorded))
+        .unwrap_or_default()
+}
+
+/// Records `qp` when recording is on.
+pub(crate) fn record(qp: &ProjectionQp, warm: Option<&DVector<f64>>) {
+    if !ON.load(Ordering::Relaxed) {
+        return;
+    }
+    if let Ok(mut recorded) = RECORDED.lock() {
+        recorded.push(RecordedQp {
+            qp: qp.clone(),
+            warm: warm.cloned(),
+        });
+    }
+}
