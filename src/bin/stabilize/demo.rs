@@ -27,7 +27,8 @@ pub struct DemoArgs {
     /// Random seed of the scene.
     #[arg(long, default_value_t = DEFAULT_SEED)]
     seed: u64,
-    /// Solver: auto, clarabel, clarabel_dual, lemke or pgs.
+    /// Solver: auto, clarabel, clarabel_dual, lemke, pgs,
+    /// augmented_lagrangian or interior_point.
     #[arg(long, default_value = "auto")]
     solver: String,
     /// Method: projection, or gauss_seidel (the game-engine baseline,
