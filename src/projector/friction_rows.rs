@@ -103,24 +103,36 @@ pub struct Generation {
 
 /// The first working set: the rows with friction whose multipliers in
 /// `warm` (in the layout of `problem.full`) are not all zero, the row's
-/// own or its friction's: the rows that pressed or held by friction in the
-/// previous answer, which are those whose friction is likely to be needed
-/// again.
-pub fn seed(problem: &FrictionalQp<'_>, warm: Option<&DVector<f64>>) -> Vec<bool> {
+/// own or its friction's (the rows that pressed or held by friction in the
+/// previous answer, those whose friction is likely to be needed again).
+/// Without such a row, none when the frictionless problem is Lemke's
+/// (at most `lemke_max_rows` rows: a round on the rows alone costs about
+/// `1 / (K + 1)^3` of one with every facet), every one when it is
+/// clarabel's (whose time grows about linearly with the rows, so that a
+/// first round without friction would cost about `1 / K` of the full
+/// problem, and on the engine states most rows' friction is needed:
+/// `benchmarks/results/engine_friction.md`).
+pub fn seed(
+    problem: &FrictionalQp<'_>,
+    warm: Option<&DVector<f64>>,
+    lemke_max_rows: usize,
+) -> Vec<bool> {
     let cones = problem.with_cones.cones.len();
     let mut working = vec![false; cones];
-    let Some(warm) = warm.filter(|w| w.len() == problem.full.num_multipliers()) else {
-        return working;
-    };
-    let n = problem.with_cones.num_rows();
-    let per_cone = multipliers_per_cone(problem);
-    for (c, work) in working.iter_mut().enumerate() {
-        let row = warm.get(problem.cone_rows[c]).is_some_and(|&x| x != 0.0);
-        *work = row
-            || warm
-                .rows(n + c * per_cone, per_cone)
-                .iter()
-                .any(|&x| x != 0.0);
+    if let Some(warm) = warm.filter(|w| w.len() == problem.full.num_multipliers()) {
+        let n = problem.with_cones.num_rows();
+        let per_cone = multipliers_per_cone(problem);
+        for (c, work) in working.iter_mut().enumerate() {
+            let row = warm.get(problem.cone_rows[c]).is_some_and(|&x| x != 0.0);
+            *work = row
+                || warm
+                    .rows(n + c * per_cone, per_cone)
+                    .iter()
+                    .any(|&x| x != 0.0);
+        }
+    }
+    if !working.contains(&true) && problem.with_cones.num_rows() > lemke_max_rows {
+        working.iter_mut().for_each(|w| *w = true);
     }
     working
 }

@@ -295,7 +295,7 @@ fn solve_frictional(
         FrictionRows::Implied | FrictionRows::Generated => {
             let working = match settings.friction_rows {
                 FrictionRows::Implied => vec![true; problem.with_cones.cones.len()],
-                _ => seed(problem, warm),
+                _ => seed(problem, warm, settings.solver.auto_lemke_max_rows),
             };
             let (solution, generation) =
                 solve_generating_rows(problem, &settings.solver, warm, working)?;
