@@ -48,7 +48,7 @@ use crate::settings::FrictionModel;
 use crate::solver::friction_cone::{CONE_DIM, cone_violation, facet_values};
 use crate::solver::residuals::{acceptance_length, projection_residuals};
 use crate::solver::{
-    ProjectionQp, ProjectionSolution, SolverError, SolverSettings,
+    FrictionCone, ProjectionQp, ProjectionSolution, SolverError, SolverSettings,
     solve_projection_warm,
 };
 
@@ -91,47 +91,44 @@ pub struct FrictionalQp<'a> {
 pub struct Generation {
     /// Problems solved (1: the first working set was enough).
     pub rounds: usize,
-    /// Friction constraints (facets or cones) in the last problem solved,
-    /// of [`Generation::constraints`].
+    /// Rows whose friction entered the last problem solved, of
+    /// [`Generation::cones`].
     pub generated: usize,
-    /// Friction constraints of the full problem: `K` facets per row with
-    /// friction (pyramid) or one cone (cone model).
-    pub constraints: usize,
+    /// Rows with friction.
+    pub cones: usize,
     /// The full problem was solved as it is (after [`MAX_ROUNDS`], or
     /// because the answer failed the acceptance test on it).
     pub full_solve: bool,
 }
 
-/// The first working set, one flag per friction constraint of the full
-/// problem (per facet, cone by cone, under the pyramid; per cone under the
-/// cone model): those whose multipliers in `warm` (in the layout of
-/// `problem.full`) are not zero, and every one of a row whose own
-/// multiplier is not (the friction that held or the rows that pressed in
-/// the previous answer, likely to be needed again). Without any, none when
-/// the frictionless problem is Lemke's (at most `lemke_max_rows` rows: a
-/// round on the rows alone costs about `1 / (K + 1)^3` of one with every
-/// facet), every one when it is clarabel's (whose time grows about
-/// linearly with the rows, so that a first round without friction would
-/// cost about `1 / K` of the full problem, and on the engine states most
-/// rows' friction is needed: `benchmarks/results/engine_friction.md`).
+/// The first working set: the rows with friction whose multipliers in
+/// `warm` (in the layout of `problem.full`) are not all zero, the row's
+/// own or its friction's (the rows that pressed or held by friction in the
+/// previous answer, those whose friction is likely to be needed again).
+/// Without such a row, none when the frictionless problem is Lemke's
+/// (at most `lemke_max_rows` rows: a round on the rows alone costs about
+/// `1 / (K + 1)^3` of one with every facet), every one when it is
+/// clarabel's (whose time grows about linearly with the rows, so that a
+/// first round without friction would cost about `1 / K` of the full
+/// problem, and on the engine states most rows' friction is needed:
+/// `benchmarks/results/engine_friction.md`).
 pub fn seed(
     problem: &FrictionalQp<'_>,
     warm: Option<&DVector<f64>>,
     lemke_max_rows: usize,
 ) -> Vec<bool> {
-    let per_cone = constraints_per_cone(problem);
-    let mut working = vec![false; problem.with_cones.cones.len() * per_cone];
+    let cones = problem.with_cones.cones.len();
+    let mut working = vec![false; cones];
     if let Some(warm) = warm.filter(|w| w.len() == problem.full.num_multipliers()) {
         let n = problem.with_cones.num_rows();
-        let multipliers = multipliers_per_cone(problem);
-        let pressed = |c: usize| warm.get(problem.cone_rows[c]).is_some_and(|&x| x != 0.0);
-        for (u, work) in working.iter_mut().enumerate() {
-            let c = u / per_cone;
-            let own = match problem.model {
-                FrictionModel::Pyramid => warm[n + u] != 0.0,
-                FrictionModel::Cone => warm.rows(n + c * multipliers, multipliers).iter().any(|&x| x != 0.0),
-            };
-            *work = own || pressed(c);
+        let per_cone = multipliers_per_cone(problem);
+        for (c, work) in working.iter_mut().enumerate() {
+            let row = warm.get(problem.cone_rows[c]).is_some_and(|&x| x != 0.0);
+            *work = row
+                || warm
+                    .rows(n + c * per_cone, per_cone)
+                    .iter()
+                    .any(|&x| x != 0.0);
         }
     }
     if !working.contains(&true) && problem.with_cones.num_rows() > lemke_max_rows {
@@ -140,41 +137,34 @@ pub fn seed(
     working
 }
 
-/// The working set of every friction constraint (one round: the full
-/// problem, less the pyramid's rows that their facets replace).
-pub fn every_constraint(problem: &FrictionalQp<'_>) -> Vec<bool> {
-    vec![true; problem.with_cones.cones.len() * constraints_per_cone(problem)]
-}
-
 /// The minimizer of `problem.full` by row generation (module docs), started
-/// from the working set `working` (one flag per friction constraint, as
-/// [`seed`] gives), with the multipliers in `problem.full`'s layout.
-/// `warm` (that layout too) is passed on to the solver, restricted to each
-/// round's problem.
+/// from the working set `working` (one flag per cone), with the
+/// multipliers in `problem.full`'s layout. `warm` (that layout too) is
+/// passed on to the solver, restricted to each round's problem.
 pub fn solve_generating_rows(
     problem: &FrictionalQp<'_>,
     settings: &SolverSettings,
     warm: Option<&DVector<f64>>,
     mut working: Vec<bool>,
 ) -> Result<(ProjectionSolution, Generation), SolverError> {
-    let constraints = problem.with_cones.cones.len() * constraints_per_cone(problem);
+    let cones = problem.with_cones.cones.len();
     // The solvers take multipliers of linear rows only (the augmented
     // Lagrangian's warm start): a cone problem's seed it is, not a start.
     let warm = warm.filter(|_| problem.model == FrictionModel::Pyramid);
     let mut generation = Generation {
-        constraints,
+        cones,
         ..Generation::default()
     };
     let full_solve = |mut generation: Generation| {
         generation.full_solve = true;
-        generation.generated = constraints;
+        generation.generated = cones;
         generation.rounds += 1;
         solve_projection_warm(problem.full, settings, warm).map(|s| (s, generation))
     };
-    if constraints == 0 || settings.cross_check || working.len() != constraints {
+    if cones == 0 || settings.cross_check {
         return full_solve(generation);
     }
-    if most(working.iter().filter(|&&w| w).count(), constraints) {
+    if most(working.iter().filter(|&&w| w).count(), cones) {
         working.iter_mut().for_each(|w| *w = true);
     }
     let slack = GENERATION_SLACK * settings.tol_residual * acceptance_length(problem.full);
@@ -184,23 +174,18 @@ pub fn solve_generating_rows(
         let relaxed = relaxation(problem, &working);
         let relaxed_warm = warm
             .filter(|w| w.len() == problem.full.num_multipliers())
-            .map(|w| {
-                DVector::from_iterator(
-                    relaxed.origin.len(),
-                    relaxed.origin.iter().map(|&i| w[i]),
-                )
-            });
+            .map(|w| DVector::from_iterator(relaxed.origin.len(), relaxed.origin.iter().map(|&i| w[i])));
         generation.rounds += 1;
         generation.generated = working.iter().filter(|&&w| w).count();
         let solution = solve_projection_warm(&relaxed.qp, settings, relaxed_warm.as_ref())?;
         iterations += solution.iterations;
         fallbacks.extend(solution.fallbacks.iter().cloned());
-        let violated = violated_constraints(problem, &working, &solution.dq, slack);
+        let violated = violated_cones(problem, &working, &solution.dq, slack);
         log::debug!(
-            "  friction rows, round {}: {} of {} friction constraints in the problem ({} rows), {} more violated",
+            "  friction rows, round {}: {} of {} rows with friction in the problem ({} rows), {} more violated",
             generation.rounds,
             generation.generated,
-            constraints,
+            cones,
             relaxed.qp.num_rows(),
             violated.len()
         );
@@ -228,8 +213,8 @@ pub fn solve_generating_rows(
         if most(violated.len(), left_out) {
             working.iter_mut().for_each(|w| *w = true);
         } else {
-            for u in violated {
-                working[u] = true;
+            for c in violated {
+                working[c] = true;
             }
         }
     }
@@ -237,22 +222,13 @@ pub fn solve_generating_rows(
     full_solve(generation)
 }
 
-/// Whether `part` of `whole` friction constraints is at least
-/// [`ADD_ALL_FRACTION`] of them: then every one is taken.
+/// Whether `part` of `whole` rows is at least [`ADD_ALL_FRACTION`] of
+/// them: then every row's friction is taken.
 fn most(part: usize, whole: usize) -> bool {
     part as f64 >= ADD_ALL_FRACTION * whole as f64
 }
 
-/// Friction constraints per row with friction: `K` facets or one cone.
-fn constraints_per_cone(problem: &FrictionalQp<'_>) -> usize {
-    match problem.model {
-        FrictionModel::Pyramid => problem.with_cones.cone_facets,
-        FrictionModel::Cone => 1,
-    }
-}
-
-/// Multipliers per row with friction in `problem.full`: `K` facets' or
-/// the cone's three.
+/// Multipliers per cone in `problem.full`: `K` facets or the cone's three.
 fn multipliers_per_cone(problem: &FrictionalQp<'_>) -> usize {
     match problem.model {
         FrictionModel::Pyramid => problem.with_cones.cone_facets,
@@ -279,17 +255,23 @@ impl Relaxation {
     }
 }
 
-/// `F_W` (module docs): every row, except under the pyramid the rows all
-/// of whose facets are in the working set, which they replace; the working
-/// cones or facets.
+/// `F_W` (module docs): every row, except under the pyramid the rows of the
+/// working cones, which their facets replace; the working cones or their
+/// facets.
 fn relaxation(problem: &FrictionalQp<'_>, working: &[bool]) -> Relaxation {
     let base = problem.with_cones;
     let n = base.num_rows();
+    let working_cones = || {
+        base.cones
+            .iter()
+            .enumerate()
+            .filter(|(c, _)| working[*c])
+    };
     match problem.model {
         FrictionModel::Cone => {
             let mut origin: Vec<usize> = (0..n).collect();
             let mut cones = Vec::new();
-            for (c, cone) in base.cones.iter().enumerate().filter(|(c, _)| working[*c]) {
+            for (c, cone) in working_cones() {
                 cones.push(cone.clone());
                 origin.extend((0..CONE_DIM).map(|d| n + CONE_DIM * c + d));
             }
@@ -309,10 +291,8 @@ fn relaxation(problem: &FrictionalQp<'_>, working: &[bool]) -> Relaxation {
         FrictionModel::Pyramid => {
             let k = base.cone_facets;
             let mut replaced = vec![false; n];
-            for c in 0..base.cones.len() {
-                if working[c * k..(c + 1) * k].iter().all(|&w| w) {
-                    replaced[problem.cone_rows[c]] = true;
-                }
+            for (c, _) in working_cones() {
+                replaced[problem.cone_rows[c]] = true;
             }
             let mut qp = ProjectionQp {
                 bodies: base.bodies.clone(),
@@ -327,17 +307,12 @@ fn relaxation(problem: &FrictionalQp<'_>, working: &[bool]) -> Relaxation {
                 qp.target.push(base.target[i]);
                 origin.push(i);
             }
-            for (c, cone) in base.cones.iter().enumerate() {
-                if !working[c * k..(c + 1) * k].contains(&true) {
-                    continue;
-                }
+            for (c, cone) in working_cones() {
                 for (f, (row, phi)) in cone.facets(k).into_iter().enumerate() {
-                    if working[c * k + f] {
-                        qp.rows.push(row);
-                        qp.phi.push(phi);
-                        qp.target.push(0.0);
-                        origin.push(n + c * k + f);
-                    }
+                    qp.rows.push(row);
+                    qp.phi.push(phi);
+                    qp.target.push(0.0);
+                    origin.push(n + c * k + f);
                 }
             }
             Relaxation { qp, origin }
@@ -345,37 +320,35 @@ fn relaxation(problem: &FrictionalQp<'_>, working: &[bool]) -> Relaxation {
     }
 }
 
-/// The friction constraints outside the working set that `dq` violates by
-/// more than `slack` (a length): facets under the pyramid, cones under the
-/// cone model.
-fn violated_constraints(
+/// The cones outside the working set whose friction `dq` violates by more
+/// than `slack` (a length): under the pyramid its most violated facet,
+/// under the cone model the cone itself.
+fn violated_cones(
     problem: &FrictionalQp<'_>,
     working: &[bool],
     dq: &DVector<f64>,
     slack: f64,
 ) -> Vec<usize> {
-    let per_cone = constraints_per_cone(problem);
-    let mut violated = Vec::new();
-    for (c, cone) in problem.with_cones.cones.iter().enumerate() {
-        let units = c * per_cone..(c + 1) * per_cone;
-        if working[units.clone()].iter().all(|&w| w) {
-            continue;
-        }
-        let w = cone.value(dq);
-        match problem.model {
-            FrictionModel::Cone => {
-                if cone_violation(&w) > slack {
-                    violated.push(c);
-                }
-            }
-            FrictionModel::Pyramid => {
-                for (u, value) in units.zip(facet_values(w, per_cone)) {
-                    if !working[u] && -value > slack {
-                        violated.push(u);
-                    }
-                }
-            }
-        }
+    let k = problem.with_cones.cone_facets;
+    problem
+        .with_cones
+        .cones
+        .iter()
+        .enumerate()
+        .filter(|(c, _)| !working[*c])
+        .filter(|(_, cone)| friction_violation(cone, problem.model, k, dq) > slack)
+        .map(|(c, _)| c)
+        .collect()
+}
+
+/// How far `dq` is from satisfying `cone`'s friction under `model` (0 when
+/// it does).
+fn friction_violation(cone: &FrictionCone, model: FrictionModel, k: usize, dq: &DVector<f64>) -> f64 {
+    let w = cone.value(dq);
+    match model {
+        FrictionModel::Cone => cone_violation(&w),
+        FrictionModel::Pyramid => facet_values(w, k)
+            .map(|value| -value)
+            .fold(0.0, f64::max),
     }
-    violated
 }

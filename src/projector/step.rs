@@ -16,7 +16,7 @@ use nalgebra::{DVector, Matrix3};
 
 use super::consistent_equalities::consistent_equalities;
 use super::friction::friction_cones;
-use super::friction_rows::{FrictionalQp, every_constraint, seed, solve_generating_rows};
+use super::friction_rows::{FrictionalQp, seed, solve_generating_rows};
 use super::line_search::{LineSearchOutcome, line_search};
 use super::trust_region::TrustRegion;
 use crate::settings::{FrictionModel, FrictionRows, ResolvedLengths, Settings};
@@ -294,16 +294,16 @@ fn solve_frictional(
         }
         FrictionRows::Implied | FrictionRows::Generated => {
             let working = match settings.friction_rows {
-                FrictionRows::Implied => every_constraint(problem),
+                FrictionRows::Implied => vec![true; problem.with_cones.cones.len()],
                 _ => seed(problem, warm, settings.solver.auto_lemke_max_rows),
             };
             let (solution, generation) =
                 solve_generating_rows(problem, &settings.solver, warm, working)?;
-            if generation.constraints > 0 {
+            if generation.cones > 0 {
                 log::debug!(
-                    "  friction rows generated: {} of {} friction constraints in {} rounds{}",
+                    "  friction rows generated: {} of {} rows with friction in {} rounds{}",
                     generation.generated,
-                    generation.constraints,
+                    generation.cones,
                     generation.rounds,
                     if generation.full_solve {
                         ", the last on the full problem"
