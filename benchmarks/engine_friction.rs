@@ -7,10 +7,13 @@
 //! so the pair gets that coefficient): Bullet 0.5 x 0.5 = 0.25 (Bullet
 //! multiplies the two bodies' coefficients), MuJoCo 1.0 (its default,
 //! combined by the maximum), Rapier 0.5 (its default, combined by the
-//! mean). Three calls per repeat, interleaved and rotated in order:
-//! frictionless, friction as the pyramid (the default model), friction as
-//! the cone; each on a fresh copy of the scene, with a fresh stabilizer and
-//! the default settings otherwise. Time: the median over the repeats.
+//! mean). Seven calls per repeat, interleaved and rotated in order:
+//! frictionless, then friction as the pyramid (the default model) and as
+//! the cone, each with the three ways its rows enter the problem
+//! (`Settings::friction_rows`: the pyramid's facets in place of their row,
+//! the default; generated as needed; all rows); each on a fresh copy of
+//! the scene, with a fresh stabilizer and the default settings otherwise.
+//! Time: the median over the repeats.
 //!
 //! Quality (from the first repeat, the call being deterministic): status,
 //! passes, the islands solved without friction (`friction_dropped`), the
@@ -37,14 +40,36 @@ use constraint_stabilization::{FrictionModel, FrictionRows, Report, Settings, St
 /// Repeats per state (`--quick`: 1).
 const REPEATS: usize = 9;
 /// The calls compared: label, friction model (`None`: frictionless) and
-/// how its rows enter the problem.
-const CALLS: [(&str, Option<FrictionModel>, FrictionRows); 6] = [
-    ("frictionless", None, FrictionRows::Generated),
-    ("pyramid", Some(FrictionModel::Pyramid), FrictionRows::Generated),
-    ("cone", Some(FrictionModel::Cone), FrictionRows::Generated),
-    ("pyramid, implied", Some(FrictionModel::Pyramid), FrictionRows::Implied),
-    ("pyramid, all rows", Some(FrictionModel::Pyramid), FrictionRows::All),
-    ("cone, all rows", Some(FrictionModel::Cone), FrictionRows::All),
+/// how its rows enter the problem (`Settings::friction_rows`; the default,
+/// `Implied`, first).
+const CALLS: [(&str, Option<FrictionModel>, FrictionRows); 7] = [
+    ("frictionless", None, FrictionRows::Implied),
+    (
+        "pyramid",
+        Some(FrictionModel::Pyramid),
+        FrictionRows::Implied,
+    ),
+    ("cone", Some(FrictionModel::Cone), FrictionRows::Implied),
+    (
+        "pyramid, generated",
+        Some(FrictionModel::Pyramid),
+        FrictionRows::Generated,
+    ),
+    (
+        "cone, generated",
+        Some(FrictionModel::Cone),
+        FrictionRows::Generated,
+    ),
+    (
+        "pyramid, all rows",
+        Some(FrictionModel::Pyramid),
+        FrictionRows::All,
+    ),
+    (
+        "cone, all rows",
+        Some(FrictionModel::Cone),
+        FrictionRows::All,
+    ),
 ];
 
 /// The coefficient of a pair of default bodies in the state's engine.

@@ -174,7 +174,9 @@ pub fn solve_generating_rows(
         let relaxed = relaxation(problem, &working);
         let relaxed_warm = warm
             .filter(|w| w.len() == problem.full.num_multipliers())
-            .map(|w| DVector::from_iterator(relaxed.origin.len(), relaxed.origin.iter().map(|&i| w[i])));
+            .map(|w| {
+                DVector::from_iterator(relaxed.origin.len(), relaxed.origin.iter().map(|&i| w[i]))
+            });
         generation.rounds += 1;
         generation.generated = working.iter().filter(|&&w| w).count();
         let solution = solve_projection_warm(&relaxed.qp, settings, relaxed_warm.as_ref())?;
@@ -261,12 +263,7 @@ impl Relaxation {
 fn relaxation(problem: &FrictionalQp<'_>, working: &[bool]) -> Relaxation {
     let base = problem.with_cones;
     let n = base.num_rows();
-    let working_cones = || {
-        base.cones
-            .iter()
-            .enumerate()
-            .filter(|(c, _)| working[*c])
-    };
+    let working_cones = || base.cones.iter().enumerate().filter(|(c, _)| working[*c]);
     match problem.model {
         FrictionModel::Cone => {
             let mut origin: Vec<usize> = (0..n).collect();
@@ -343,12 +340,15 @@ fn violated_cones(
 
 /// How far `dq` is from satisfying `cone`'s friction under `model` (0 when
 /// it does).
-fn friction_violation(cone: &FrictionCone, model: FrictionModel, k: usize, dq: &DVector<f64>) -> f64 {
+fn friction_violation(
+    cone: &FrictionCone,
+    model: FrictionModel,
+    k: usize,
+    dq: &DVector<f64>,
+) -> f64 {
     let w = cone.value(dq);
     match model {
         FrictionModel::Cone => cone_violation(&w),
-        FrictionModel::Pyramid => facet_values(w, k)
-            .map(|value| -value)
-            .fold(0.0, f64::max),
+        FrictionModel::Pyramid => facet_values(w, k).map(|value| -value).fold(0.0, f64::max),
     }
 }

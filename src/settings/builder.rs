@@ -4,7 +4,8 @@
 use std::time::Duration;
 
 use super::{
-    FrictionModel, FrictionRows, GaussSeidelSettings, LineSearchSettings, Method, Settings, SettingsError,
+    FrictionModel, FrictionRows, GaussSeidelSettings, LineSearchSettings, Method, Settings,
+    SettingsError,
 };
 use crate::solver::SolverSettings;
 use crate::vclip::VClipSettings;

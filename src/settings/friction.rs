@@ -51,11 +51,17 @@ pub enum FrictionRows {
     All,
     /// Every row's friction, with the pyramid's facets in place of their
     /// row (they imply it): `K` rows per row with friction, not `K + 1`.
+    /// The default: 10-40 % faster than [`FrictionRows::All`] on the
+    /// engine states, and as fast as [`FrictionRows::Generated`] there,
+    /// where nearly every contact's friction is needed
+    /// (`benchmarks/results/engine_friction.md`).
+    #[default]
     Implied,
     /// Generated as needed: the rows whose friction held in the previous
     /// answer (all of them when they are most rows), or none, first; then
     /// the friction of every row whose friction the answer violates, until
     /// none is. Facets replace their row as under [`FrictionRows::Implied`].
-    #[default]
+    /// Fewer rows where few contacts slide, one more solve per round where
+    /// many do.
     Generated,
 }

@@ -182,9 +182,10 @@ pub struct Settings {
     /// is faster than the cone and differs from it by a small fraction of
     /// the body size; 8 facets cost more than the cone.
     pub friction_model: FrictionModel,
-    /// Whether the friction rows are generated as they are needed or all
-    /// solved from the start ([`FrictionRows`]); the same minimizer either
-    /// way. Default [`FrictionRows::Generated`].
+    /// How the friction rows enter the problem solved: all of them, all
+    /// with the pyramid's facets in place of their row, or generated as
+    /// they are needed ([`FrictionRows`]); the same minimizer every way.
+    /// Default [`FrictionRows::Implied`].
     pub friction_rows: FrictionRows,
     /// clarabel's iteration limit on a problem with friction (its
     /// pyramid's rows or cones), in place of

@@ -16,8 +16,8 @@ use constraint_stabilization::solver::residuals::{
     acceptance_length, m_norm, projection_residuals,
 };
 use constraint_stabilization::solver::{
-    BodyMetric, FrictionCone, JacobianRow, ProjectionQp, SolverChoice, SolverError,
-    SolverSettings, solve_projection,
+    BodyMetric, FrictionCone, JacobianRow, ProjectionQp, SolverChoice, SolverError, SolverSettings,
+    solve_projection,
 };
 use nalgebra::{DVector, Matrix3, Vector3, Vector6};
 use rand::{Rng, SeedableRng};
@@ -34,7 +34,11 @@ const PROBLEMS: usize = 60;
 /// ground or between two bodies at random points, normals and depths,
 /// each with a cone of random `mu` (some without friction), one in five
 /// listed twice (redundant rows); and the row of each cone.
-fn random_problem(rng: &mut ChaCha8Rng, bodies: usize, contacts: usize) -> (ProjectionQp, Vec<usize>) {
+fn random_problem(
+    rng: &mut ChaCha8Rng,
+    bodies: usize,
+    contacts: usize,
+) -> (ProjectionQp, Vec<usize>) {
     let metric = (0..bodies)
         .map(|_| {
             let mass = rng.random_range(0.5..5.0);
@@ -184,15 +188,20 @@ fn generated_rows_give_the_full_problems_minimizer() {
             for start_with_all in [false, true] {
                 let working = vec![start_with_all; with_cones.cones.len()];
                 let ours = solve_generating_rows(&problem, &settings, None, working);
-                let label = format!("{model:?} problem {problem_index} (all first: {start_with_all})");
+                let label =
+                    format!("{model:?} problem {problem_index} (all first: {start_with_all})");
                 let (solution, generation) = match (&expected, ours) {
                     (Ok(_), Ok(ours)) => ours,
-                    (Err(SolverError::AllSolversFailed(a)), Err(SolverError::AllSolversFailed(b))) => {
+                    (
+                        Err(SolverError::AllSolversFailed(a)),
+                        Err(SolverError::AllSolversFailed(b)),
+                    ) => {
                         // Infeasible for both: the same kind of certificate.
                         let certified = |f: &[_]| {
-                            f.iter().any(|f: &constraint_stabilization::solver::Fallback| {
-                                f.reason.certifies_infeasibility()
-                            })
+                            f.iter()
+                                .any(|f: &constraint_stabilization::solver::Fallback| {
+                                    f.reason.certifies_infeasibility()
+                                })
                         };
                         assert_eq!(certified(a), certified(&b), "{label}: {a:?} / {b:?}");
                         continue;
@@ -254,7 +263,10 @@ fn generated_rows_give_the_full_problems_minimizer() {
         // The generation is exercised: problems where it left friction
         // out, and problems where it took several rounds.
         assert!(compared >= PROBLEMS, "{model:?}: {compared} compared");
-        assert!(left_out > 0 && several_rounds > 0, "{model:?}: {left_out} / {several_rounds}");
+        assert!(
+            left_out > 0 && several_rounds > 0,
+            "{model:?}: {left_out} / {several_rounds}"
+        );
     }
 }
 
@@ -297,16 +309,26 @@ fn a_violated_facet_is_never_left_out() {
             model,
         };
         let working = seed(&problem, None, settings.auto_lemke_max_rows);
-        assert_eq!(working, vec![false], "a small problem starts without friction");
+        assert_eq!(
+            working,
+            vec![false],
+            "a small problem starts without friction"
+        );
         let frictionless = ProjectionQp {
             cones: Vec::new(),
             ..with_cones.clone()
         };
-        let sliding = solve_projection(&frictionless, &settings).expect("solved").dq;
+        let sliding = solve_projection(&frictionless, &settings)
+            .expect("solved")
+            .dq;
         assert!(largest_friction_violation(&with_cones, model, &sliding) > 1e-3);
         let (solution, generation) =
             solve_generating_rows(&problem, &settings, None, working).expect("solved");
-        assert_eq!((generation.rounds, generation.generated), (2, 1), "{model:?}");
+        assert_eq!(
+            (generation.rounds, generation.generated),
+            (2, 1),
+            "{model:?}"
+        );
         assert!(largest_friction_violation(&with_cones, model, &solution.dq) <= 1e-12);
         let (dq_ref, _) = reference(&full).expect("feasible");
         assert!((&solution.dq - &dq_ref).norm() <= SAME_ANSWER_REL * dq_ref.norm());
@@ -338,7 +360,10 @@ fn a_wedged_box_is_certified_infeasible_as_the_full_problem_is() {
         rows: vec![row(Vector3::z()), row(Vector3::x())],
         phi: vec![-0.01, -0.01],
         target: vec![0.0, 0.0],
-        cones: vec![cone(Vector3::z(), Vector3::x()), cone(Vector3::x(), Vector3::y())],
+        cones: vec![
+            cone(Vector3::z(), Vector3::x()),
+            cone(Vector3::x(), Vector3::y()),
+        ],
         cone_facets: 4,
         num_equalities: 0,
     };
@@ -348,7 +373,10 @@ fn a_wedged_box_is_certified_infeasible_as_the_full_problem_is() {
     };
     for model in FrictionModel::ALL {
         let full = full_problem(&with_cones, model);
-        assert!(reference(&full).is_err(), "{model:?}: the full problem is infeasible");
+        assert!(
+            reference(&full).is_err(),
+            "{model:?}: the full problem is infeasible"
+        );
         let problem = FrictionalQp {
             with_cones: &with_cones,
             cone_rows: &[0, 1],
@@ -377,11 +405,12 @@ fn a_wedged_box_is_certified_infeasible_as_the_full_problem_is() {
 const POSE_AGREEMENT_REL: f64 = 1e-5;
 
 /// Every engine state with its engine's friction on every body (Bullet
-/// 0.25, MuJoCo 1, Rapier 0.5): the default call (friction rows
-/// generated, `Auto`) ends where a call that solves every island's full
+/// 0.25, MuJoCo 1, Rapier 0.5): a call with the pyramid's rows replaced by
+/// their facets (the default) and one with the friction rows generated
+/// (both under `Auto`) end where a call that solves every island's full
 /// frictional problem with clarabel, polished, does, under both models.
 #[test]
-fn engine_states_with_generated_rows_end_where_full_clarabel_calls_do() {
+fn engine_states_end_where_full_clarabel_calls_do() {
     use crate::support::engine_states::{call, engine_states, pose_difference};
     use constraint_stabilization::{FrictionRows, Settings, Stabilizer};
     let mut failures = Vec::new();
@@ -407,16 +436,19 @@ fn engine_states_with_generated_rows_end_where_full_clarabel_calls_do() {
             // Polished: the minimizer to rounding (the stabilizer's default
             // polishes only an answer that fails the acceptance test).
             reference.solver.clarabel.polish_above = 0.0;
-            let mut ours = Settings::default();
-            ours.friction_model = model;
             let (_, expected) = call(&mut Stabilizer::new(reference).expect("settings"), &input);
-            let (_, scene) = call(&mut Stabilizer::new(ours).expect("settings"), &input);
-            let (difference, motion) = pose_difference(&input, &scene, &expected);
-            log::debug!("{stem} {model:?}: {difference:.3e} of {motion:.3e}");
-            if difference > POSE_AGREEMENT_REL * motion {
-                failures.push(format!(
-                    "{stem} {model:?}: {difference:.3e} from the full problem's poses (largest motion {motion:.3e})"
-                ));
+            for rows in [FrictionRows::Implied, FrictionRows::Generated] {
+                let mut ours = Settings::default();
+                ours.friction_model = model;
+                ours.friction_rows = rows;
+                let (_, scene) = call(&mut Stabilizer::new(ours).expect("settings"), &input);
+                let (difference, motion) = pose_difference(&input, &scene, &expected);
+                log::debug!("{stem} {model:?} {rows:?}: {difference:.3e} of {motion:.3e}");
+                if difference > POSE_AGREEMENT_REL * motion {
+                    failures.push(format!(
+                        "{stem} {model:?} {rows:?}: {difference:.3e} from the full problem's poses (largest motion {motion:.3e})"
+                    ));
+                }
             }
         }
     }
