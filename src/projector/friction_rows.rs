@@ -140,7 +140,8 @@ pub fn seed(
 /// The minimizer of `problem.full` by row generation (module docs), started
 /// from the working set `working` (one flag per cone), with the
 /// multipliers in `problem.full`'s layout. `warm` (that layout too) is
-/// passed on to the solver, restricted to each round's problem.
+/// passed on to the solver, restricted to each round's problem, when that
+/// problem has linear rows only.
 pub fn solve_generating_rows(
     problem: &FrictionalQp<'_>,
     settings: &SolverSettings,
@@ -148,9 +149,19 @@ pub fn solve_generating_rows(
     mut working: Vec<bool>,
 ) -> Result<(ProjectionSolution, Generation), SolverError> {
     let cones = problem.with_cones.cones.len();
+    // A working set of another problem's length: no row's friction first.
+    working.resize(cones, false);
     // The solvers take multipliers of linear rows only (the augmented
-    // Lagrangian's warm start): a cone problem's seed it is, not a start.
-    let warm = warm.filter(|_| problem.model == FrictionModel::Pyramid);
+    // Lagrangian's warm start): a problem with cones is given none (its
+    // multipliers seed the working set, `seed`).
+    let start = |qp: &ProjectionQp, origin: Option<&[usize]>| {
+        let warm =
+            warm.filter(|w| w.len() == problem.full.num_multipliers() && qp.cones.is_empty())?;
+        Some(match origin {
+            Some(origin) => DVector::from_iterator(origin.len(), origin.iter().map(|&i| warm[i])),
+            None => warm.clone(),
+        })
+    };
     let mut generation = Generation {
         cones,
         ..Generation::default()
@@ -159,7 +170,8 @@ pub fn solve_generating_rows(
         generation.full_solve = true;
         generation.generated = cones;
         generation.rounds += 1;
-        solve_projection_warm(problem.full, settings, warm).map(|s| (s, generation))
+        let warm = start(problem.full, None);
+        solve_projection_warm(problem.full, settings, warm.as_ref()).map(|s| (s, generation))
     };
     if cones == 0 || settings.cross_check {
         return full_solve(generation);
@@ -172,11 +184,7 @@ pub fn solve_generating_rows(
     let mut fallbacks = Vec::new();
     while generation.rounds < MAX_ROUNDS {
         let relaxed = relaxation(problem, &working);
-        let relaxed_warm = warm
-            .filter(|w| w.len() == problem.full.num_multipliers())
-            .map(|w| {
-                DVector::from_iterator(relaxed.origin.len(), relaxed.origin.iter().map(|&i| w[i]))
-            });
+        let relaxed_warm = start(&relaxed.qp, Some(&relaxed.origin));
         generation.rounds += 1;
         generation.generated = working.iter().filter(|&&w| w).count();
         let solution = solve_projection_warm(&relaxed.qp, settings, relaxed_warm.as_ref())?;
