@@ -35,12 +35,14 @@
 //! test.
 //!
 //! **Why.** Wherever the frictionless answer slides nothing, it is the
-//! answer with friction ([`super::friction`]); on a settled or resting
-//! scene most contacts are such, and the full problem, five rows per
-//! contact under the pyramid, costs Lemke about `5^3` and clarabel about
-//! `5` times the frictionless problem. The first round is the frictionless
-//! problem (or the rows whose friction held in the previous answer, the
-//! warm start's [`seed`]); only the rows that slide get friction.
+//! answer with friction ([`super::friction`]), and the full problem, `K`
+//! rows per contact under the pyramid, costs Lemke about `K^3` and
+//! clarabel about `K` times the frictionless problem. Only the rows that
+//! slide need friction; the first working set is [`seed`]'s. Measured on
+//! the engine states, the frictionless answer slides nearly every contact,
+//! and generating costs about what it saves: a setting
+//! ([`crate::FrictionRows::Generated`]), not the default
+//! (`benchmarks/results/engine_friction.md`).
 
 use nalgebra::DVector;
 
