@@ -7,10 +7,13 @@
 //! so the pair gets that coefficient): Bullet 0.5 x 0.5 = 0.25 (Bullet
 //! multiplies the two bodies' coefficients), MuJoCo 1.0 (its default,
 //! combined by the maximum), Rapier 0.5 (its default, combined by the
-//! mean). Three calls per repeat, interleaved and rotated in order:
-//! frictionless, friction as the pyramid (the default model), friction as
-//! the cone; each on a fresh copy of the scene, with a fresh stabilizer and
-//! the default settings otherwise. Time: the median over the repeats.
+//! mean). Seven calls per repeat, interleaved and rotated in order:
+//! frictionless, then friction as the pyramid (the default model) and as
+//! the cone, each with the three ways its rows enter the problem
+//! (`Settings::friction_rows`: the pyramid's facets in place of their row,
+//! the default; generated as needed; all rows); each on a fresh copy of
+//! the scene, with a fresh stabilizer and the default settings otherwise.
+//! Time: the median over the repeats.
 //!
 //! Quality (from the first repeat, the call being deterministic): status,
 //! passes, the islands solved without friction (`friction_dropped`), the
@@ -32,15 +35,41 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use constraint_stabilization::scene::Scene;
-use constraint_stabilization::{FrictionModel, Report, Settings, Stabilizer};
+use constraint_stabilization::{FrictionModel, FrictionRows, Report, Settings, Stabilizer};
 
 /// Repeats per state (`--quick`: 1).
-const REPEATS: usize = 5;
-/// The calls compared: label, friction model (`None`: frictionless).
-const CALLS: [(&str, Option<FrictionModel>); 3] = [
-    ("frictionless", None),
-    ("pyramid", Some(FrictionModel::Pyramid)),
-    ("cone", Some(FrictionModel::Cone)),
+const REPEATS: usize = 9;
+/// The calls compared: label, friction model (`None`: frictionless) and
+/// how its rows enter the problem (`Settings::friction_rows`; the default,
+/// `Implied`, first).
+const CALLS: [(&str, Option<FrictionModel>, FrictionRows); 7] = [
+    ("frictionless", None, FrictionRows::Implied),
+    (
+        "pyramid",
+        Some(FrictionModel::Pyramid),
+        FrictionRows::Implied,
+    ),
+    ("cone", Some(FrictionModel::Cone), FrictionRows::Implied),
+    (
+        "pyramid, generated",
+        Some(FrictionModel::Pyramid),
+        FrictionRows::Generated,
+    ),
+    (
+        "cone, generated",
+        Some(FrictionModel::Cone),
+        FrictionRows::Generated,
+    ),
+    (
+        "pyramid, all rows",
+        Some(FrictionModel::Pyramid),
+        FrictionRows::All,
+    ),
+    (
+        "cone, all rows",
+        Some(FrictionModel::Cone),
+        FrictionRows::All,
+    ),
 ];
 
 /// The coefficient of a pair of default bodies in the state's engine.
@@ -74,7 +103,7 @@ fn main() {
         let mu = engine_friction(&stem);
         let calls = measure(&scene, mu, repeats);
         let base = median(&calls[0].seconds);
-        for ((label, _), call) in CALLS.iter().zip(&calls) {
+        for ((label, _, _), call) in CALLS.iter().zip(&calls) {
             let line = row(&stem, mu, label, call, base);
             println!("{line}");
             table.push_str(&line);
@@ -103,7 +132,7 @@ fn main() {
     println!("written to {}", dir.join(name).display());
 }
 
-/// The three calls of [`CALLS`] on `scene`, `repeats` times each,
+/// The calls of [`CALLS`] on `scene`, `repeats` times each,
 /// interleaved with a rotating first call.
 fn measure(scene: &Scene, mu: f64, repeats: usize) -> Vec<Call> {
     let mut calls: Vec<Call> = CALLS
@@ -117,9 +146,10 @@ fn measure(scene: &Scene, mu: f64, repeats: usize) -> Vec<Call> {
     for repeat in 0..repeats {
         for k in 0..CALLS.len() {
             let index = (repeat + k) % CALLS.len();
-            let model = CALLS[index].1;
+            let (_, model, friction_rows) = CALLS[index];
             let mut copy = scene.clone();
             let mut settings = Settings::default();
+            settings.friction_rows = friction_rows;
             if let Some(model) = model {
                 settings.friction_model = model;
                 for body in 0..copy.bodies().len() {

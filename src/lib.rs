@@ -81,7 +81,7 @@ pub use body::{Body, BodyDesc, BodyError, MassSpec, Shape, ShapePart};
 pub use error::Error;
 pub use joints::{Joint, JointKind};
 pub use scene::{Scene, SceneError};
-pub use settings::{FrictionModel, Method, Settings, SettingsError};
+pub use settings::{FrictionModel, FrictionRows, Method, Settings, SettingsError};
 pub use stabilizer::{Report, Stabilizer, Status};
 
 /// The library's internals, for its own benchmarks and tests: geometry,

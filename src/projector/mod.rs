@@ -29,6 +29,7 @@
 
 mod consistent_equalities;
 pub mod friction;
+pub mod friction_rows;
 mod line_search;
 mod step;
 pub mod trust_region;

@@ -16,17 +16,17 @@ use nalgebra::{DVector, Matrix3};
 
 use super::consistent_equalities::consistent_equalities;
 use super::friction::friction_cones;
+use super::friction_rows::{FrictionalQp, seed, solve_generating_rows};
 use super::line_search::{LineSearchOutcome, line_search};
 use super::trust_region::TrustRegion;
-use crate::settings::{FrictionModel, ResolvedLengths, Settings};
+use crate::settings::{FrictionModel, FrictionRows, ResolvedLengths, Settings};
 
 use crate::rows::{
     BodyInertia, BodyState, ConstraintProvider, ConstraintRow, Measurement, RowKind,
 };
 use crate::solver::friction_cone::CONE_DIM;
 use crate::solver::{
-    BodyMetric, JacobianRow, ProjectionQp, ProjectionSolution, SolverError, solve_projection,
-    solve_projection_warm,
+    BodyMetric, JacobianRow, ProjectionQp, ProjectionSolution, SolverError, solve_projection_warm,
 };
 
 /// What a step did.
@@ -190,33 +190,46 @@ pub fn plan_step_warm<P: ConstraintProvider + ?Sized>(
         .then(|| held_rows(&rows, lengths.tolerance, lengths.target_margin))
         .flatten();
     let jointed = rows.iter().any(|row| row.kind == RowKind::Equality);
-    let (qp, qp_parents) = projection_qp_weighted(
+    let (with_cones, order, cone_parents) = projection_qp_with_cones(
         configuration,
         inertias,
         held.as_deref().unwrap_or(&rows),
         lengths.target_margin,
         settings.friction_directions,
-        settings.friction_model,
         if jointed {
             settings.joint_rotation_weight
         } else {
             0.0
         },
     );
-    let qp = match provider.equalities_may_be_redundant() {
-        true => match consistent_equalities(&qp)? {
+    let with_cones = match provider.equalities_may_be_redundant() {
+        true => match consistent_equalities(&with_cones)? {
             Some((consistent, removed)) => {
                 log::debug!(
                     "  a loop of joints: equality rows made consistent before solving (a change of {removed:.3e})"
                 );
                 consistent
             }
-            None => qp,
+            None => with_cones,
         },
-        false => qp,
+        false => with_cones,
     };
+    let cone_rows = cone_rows(&order, &cone_parents);
+    let model = settings.friction_model;
+    let (qp, qp_parents) = model_qp(&with_cones, order, &cone_parents, model);
     let warm = warm(provider, &qp, &qp_parents);
-    let (qp, solution) = solve_or_make_consistent(qp, settings, warm.as_ref())?;
+    let problem = FrictionalQp {
+        with_cones: &with_cones,
+        cone_rows: &cone_rows,
+        full: &qp,
+        model,
+    };
+    let solution = solve_or_make_consistent(&problem, settings, warm.as_ref())?;
+    let qp = match solution.1 {
+        Some(consistent) => consistent,
+        None => qp,
+    };
+    let solution = solution.0;
     let trust_scale = TrustRegion::of(settings).scale(&solution.dq, inertias, worst_before);
     let dq = &solution.dq * trust_scale;
     Ok(Plan::Step(Box::new(PlannedStep {
@@ -231,26 +244,76 @@ pub fn plan_step_warm<P: ConstraintProvider + ?Sized>(
     })))
 }
 
-/// Solves `qp`; when every solver fails on a problem with equality rows,
-/// solves it again with its equalities made consistent
-/// ([`consistent_equalities`]).
+/// Solves the frictional problem ([`solve_frictional`]); when every solver
+/// fails on a problem with equality rows, solves it again with its
+/// equalities made consistent ([`consistent_equalities`]), and returns
+/// that problem (in the layout of `problem.full`) with the answer.
 fn solve_or_make_consistent(
-    qp: ProjectionQp,
+    problem: &FrictionalQp<'_>,
     settings: &Settings,
     warm: Option<&DVector<f64>>,
-) -> Result<(ProjectionQp, ProjectionSolution), SolverError> {
-    match solve_projection_warm(&qp, &settings.solver, warm) {
-        Ok(solution) => Ok((qp, solution)),
-        Err(error) => match consistent_equalities(&qp)? {
+) -> Result<(ProjectionSolution, Option<ProjectionQp>), SolverError> {
+    match solve_frictional(problem, settings, warm) {
+        Ok(solution) => Ok((solution, None)),
+        Err(error) => match consistent_equalities(problem.with_cones)? {
             Some((consistent, removed)) => {
                 log::debug!(
                     "  not solved ({error}); equality rows made consistent (a change of {removed:.3e} that no first-order motion reaches) and solved again"
                 );
-                let solution = solve_projection(&consistent, &settings.solver)?;
-                Ok((consistent, solution))
+                let order: Vec<usize> = (0..consistent.num_rows()).collect();
+                let (full, _) = model_qp(&consistent, order, &[], problem.model);
+                let retry = FrictionalQp {
+                    with_cones: &consistent,
+                    full: &full,
+                    ..*problem
+                };
+                let solution = solve_frictional(&retry, settings, None)?;
+                Ok((solution, Some(full)))
             }
             None => Err(error),
         },
+    }
+}
+
+/// Solves the full problem `problem.full` as it is
+/// ([`FrictionRows::All`]), or by generating its friction rows
+/// ([`super::friction_rows`]), from all of them ([`FrictionRows::Implied`])
+/// or from the rows whose friction held in `warm`
+/// ([`FrictionRows::Generated`]).
+fn solve_frictional(
+    problem: &FrictionalQp<'_>,
+    settings: &Settings,
+    warm: Option<&DVector<f64>>,
+) -> Result<ProjectionSolution, SolverError> {
+    match settings.friction_rows {
+        FrictionRows::All => {
+            // Multipliers of linear rows only start a solver (module docs of
+            // `super::friction_rows`).
+            let warm = warm.filter(|_| problem.full.cones.is_empty());
+            solve_projection_warm(problem.full, &settings.solver, warm)
+        }
+        FrictionRows::Implied | FrictionRows::Generated => {
+            let working = match settings.friction_rows {
+                FrictionRows::Implied => vec![true; problem.with_cones.cones.len()],
+                _ => seed(problem, warm, settings.solver.auto_lemke_max_rows),
+            };
+            let (solution, generation) =
+                solve_generating_rows(problem, &settings.solver, warm, working)?;
+            if generation.cones > 0 {
+                log::debug!(
+                    "  friction rows generated: {} of {} rows with friction in {} rounds{}",
+                    generation.generated,
+                    generation.cones,
+                    generation.rounds,
+                    if generation.full_solve {
+                        ", the last on the full problem"
+                    } else {
+                        ""
+                    }
+                );
+            }
+            Ok(solution)
+        }
     }
 }
 
@@ -488,6 +551,29 @@ pub fn projection_qp_weighted(
     friction_model: FrictionModel,
     rotation_weight: f64,
 ) -> (ProjectionQp, Vec<usize>) {
+    let (qp, order, cone_parents) = projection_qp_with_cones(
+        configuration,
+        inertias,
+        rows,
+        target_margin,
+        friction_directions,
+        rotation_weight,
+    );
+    model_qp(&qp, order, &cone_parents, friction_model)
+}
+
+/// The projection QP of `rows` with a friction cone per row with friction
+/// (the rows in the order of [`projection_qp`], the cones in the order of
+/// their rows), the index in `rows` of each of its rows, and the index in
+/// `rows` of each cone's row.
+fn projection_qp_with_cones(
+    configuration: &[BodyState],
+    inertias: &[BodyInertia],
+    rows: &[ConstraintRow],
+    target_margin: f64,
+    friction_directions: usize,
+    rotation_weight: f64,
+) -> (ProjectionQp, Vec<usize>, Vec<usize>) {
     let bodies = configuration
         .iter()
         .zip(inertias)
@@ -525,20 +611,41 @@ pub fn projection_qp_weighted(
         cones,
         cone_facets: friction_directions,
     };
+    (qp, order, cone_parents)
+}
+
+/// The problem of `friction_model` from a problem with cones (`qp`, its
+/// rows from `rows[order[i]]`, its cones from `rows[cone_parents[c]]`):
+/// `qp` itself for the cone, its pyramid for the pyramid; and for each of
+/// its multipliers the index of its row in `rows`.
+fn model_qp(
+    qp: &ProjectionQp,
+    order: Vec<usize>,
+    cone_parents: &[usize],
+    friction_model: FrictionModel,
+) -> (ProjectionQp, Vec<usize>) {
+    let n = qp.num_rows();
     let mut parents = order;
+    let cone_parent = |c: usize| cone_parents.get(c).copied().unwrap_or(n + c);
     match friction_model {
         FrictionModel::Cone => {
-            parents.extend(cone_parents.iter().flat_map(|&p| [p; CONE_DIM]));
-            (qp, parents)
+            parents.extend((0..qp.cones.len()).flat_map(|c| [cone_parent(c); CONE_DIM]));
+            (qp.clone(), parents)
         }
         FrictionModel::Pyramid => {
             let (pyramid, origins) = qp.pyramid();
-            parents.extend(
-                origins[rows.len()..]
-                    .iter()
-                    .map(|&c| cone_parents[c - rows.len()]),
-            );
+            parents.extend(origins[n..].iter().map(|&c| cone_parent(c - n)));
             (pyramid, parents)
         }
     }
+}
+
+/// The index in the problem's rows of each cone's row: the position of
+/// `cone_parents[c]` in `order`.
+fn cone_rows(order: &[usize], cone_parents: &[usize]) -> Vec<usize> {
+    let mut position = vec![usize::MAX; order.len()];
+    for (i, &row) in order.iter().enumerate() {
+        position[row] = i;
+    }
+    cone_parents.iter().map(|&row| position[row]).collect()
 }

@@ -4,7 +4,8 @@
 use std::time::Duration;
 
 use super::{
-    FrictionModel, GaussSeidelSettings, LineSearchSettings, Method, Settings, SettingsError,
+    FrictionModel, FrictionRows, GaussSeidelSettings, LineSearchSettings, Method, Settings,
+    SettingsError,
 };
 use crate::solver::SolverSettings;
 use crate::vclip::VClipSettings;
@@ -83,6 +84,8 @@ impl SettingsBuilder {
         friction_directions: usize,
         /// [`Settings::friction_model`].
         friction_model: FrictionModel,
+        /// [`Settings::friction_rows`].
+        friction_rows: FrictionRows,
         /// [`Settings::friction_max_iterations`].
         friction_max_iterations: usize,
         /// [`Settings::solve_whole_islands`].

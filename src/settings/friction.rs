@@ -39,3 +39,29 @@ impl FrictionModel {
         Self::ALL.into_iter().find(|m| m.name() == name)
     }
 }
+
+/// How the friction of a projection's rows enters the problem that is
+/// solved (the math is in [`crate::projector::friction_rows`]). The same
+/// minimizer every way; they differ in the problems the solvers see.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum FrictionRows {
+    /// Every row with its friction: under the pyramid the row and its `K`
+    /// facets, under the cone model the row and its cone.
+    All,
+    /// Every row's friction, with the pyramid's facets in place of their
+    /// row (they imply it): `K` rows per row with friction, not `K + 1`.
+    /// The default: 10-40 % faster than [`FrictionRows::All`] on the
+    /// engine states, and as fast as [`FrictionRows::Generated`] there,
+    /// where nearly every contact's friction is needed
+    /// (`benchmarks/results/engine_friction.md`).
+    #[default]
+    Implied,
+    /// Generated as needed: the rows whose friction held in the previous
+    /// answer (all of them when they are most rows), or none, first; then
+    /// the friction of every row whose friction the answer violates, until
+    /// none is. Facets replace their row as under [`FrictionRows::Implied`].
+    /// Fewer rows where few contacts slide, one more solve per round where
+    /// many do.
+    Generated,
+}

@@ -46,7 +46,7 @@ mod scene;
 
 pub use builder::SettingsBuilder;
 pub use error::SettingsError;
-pub use friction::{DEFAULT_FRICTION_DIRECTIONS, FrictionModel};
+pub use friction::{DEFAULT_FRICTION_DIRECTIONS, FrictionModel, FrictionRows};
 pub use gauss_seidel::GaussSeidelSettings;
 pub use lengths::ResolvedLengths;
 pub use line_search::LineSearchSettings;
@@ -182,6 +182,11 @@ pub struct Settings {
     /// is faster than the cone and differs from it by a small fraction of
     /// the body size; 8 facets cost more than the cone.
     pub friction_model: FrictionModel,
+    /// How the friction rows enter the problem solved: all of them, all
+    /// with the pyramid's facets in place of their row, or generated as
+    /// they are needed ([`FrictionRows`]); the same minimizer every way.
+    /// Default [`FrictionRows::Implied`].
+    pub friction_rows: FrictionRows,
     /// clarabel's iteration limit on a problem with friction (its
     /// pyramid's rows or cones), in place of
     /// [`crate::solver::clarabel_qp::ClarabelSettings::max_iter`] when lower. Default
@@ -268,6 +273,7 @@ impl Default for Settings {
             friction: 0.0,
             friction_directions: DEFAULT_FRICTION_DIRECTIONS,
             friction_model: FrictionModel::default(),
+            friction_rows: FrictionRows::default(),
             friction_max_iterations: DEFAULT_FRICTION_MAX_ITERATIONS,
             solve_whole_islands: false,
             joint_rotation_weight: DEFAULT_JOINT_ROTATION_WEIGHT,

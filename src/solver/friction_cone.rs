@@ -121,6 +121,17 @@ impl FrictionCone {
     }
 }
 
+/// The values at `w` ([`FrictionCone::value`]) of the `directions`
+/// facets of the cone's pyramid, `w_0 - cos(theta_k) w_1 - sin(theta_k)
+/// w_2`: the facet rows of [`FrictionCone::facets`] at the same `dq`
+/// (negative = violated).
+pub fn facet_values(w: Vector3<f64>, directions: usize) -> impl Iterator<Item = f64> {
+    (0..directions).map(move |k| {
+        let (sin, cos) = facet_angle(k, directions).sin_cos();
+        w.x - cos * w.y - sin * w.z
+    })
+}
+
 /// `theta_k = 2 pi k / K`.
 fn facet_angle(k: usize, directions: usize) -> f64 {
     std::f64::consts::TAU * k as f64 / directions as f64

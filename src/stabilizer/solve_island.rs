@@ -266,8 +266,8 @@ fn plan_region<'a>(
         &trial_settings
     };
     let shapes = input.geometry.shapes();
-    let warm = |constraints: &IslandConstraints, qp: &ProjectionQp, parents: &[usize]| {
-        let keys = multiplier_pairs(constraints, qp, parents, shapes)?;
+    let warm = |constraints: &IslandConstraints, _: &ProjectionQp, parents: &[usize]| {
+        let keys = multiplier_pairs(constraints, parents, shapes)?;
         input.solver_warm.warm_start(&keys)
     };
     let plan = plan_step_warm(
@@ -399,18 +399,15 @@ fn pushed_by(
     )
 }
 
-/// The part pair of every multiplier of a planned problem, or `None` when
-/// the problem has friction cones (their multipliers are not the rows'
-/// and are not kept).
+/// The part pair of every multiplier of a planned problem (a friction
+/// cone's three multipliers belong to its row's pair: they seed the next
+/// problem's friction rows, `crate::projector::friction_rows::seed`, and
+/// are no solver's start).
 fn multiplier_pairs<'a>(
     constraints: &IslandConstraints,
-    qp: &ProjectionQp,
     parents: &[usize],
     shapes: &'a [Arc<ConvexPolyhedron>],
 ) -> Option<MultiplierPairs<'a>> {
-    if !qp.cones.is_empty() {
-        return None;
-    }
     let contacts = &constraints.contacts;
     let row_pairs = contacts.row_pairs();
     // The joints' rows come first and the contacts' last, and every row
@@ -510,7 +507,7 @@ fn solve_island_once(input: PassInput, island: &Island) -> Result<IslandSolution
         Plan::Satisfied(measurement) => StepReport::satisfied(&measurement),
         Plan::Step(step) => {
             let shapes = input.geometry.shapes();
-            if let Some(keys) = multiplier_pairs(&constraints, &step.qp, &step.qp_parents, shapes) {
+            if let Some(keys) = multiplier_pairs(&constraints, &step.qp_parents, shapes) {
                 solver_warm.record(&keys, &step.solution.lambda);
             }
             take_step(

@@ -12,6 +12,7 @@ mod fallback_sizes;
 mod friction_cone;
 mod friction_cone_unit;
 mod friction_finishes;
+mod friction_rows;
 mod lcp_siconos;
 mod lemke;
 mod pgs;
