@@ -40,8 +40,8 @@ use constraint_stabilization::{FrictionModel, FrictionRows, Report, Settings, St
 /// Repeats per state (`--quick`: 1).
 const REPEATS: usize = 9;
 /// The calls compared: label, friction model (`None`: frictionless) and
-/// how its rows enter the problem (`Settings::friction_rows`; the default,
-/// `Implied`, first).
+/// how its rows enter the problem (`Settings::friction_rows`; `Implied`,
+/// the fastest, first; the default is `All`).
 const CALLS: [(&str, Option<FrictionModel>, FrictionRows); 7] = [
     ("frictionless", None, FrictionRows::Implied),
     (

@@ -185,7 +185,7 @@ pub struct Settings {
     /// How the friction rows enter the problem solved: all of them, all
     /// with the pyramid's facets in place of their row, or generated as
     /// they are needed ([`FrictionRows`]); the same minimizer every way.
-    /// Default [`FrictionRows::Implied`].
+    /// Default [`FrictionRows::All`].
     pub friction_rows: FrictionRows,
     /// clarabel's iteration limit on a problem with friction (its
     /// pyramid's rows or cones), in place of
