@@ -69,7 +69,10 @@ pub use velocity::{BodyVelocity, VelocityFriction, VelocityReport};
 use crate::Error;
 use crate::broad_phase::IncrementalBroadPhase;
 use crate::contact::SceneParts;
-use crate::contact::{Detection, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect};
+use crate::contact::{
+    Detection, DetectionState, QueryMemo, SceneGeometry, SeparationCertificates, WarmStartCache,
+    detect,
+};
 use crate::joints::JointErrors;
 use crate::parallel;
 use crate::scene::Scene;
@@ -90,6 +93,9 @@ pub struct Stabilizer {
     /// resolution ([`Stabilizer::set_call_lengths`]).
     call_lengths: Option<ResolvedLengths>,
     cache: WarmStartCache,
+    /// The last exact answer of each pair, to certify later that it is
+    /// still separated beyond the margin (`contact::certificate`).
+    certificates: SeparationCertificates,
     /// The solver's warm starts for the next call: the multipliers of the
     /// last call's first pass (`solver_warm`).
     solver_warm: SolverWarmCache,
@@ -106,6 +112,7 @@ impl Stabilizer {
             settings,
             call_lengths: None,
             cache: WarmStartCache::default(),
+            certificates: SeparationCertificates::default(),
             solver_warm: SolverWarmCache::default(),
             last_detection: None,
         })
@@ -268,10 +275,12 @@ impl Stabilizer {
             parts: &parts,
             poses: &part_poses,
         };
+        let certify = self.settings.vclip.motion_certificates;
         let state = DetectionState {
             broad_phase: &mut IncrementalBroadPhase::new(),
             cache: &mut self.cache,
             memo: &mut QueryMemo::default(),
+            certificates: certify.then_some(&mut self.certificates),
         };
         let detection = detect(
             scene,
@@ -323,6 +332,8 @@ impl Stabilizer {
         let parts = SceneParts::of(scene);
         let mut report = Report::new(&lengths);
         self.cache.forget_dropped_shapes();
+        self.certificates.begin_call(&self.settings.vclip);
+        let certify = self.settings.vclip.motion_certificates;
         self.solver_warm.forget_dropped_shapes();
         // The first pass starts from the last call's first pass, each
         // later one from the passes before it.
@@ -344,6 +355,7 @@ impl Stabilizer {
                 broad_phase: &mut broad_phase,
                 cache: &mut self.cache,
                 memo: &mut memo,
+                certificates: certify.then_some(&mut self.certificates),
             };
             let detection = detect(scene, geometry, state, &vclip, &lengths)?;
             report.record_detection(&detection);
@@ -390,7 +402,7 @@ impl Stabilizer {
                 pass_warm.merge(solution.solver_warm.clone());
             }
             report.solver_warm_multipliers = self.solver_warm.multipliers();
-            let stuck = self.apply(scene, solutions, &mut memo, &mut report, &mut pass)?;
+            let stuck = self.apply(scene, &parts, solutions, &mut memo, &mut report, &mut pass)?;
             for island in pass.solved.iter().filter(|i| i.friction_dropped) {
                 island
                     .bodies
@@ -436,6 +448,7 @@ impl Stabilizer {
     fn apply(
         &mut self,
         scene: &mut Scene,
+        parts: &SceneParts,
         solutions: Vec<IslandSolution>,
         memo: &mut QueryMemo,
         report: &mut Report,
@@ -467,6 +480,10 @@ impl Stabilizer {
             solution.apply(scene, &mut self.cache)?;
             for (pair, answer) in &solution.answers {
                 memo.insert(*pair, *answer);
+                if self.settings.vclip.motion_certificates {
+                    let value = answer.query.signed_value();
+                    self.certificates.record(*pair, parts, answer.poses, value);
+                }
             }
             pass.solved.push(solution.report);
         }
@@ -541,10 +558,11 @@ fn worse_than_input(
 /// The debug line of a pass.
 fn log_pass(number: usize, pass: &PassReport, left: &[IslandLeft], start: Instant) {
     log::debug!(
-        "pass {number} done: {} candidates ({} queried), {} active, {} penetrating, {} islands, \
+        "pass {number} done: {} candidates ({} queried, {} certified), {} active, {} penetrating, {} islands, \
          {} solved ({} left), deepest {:.3e}, joint error {:.3e}, {:.3} ms so far",
         pass.candidate_pairs,
         pass.queried_pairs,
+        pass.certified_pairs,
         pass.active_pairs,
         pass.penetrating_pairs,
         pass.islands,
@@ -561,6 +579,7 @@ pub(crate) fn pass_report(detection: &Detection, tolerance: f64) -> PassReport {
     PassReport {
         candidate_pairs: detection.candidates,
         queried_pairs: detection.queried,
+        certified_pairs: detection.certified,
         penetrating_pairs: detection.penetrating(tolerance),
         active_pairs: detection.active_pairs.len(),
         islands: 0,
