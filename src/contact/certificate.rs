@@ -40,8 +40,12 @@
 //! margin by the slack ([`CERTIFICATE_SLACK_RELATIVE`], for the rounding of
 //! the recorded and the would-be answer), the pair is separated beyond the
 //! margin: a query would classify it as neither active nor penetrating and
-//! give it no row, so it is skipped. Only that class is certified:
-//! touching and penetrating pairs need their exact features and values.
+//! give it no row, so it is skipped. Only that class is certified by a
+//! bound: touching and penetrating pairs need their exact features and
+//! values. With no motion at all (both part poses bit-identical to the
+//! recorded ones, the same solids) the recorded answer itself is reused,
+//! as the call's memo does within a call ([`super::QueryMemo`]): the
+//! narrow phase is a function of the solids and the poses.
 //!
 //! **What an entry belongs to.** A certificate is recorded per part pair
 //! with the two shape objects (`Weak` references, as the V-Clip warm
@@ -63,9 +67,9 @@ use std::hash::{BuildHasherDefault, Hasher};
 
 use nalgebra::Isometry3;
 
-use super::ShapeIdentity;
 use super::island_contacts::shape_pair;
 use super::scene_parts::SceneParts;
+use super::{PairQuery, ShapeIdentity};
 use crate::broad_phase::BodyPair;
 use crate::geometry::curved::CurvedSolid;
 use crate::geometry::{ConvexPolyhedron, Rounding};
@@ -96,6 +100,8 @@ struct Certificate {
     poses: [Isometry3<f64>; 2],
     /// The recorded signed value (distance when separated).
     value: f64,
+    /// The recorded answer, reused at bit-identical poses.
+    query: PairQuery,
     /// Looked up or recorded during the current call.
     used: bool,
 }
@@ -199,21 +205,41 @@ impl SeparationCertificates {
         lower.is_finite() && lower - slack > margin
     }
 
-    /// Records the exact answer `value` (signed) of `pair` at the part
-    /// poses `poses`.
+    /// The recorded answer of `pair` if it was computed for these very
+    /// solids at exactly the part poses `poses` (no motion at all: the
+    /// answer itself is certified, whatever the pair's class).
+    pub fn answer_at(
+        &mut self,
+        pair: BodyPair,
+        parts: &SceneParts,
+        poses: [&Isometry3<f64>; 2],
+    ) -> Option<PairQuery> {
+        let entry = self.entries.get_mut(&pair)?;
+        let unmoved = entry.poses[0] == *poses[0] && entry.poses[1] == *poses[1];
+        if !unmoved || !entry.belongs_to(parts, pair) {
+            return None;
+        }
+        entry.used = true;
+        Some(entry.query)
+    }
+
+    /// Records the exact answer `query` of `pair` at the part poses
+    /// `poses`.
     pub fn record(
         &mut self,
         pair: BodyPair,
         parts: &SceneParts,
         poses: [Isometry3<f64>; 2],
-        value: f64,
+        query: &PairQuery,
     ) {
+        let value = query.signed_value();
         if let Some(entry) = self.entries.get_mut(&pair)
             && entry.belongs_to(parts, pair)
         {
             // The same solids: only the answer and its poses change.
             entry.poses = poses;
             entry.value = value;
+            entry.query = *query;
             entry.used = true;
             return;
         }
@@ -224,6 +250,7 @@ impl SeparationCertificates {
                 .map(|part| reach(&parts.shapes()[part], parts.rounding(part).as_ref())),
             poses,
             value,
+            query: *query,
             used: true,
         };
         self.entries.insert(pair, entry);

@@ -8,7 +8,8 @@
 //! separated beyond the contact margin, whatever its parts did since
 //! ([`SeparationCertificates`], when
 //! [`crate::vclip::VClipSettings::motion_certificates`] is on): it would
-//! give no row and no penetration. Every other pair runs V-Clip,
+//! give no row and no penetration. With the same setting, a pair whose
+//! parts have not moved since an earlier call's answer reuses it. Every other pair runs V-Clip,
 //! warm-started from the pair's last feature pair ([`WarmStartCache`]).
 
 use std::time::Instant;
@@ -76,6 +77,9 @@ pub struct Detection {
     /// Candidate pairs certified separated beyond the margin (not queried,
     /// [`SeparationCertificates`]).
     pub certified: usize,
+    /// Candidate pairs answered by an earlier call's answer at the same
+    /// poses ([`SeparationCertificates::answer_at`]).
+    pub reused: usize,
     /// Part pairs (`contact::scene_parts::SceneParts`) penetrating or
     /// within the contact margin, ascending (body pairs in a scene of
     /// convex bodies).
@@ -164,10 +168,19 @@ pub fn detect(
         .map(|&pair| memo.get(pair, poses_of(pair)).copied())
         .collect();
     let mut certified = vec![false; candidates.len()];
+    let mut reused = 0;
     if let Some(store) = certificates.as_deref_mut() {
         for (i, &pair) in candidates.iter().enumerate() {
-            certified[i] = answers[i].is_none()
-                && store.certifies(pair, geometry.parts, poses_of(pair), lengths.contact_margin);
+            if answers[i].is_some() {
+                continue;
+            }
+            answers[i] = store.answer_at(pair, geometry.parts, poses_of(pair));
+            if answers[i].is_some() {
+                reused += 1;
+                continue;
+            }
+            certified[i] =
+                store.certifies(pair, geometry.parts, poses_of(pair), lengths.contact_margin);
         }
     }
     let to_query: Vec<usize> = (0..candidates.len())
@@ -189,7 +202,7 @@ pub fn detect(
         let [pose_a, pose_b] = poses_of(pair);
         let poses = [*pose_a, *pose_b];
         if let Some(store) = certificates.as_deref_mut() {
-            store.record(pair, geometry.parts, poses, result.signed_value());
+            store.record(pair, geometry.parts, poses, &result);
         }
         memo.insert(
             pair,
@@ -204,6 +217,7 @@ pub fn detect(
         candidates: candidates.len(),
         queried: to_query.len(),
         certified: certified.iter().filter(|&&c| c).count(),
+        reused,
         broad_phase_seconds,
         ..Detection::default()
     };

@@ -481,8 +481,8 @@ impl Stabilizer {
             for (pair, answer) in &solution.answers {
                 memo.insert(*pair, *answer);
                 if self.settings.vclip.motion_certificates {
-                    let value = answer.query.signed_value();
-                    self.certificates.record(*pair, parts, answer.poses, value);
+                    self.certificates
+                        .record(*pair, parts, answer.poses, &answer.query);
                 }
             }
             pass.solved.push(solution.report);
@@ -558,11 +558,12 @@ fn worse_than_input(
 /// The debug line of a pass.
 fn log_pass(number: usize, pass: &PassReport, left: &[IslandLeft], start: Instant) {
     log::debug!(
-        "pass {number} done: {} candidates ({} queried, {} certified), {} active, {} penetrating, {} islands, \
+        "pass {number} done: {} candidates ({} queried, {} certified, {} reused), {} active, {} penetrating, {} islands, \
          {} solved ({} left), deepest {:.3e}, joint error {:.3e}, {:.3} ms so far",
         pass.candidate_pairs,
         pass.queried_pairs,
         pass.certified_pairs,
+        pass.reused_pairs,
         pass.active_pairs,
         pass.penetrating_pairs,
         pass.islands,
@@ -580,6 +581,7 @@ pub(crate) fn pass_report(detection: &Detection, tolerance: f64) -> PassReport {
         candidate_pairs: detection.candidates,
         queried_pairs: detection.queried,
         certified_pairs: detection.certified,
+        reused_pairs: detection.reused,
         penetrating_pairs: detection.penetrating(tolerance),
         active_pairs: detection.active_pairs.len(),
         islands: 0,

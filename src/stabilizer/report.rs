@@ -230,6 +230,9 @@ pub struct PassReport {
     /// bound on their motion since their last exact answer, and not queried
     /// (`contact::certificate`).
     pub certified_pairs: usize,
+    /// Candidate pairs answered by an earlier call's answer at the same
+    /// poses of the same solids (`contact::certificate`), not queried.
+    pub reused_pairs: usize,
     /// Pairs penetrating deeper than the tolerance.
     pub penetrating_pairs: usize,
     /// Pairs within the contact margin (penetrating or not).
@@ -323,6 +326,10 @@ pub struct Report {
     /// one's) certified them separated beyond the contact margin, summed
     /// over the passes.
     pub certified_pairs: usize,
+    /// Detections' candidate pairs answered by an earlier call's answer at
+    /// the same poses of the same solids, not queried, summed over the
+    /// passes.
+    pub reused_pairs: usize,
     /// Multipliers the stabilizer keeps after the call as the solver's warm
     /// starts of the next calls (one per contact row and friction row of
     /// the pairs last solved; freed when their bodies go).
@@ -354,6 +361,7 @@ impl Report {
             restored_input: false,
             pair_queries: 0,
             certified_pairs: 0,
+            reused_pairs: 0,
             solver_warm_multipliers: 0,
             times: StageTimes::default(),
         }
@@ -366,6 +374,7 @@ impl Report {
         self.times.narrow_phase += detection.narrow_phase_seconds;
         self.pair_queries += detection.queried;
         self.certified_pairs += detection.certified;
+        self.reused_pairs += detection.reused;
         if self.pass_reports.is_empty() {
             self.depth_before = detection.deepest;
             self.penetrations_before = detection.penetrations.clone();

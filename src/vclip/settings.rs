@@ -66,9 +66,12 @@ pub struct VClipSettings {
     pub curved_support_functions: bool,
     /// Detection skips a pair whose last exact answer certifies that it is
     /// still separated beyond the contact margin, by a bound on how far its
-    /// two parts moved since (`contact::certificate`); `false` queries every
-    /// candidate pair whose parts moved. The poses of a call are the same
-    /// either way (a certified pair gives no row).
+    /// two parts moved since, and reuses an earlier call's answer of a pair
+    /// whose parts have not moved at all (`contact::certificate`); `false`
+    /// queries every candidate pair whose parts moved since its last answer
+    /// in the call. The poses of a call are the same either way (a
+    /// certified pair gives no row; an answer is a function of the solids
+    /// and their poses).
     pub motion_certificates: bool,
 }
 

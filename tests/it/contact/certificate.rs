@@ -227,6 +227,11 @@ fn a_larger_margin_is_not_certified_by_a_smaller_one() {
     let mut store = SeparationCertificates::default();
     let small = detection(&scene, Some(&mut store), 0.05);
     assert_eq!((small.queried, small.active_pairs.len()), (1, 0));
+    // Unmoved: the answer itself is reused. Moved 1 cm apart: certified.
+    let unmoved = detection(&scene, Some(&mut store), 0.05);
+    assert_eq!((unmoved.queried, unmoved.reused), (0, 1));
+    let apart = nalgebra::Translation3::new(0.01, 0.0, 0.0) * scene.bodies()[1].com_pose();
+    scene.set_com_pose(1, apart).expect("a finite pose");
     let again = detection(&scene, Some(&mut store), 0.05);
     assert_eq!((again.queried, again.certified), (0, 1));
     let large = detection(&scene, Some(&mut store), 0.5);
