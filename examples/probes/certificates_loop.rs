@@ -13,9 +13,12 @@
 //! order (interleaved, so that the machine's load falls on both alike).
 //! The certificates skip only pairs that would give no row, so the two
 //! worlds stay bit-identical (checked after every step; a difference is
-//! reported and the figures after it are of two trajectories). Per scene:
-//! medians over the calls of the queries (`Report::pair_queries`), the
-//! pairs certified (`Report::certified_pairs`), the narrow phase's time
+//! reported and the figures after it are of two trajectories). Per scene,
+//! over the calls that ran the stabilizer (the bridge skips it when every
+//! body sleeps or is held): medians of the queries (`Report::pair_queries`), the
+//! pairs certified (`Report::certified_pairs`) and answered by an earlier
+//! call's answer at the same poses (`Report::reused_pairs`), the narrow
+//! phase's time
 //! (`StageTimes::narrow_phase`) and the call's time, Rapier's median step
 //! (over all steps, and over the steps taken with an awake dynamic body:
 //! a world whose bodies all sleep steps in microseconds), and the narrow
@@ -36,6 +39,7 @@ const DEFAULT_STEPS: usize = 300;
 struct Calls {
     queries: Vec<f64>,
     certified: Vec<f64>,
+    reused: Vec<f64>,
     narrow_ms: Vec<f64>,
     call_ms: Vec<f64>,
 }
@@ -74,7 +78,7 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     let names = value("--scenes")
         .unwrap_or_else(|| "pile_200,pyramid_55,compound_pile_60,mixed_pile_60".into());
     println!(
-        "| scene | steps | queries per call (median): with / without | certified per call (median) | narrow ms (median): with / without | call ms (median): with / without | Rapier step ms (median: all / awake) | narrow / awake step: with / without | poses identical |\n|---|---|---|---|---|---|---|---|---|"
+        "| scene | steps | calls that ran the stabilizer: with / without | queries per call (median): with / without | certified / reused per call (median) | narrow ms (median): with / without | call ms (median): with / without | Rapier step ms (median: all / awake) | narrow / awake step: with / without | poses identical |\n|---|---|---|---|---|---|---|---|---|---|"
     );
     for name in names.split(',').map(str::trim) {
         let (Some(a), Some(b)) = (world_of(name), world_of(name)) else {
@@ -112,6 +116,7 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
                     let calls = &mut calls[k];
                     calls.queries.push(report.pair_queries as f64);
                     calls.certified.push(report.certified_pairs as f64);
+                    calls.reused.push(report.reused_pairs as f64);
                     calls.narrow_ms.push(report.times.narrow_phase * 1e3);
                     calls.call_ms.push(call_ms);
                 }
@@ -123,10 +128,13 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
         let (step, awake_step) = (median(&step_ms), median(&awake_step_ms));
         let [with, without] = &calls;
         println!(
-            "| {name} | {steps} | {:.0} / {:.0} | {:.0} | {:.3} / {:.3} | {:.2} / {:.2} | {step:.3} / {awake_step:.3} | {:.2} / {:.2} | {} |",
+            "| {name} | {steps} | {} / {} | {:.0} / {:.0} | {:.0} / {:.0} | {:.3} / {:.3} | {:.2} / {:.2} | {step:.3} / {awake_step:.3} | {:.2} / {:.2} | {} |",
+            with.queries.len(),
+            without.queries.len(),
             median(&with.queries),
             median(&without.queries),
             median(&with.certified),
+            median(&with.reused),
             median(&with.narrow_ms),
             median(&without.narrow_ms),
             median(&with.call_ms),
