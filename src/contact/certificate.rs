@@ -169,15 +169,22 @@ impl SeparationCertificates {
     /// `settings`: clears it if they changed, drops the entries of dropped
     /// shapes and those the last call did not use.
     pub fn begin_call(&mut self, settings: &VClipSettings) {
-        if self.settings.as_ref() != Some(settings) {
-            self.entries.clear();
-            self.settings = Some(*settings);
-        }
+        self.use_settings(settings);
         self.entries
             .retain(|_, entry| entry.used && entry.shapes.alive());
         self.entries
             .values_mut()
             .for_each(|entry| entry.used = false);
+    }
+
+    /// Clears the store if its entries were recorded under other
+    /// narrow-phase settings than `settings` (which decide the solid of a
+    /// curved part), and records these.
+    pub fn use_settings(&mut self, settings: &VClipSettings) {
+        if self.settings.as_ref() != Some(settings) {
+            self.entries.clear();
+            self.settings = Some(*settings);
+        }
     }
 
     /// Whether the last answer of `pair` certifies that at the part poses

@@ -158,6 +158,14 @@ impl Stabilizer {
         &self.cache
     }
 
+    /// Number of part pairs whose last exact answer is kept to certify
+    /// them, or answer them again, in later calls (`contact::certificate`;
+    /// freed when their shapes go, when bodies are removed through the
+    /// stabilizer, and when unused for a call).
+    pub fn separation_certificates(&self) -> usize {
+        self.certificates.len()
+    }
+
     /// Number of multipliers kept as the solver's warm starts of the next
     /// call ([`Report::solver_warm_multipliers`]).
     pub fn solver_warm_multipliers(&self) -> usize {
@@ -276,6 +284,7 @@ impl Stabilizer {
             poses: &part_poses,
         };
         let certify = self.settings.vclip.motion_certificates;
+        self.certificates.use_settings(&self.settings.vclip);
         let state = DetectionState {
             broad_phase: &mut IncrementalBroadPhase::new(),
             cache: &mut self.cache,

@@ -410,3 +410,29 @@ mod rapier_loop {
         assert!(certified > 0, "nothing certified");
     }
 }
+
+/// The kept certificates are freed with their bodies: all of them when
+/// bodies are removed through the stabilizer, and those of another scene
+/// once a call has not used them.
+#[test]
+fn the_kept_certificates_are_freed() {
+    let (first, _) = row(3, 6);
+    let (second, _) = row(4, 5);
+    let mut kept = stabilizer(settings(true));
+    let (_, after) = call(&mut kept, &first);
+    assert!(kept.separation_certificates() > 0);
+    let mut removed = after.clone();
+    kept.remove_bodies(&mut removed, &[1])
+        .expect("an index in range");
+    assert_eq!(kept.separation_certificates(), 0);
+    call(&mut kept, &first);
+    let mut fresh = stabilizer(settings(true));
+    for _ in 0..2 {
+        call(&mut kept, &second);
+        call(&mut fresh, &second);
+    }
+    assert_eq!(
+        kept.separation_certificates(),
+        fresh.separation_certificates()
+    );
+}
