@@ -5,8 +5,11 @@
 //!    phase on the bodies' AABBs enlarged by the contact margin, V-Clip on
 //!    every candidate pair of convex parts (a convex body is one part, a
 //!    compound several, `contact::scene_parts`), warm-started from the
-//!    pair's last query (kept across passes and calls); if no penetration
-//!    is deeper than the tolerance, stop;
+//!    pair's last query (kept across passes and calls), except the pairs
+//!    whose parts did not move since their last answer or that a bound on
+//!    their motion certifies separated beyond the contact margin
+//!    (`contact::certificate`, kept across calls); if no penetration is
+//!    deeper than the tolerance, stop;
 //! 2. islands: union-find over the bodies of the pairs that penetrate or are within the
 //!    contact margin (fixed bodies never join islands);
 //! 3. for every island with a penetration deeper than the tolerance, one
