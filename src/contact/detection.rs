@@ -9,8 +9,9 @@
 //! ([`SeparationCertificates`], when
 //! [`crate::vclip::VClipSettings::motion_certificates`] is on): it would
 //! give no row and no penetration. With the same setting, a pair whose
-//! parts have not moved since an earlier call's answer reuses it. Every other pair runs V-Clip,
-//! warm-started from the pair's last feature pair ([`WarmStartCache`]).
+//! parts have not moved since an earlier call's answer reuses it. Every
+//! other pair runs V-Clip, warm-started from the pair's last feature pair
+//! ([`WarmStartCache`]).
 
 use std::time::Instant;
 
@@ -222,8 +223,8 @@ pub fn detect(
         ..Detection::default()
     };
     for (&pair, answer) in candidates.iter().zip(answers) {
-        // Every pair not certified has an answer: from the memo, or
-        // queried just above.
+        // Every pair not certified has an answer: from the memo, from an
+        // earlier call at the same poses, or queried just above.
         if let Some(result) = answer {
             let bodies = geometry.parts.owner_pair(pair);
             log_pair(scene, bodies, &result, lengths);
