@@ -1,6 +1,6 @@
 //! Separation certificates: a pair whose last exact answer left it farther
 //! apart than the contact margin by more than its two parts can have moved
-//! since is not queried again (issue 21, item 4).
+//! since is not queried again.
 //!
 //! **The motion bound.** A part's pose maps its frame to the world,
 //! `x_world = R x + t`. Between a recorded pose `(R0, t0)` and the current
@@ -52,12 +52,14 @@
 //! starts, [`super::ShapeIdentity`]) and the parts' roundings and curved
 //! solids, and is used only when all of them are the very ones of the
 //! pair now: bodies added, removed, reordered or replaced, and shapes
-//! changed all miss. The certificate is geometric (two solids and two
-//! poses), so whatever body holds a shape now, the bound holds. The margin
-//! is the current call's, never the recorded one's. The narrow phase's
-//! settings decide which solid a curved part is (true solid or
+//! changed miss, unless the very same shape objects (shared by several
+//! bodies) end up under the pair's indices. Then the certificate still
+//! holds: it is geometric (two solids and two poses), whatever body holds
+//! a shape now, and the motion is measured from the recorded poses. The
+//! margin is the current call's, never the recorded one's. The narrow
+//! phase's settings decide which solid a curved part is (true solid or
 //! circumscribed polyhedron), so the store is cleared when they change
-//! ([`SeparationCertificates::begin_call`]).
+//! ([`SeparationCertificates::use_settings`]).
 //!
 //! **Size.** Entries not used (looked up or recorded) during a call, and
 //! those of dropped shapes, are removed when the next call begins.
