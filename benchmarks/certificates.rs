@@ -12,6 +12,9 @@
 //!   index), as the next engine step would: the certificates of the first
 //!   call act across calls.
 //!
+//! `of which trials`: the queries of the line search's trials (the rest
+//! are the detections', `PassReport::queried_pairs`).
+//!
 //! The step is a Rapier step of the same scene
 //! (`rapier_bridge::world_from_scene`, bodies at rest, 10 steps per
 //! repeat, median of all). Medians over the repeats; `same` says whether
@@ -70,6 +73,8 @@ fn pressed(scene: &Scene) -> Scene {
 #[derive(Default)]
 struct Measured {
     queries: Vec<f64>,
+    /// Of the queries, the line-search trials' (the rest are detections').
+    trial_queries: Vec<f64>,
     certified: Vec<f64>,
     narrow_ms: Vec<f64>,
     call_ms: Vec<f64>,
@@ -78,6 +83,9 @@ struct Measured {
 impl Measured {
     fn push(&mut self, report: &Report, seconds: f64) {
         self.queries.push(report.pair_queries as f64);
+        let detections: usize = report.pass_reports.iter().map(|p| p.queried_pairs).sum();
+        self.trial_queries
+            .push(report.pair_queries.saturating_sub(detections) as f64);
         self.certified.push(report.certified_pairs as f64);
         self.narrow_ms.push(report.times.narrow_phase * 1e3);
         self.call_ms.push(seconds * 1e3);
@@ -103,7 +111,7 @@ fn main() {
     ));
     let repeats = if quick { 5 } else { 25 };
     let mut table = String::from(
-        "| state | call | queries: with / without | certified | narrow ms: with / without (ratio) | call ms: with / without | step ms | narrow / step: with / without | same |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| state | call | queries: with / without | of which trials: with / without | certified | narrow ms: with / without (ratio) | call ms: with / without | step ms | narrow / step: with / without | same |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for (name, state) in common::engine_states() {
         if only
@@ -144,9 +152,11 @@ fn main() {
             let m = |values: &[f64]| common::median(values);
             let (narrow_with, narrow_without) = (m(&with.narrow_ms), m(&without.narrow_ms));
             table += &format!(
-                "| {name} | {label} | {:.0} / {:.0} | {:.0} | {narrow_with:.3} / {narrow_without:.3} ({:.2}) | {:.2} / {:.2} | {step:.3} | {:.2} / {:.2} | {} |\n",
+                "| {name} | {label} | {:.0} / {:.0} | {:.0} / {:.0} | {:.0} | {narrow_with:.3} / {narrow_without:.3} ({:.2}) | {:.2} / {:.2} | {step:.3} | {:.2} / {:.2} | {} |\n",
                 m(&with.queries),
                 m(&without.queries),
+                m(&with.trial_queries),
+                m(&without.trial_queries),
                 m(&with.certified),
                 narrow_with / narrow_without,
                 m(&with.call_ms),
