@@ -34,7 +34,8 @@
 //! Per step: the exact deepest penetration of the Rapier world after the
 //! step (and the call), by brute-force separating axes over every pair of
 //! colliders with a dynamic body (`dev_support::sat`, on the f32 poses as
-//! Rapier holds them); Rapier's step time and the call's time; the height
+//! Rapier holds them); Rapier's step time and the call's time, with the
+//! call's narrow-phase queries and time (CSV only); the height
 //! of the tracked top body (stacks, pyramid); the largest horizontal drift
 //! of a tracked body from its first pose; failed calls; the steps whose
 //! exact depth over the pairs with an awake dynamic body exceeds the
@@ -392,6 +393,11 @@ struct StepRecord {
     dynamic: usize,
     /// Bodies the call wrote (0 without a call).
     written: usize,
+    /// The call's narrow-phase queries (`Report::pair_queries`; 0 without
+    /// a stabilizer call).
+    queries: usize,
+    /// The call's narrow-phase time (`StageTimes::narrow_phase`), ms.
+    narrow_ms: f64,
 }
 
 /// One bridge call after a step, timed.
@@ -408,6 +414,9 @@ struct Call {
     round_off_bound: f64,
     /// Bodies whose pose the call wrote.
     written: usize,
+    /// Narrow-phase queries and time (ms) of the stabilizer's call.
+    queries: usize,
+    narrow_ms: f64,
 }
 
 /// One call of `bridge` on the world after its step, timed.
@@ -424,6 +433,10 @@ fn call(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> Call {
                     (r.status.name(), r.status.is_resolved())
                 });
             let tolerance = report.stated_tolerance.unwrap_or(f64::INFINITY);
+            let (queries, narrow_ms) = report
+                .stabilizer
+                .as_ref()
+                .map_or((0, 0.0), |r| (r.pair_queries, r.times.narrow_phase * 1e3));
             Call {
                 ms,
                 status,
@@ -431,6 +444,8 @@ fn call(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> Call {
                 tolerance,
                 round_off_bound: report.round_off_bound,
                 written: report.bodies_written,
+                queries,
+                narrow_ms,
             }
         }
         Err(_) => Call {
@@ -440,6 +455,8 @@ fn call(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> Call {
             tolerance: f64::INFINITY,
             round_off_bound: 0.0,
             written: 0,
+            queries: 0,
+            narrow_ms: 0.0,
         },
     }
 }
@@ -547,7 +564,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = PathBuf::from(value("--out").unwrap_or_else(|| "benchmarks/results".into()));
     std::fs::create_dir_all(&out)?;
     let mut csv = String::from(
-        "scene,run,step,deepest_m,call_tolerance_m,rapier_ms,call_ms,call_failed,top_z_m,max_drift_m\n",
+        "scene,run,step,deepest_m,call_tolerance_m,rapier_ms,call_ms,call_failed,top_z_m,max_drift_m,queries,narrow_ms\n",
     );
     let mut table = String::new();
     for scene in contact_scenes.iter().filter(|s| selection.wants(s.name)) {
@@ -566,7 +583,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             for r in &records {
                 let _ = writeln!(
                     csv,
-                    "{},{},{},{:.6e},{:.6e},{:.4},{:.4},{},{:.6},{:.6e}",
+                    "{},{},{},{:.6e},{:.6e},{:.4},{:.4},{},{:.6},{:.6e},{},{:.4}",
                     scene.name,
                     run.name(),
                     r.step,
@@ -576,7 +593,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     r.call_ms,
                     r.call_failed,
                     r.top_z,
-                    r.drift
+                    r.drift,
+                    r.queries,
+                    r.narrow_ms
                 );
             }
             let row = summary(scene.name, run, &records);
@@ -667,12 +686,15 @@ fn simulate(
         let rapier_ms = timed_step(&mut world);
         let (mut call_ms, mut call_failed) = (0.0, false);
         let (mut call_tolerance, mut written) = (f64::INFINITY, 0);
+        let (mut queries, mut narrow_ms) = (0, 0.0);
         if let Some(bridge) = bridge.as_mut() {
             let call = call(bridge, &mut world);
             call_ms = call.ms;
             call_failed = !call.resolved;
             call_tolerance = call.tolerance;
             written = call.written;
+            queries = call.queries;
+            narrow_ms = call.narrow_ms;
         }
         let (asleep, dynamic) = sleeping(&world);
         let (depth, awake_depth) = deepest_and_awake(&mut measure, &world)?;
@@ -708,6 +730,8 @@ fn simulate(
             asleep,
             dynamic,
             written,
+            queries,
+            narrow_ms,
         });
     }
     Ok(records)

@@ -17,13 +17,17 @@
 //!   logged (issue 21), [`friction_probe`];
 //! - `curved`: cylinders by support functions against their 71-gon
 //!   polyhedra on the Rapier mixed pile, interleaved (issue 25),
-//!   [`curved_speed`].
+//!   [`curved_speed`];
+//! - `certificates`: the narrow phase's queries and time per call with and
+//!   without separation certificates in the Rapier loop, interleaved
+//!   (issue 21), [`certificates_loop`].
 //!
 //! Each probe reads the arguments after its name as it documents them.
 
 #[path = "../common/rapier_scenes.rs"]
 mod scenes;
 
+mod certificates_loop;
 mod curved_speed;
 mod friction_probe;
 mod polish_probe;
@@ -32,7 +36,7 @@ mod slide_probe;
 mod thrown_probe;
 
 /// The probes' names, as the first argument.
-const PROBES: &str = "slide | rest | thrown | polish | friction | curved";
+const PROBES: &str = "slide | rest | thrown | polish | friction | curved | certificates";
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -48,6 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         Some("friction") => friction_probe::run(args),
         Some("curved") => curved_speed::run(args),
+        Some("certificates") => certificates_loop::run(args),
         other => Err(format!("usage: probes <{PROBES}> [ARGS...] (got {other:?})").into()),
     }
 }

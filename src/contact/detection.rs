@@ -3,11 +3,19 @@
 //! margin.
 //!
 //! A pair whose two bodies have not moved since its last answer in this call
-//! (the [`QueryMemo`]) is not queried again; every other pair runs V-Clip,
-//! warm-started from the pair's last feature pair ([`WarmStartCache`]).
+//! (the [`QueryMemo`]) is not queried again; nor is a pair whose last exact
+//! answer, in this call or an earlier one, certifies that it is still
+//! separated beyond the contact margin, whatever its parts did since
+//! ([`SeparationCertificates`], when
+//! [`crate::vclip::VClipSettings::motion_certificates`] is on): it would
+//! give no row and no penetration. With the same setting, a pair whose
+//! parts have not moved since an earlier call's answer reuses it. Every
+//! other pair runs V-Clip, warm-started from the pair's last feature pair
+//! ([`WarmStartCache`]).
 
 use std::time::Instant;
 
+use super::certificate::SeparationCertificates;
 use super::island::Island;
 use super::island_contacts::{SceneGeometry, shape_pair};
 use super::memo::{PosedQuery, QueryMemo};
@@ -64,8 +72,15 @@ pub struct PairPenetration {
 pub struct Detection {
     /// Candidate pairs from the broad phase.
     pub candidates: usize,
-    /// Candidate pairs queried (the others were answered by the memo).
+    /// Candidate pairs queried (the others were answered by the memo or
+    /// certified separated).
     pub queried: usize,
+    /// Candidate pairs certified separated beyond the margin (not queried,
+    /// [`SeparationCertificates`]).
+    pub certified: usize,
+    /// Candidate pairs answered by an earlier call's answer at the same
+    /// poses ([`SeparationCertificates::answer_at`]).
+    pub reused: usize,
     /// Part pairs (`contact::scene_parts::SceneParts`) penetrating or
     /// within the contact margin, ascending (body pairs in a scene of
     /// convex bodies).
@@ -114,6 +129,8 @@ pub struct DetectionState<'a> {
     pub cache: &'a mut WarmStartCache,
     /// The call's narrow-phase answers by pair and poses.
     pub memo: &'a mut QueryMemo,
+    /// The separation certificates (across calls); `None`: none used.
+    pub certificates: Option<&'a mut SeparationCertificates>,
 }
 
 /// Broad and narrow phase at the scene's current poses; updates the broad
@@ -129,6 +146,7 @@ pub fn detect(
         broad_phase,
         cache,
         memo,
+        mut certificates,
     } = state;
     let broad_start = Instant::now();
     let (body_pairs, _) = broad_phase.candidate_pairs(scene, lengths.contact_margin)?;
@@ -150,8 +168,24 @@ pub fn detect(
         .iter()
         .map(|&pair| memo.get(pair, poses_of(pair)).copied())
         .collect();
+    let mut certified = vec![false; candidates.len()];
+    let mut reused = 0;
+    if let Some(store) = certificates.as_deref_mut() {
+        for (i, &pair) in candidates.iter().enumerate() {
+            if answers[i].is_some() {
+                continue;
+            }
+            answers[i] = store.answer_at(pair, geometry.parts, poses_of(pair));
+            if answers[i].is_some() {
+                reused += 1;
+                continue;
+            }
+            certified[i] =
+                store.certifies(pair, geometry.parts, poses_of(pair), lengths.contact_margin);
+        }
+    }
     let to_query: Vec<usize> = (0..candidates.len())
-        .filter(|&i| answers[i].is_none())
+        .filter(|&i| answers[i].is_none() && !certified[i])
         .collect();
     let queried = parallel::map(&to_query, |&i| {
         let pair = candidates[i];
@@ -168,6 +202,9 @@ pub fn detect(
         );
         let [pose_a, pose_b] = poses_of(pair);
         let poses = [*pose_a, *pose_b];
+        if let Some(store) = certificates.as_deref_mut() {
+            store.record(pair, geometry.parts, poses, &result);
+        }
         memo.insert(
             pair,
             PosedQuery {
@@ -180,11 +217,14 @@ pub fn detect(
     let mut detection = Detection {
         candidates: candidates.len(),
         queried: to_query.len(),
+        certified: certified.iter().filter(|&&c| c).count(),
+        reused,
         broad_phase_seconds,
         ..Detection::default()
     };
     for (&pair, answer) in candidates.iter().zip(answers) {
-        // Every pair has an answer: from the memo, or queried just above.
+        // Every pair not certified has an answer: from the memo, from an
+        // earlier call at the same poses, or queried just above.
         if let Some(result) = answer {
             let bodies = geometry.parts.owner_pair(pair);
             log_pair(scene, bodies, &result, lengths);

@@ -33,9 +33,11 @@
 //! - `island_contacts`: the constraint provider of an island, which
 //!   re-queries its pairs at the line search's trial configurations;
 //! - `memo` (the answers of a call, so that V-Clip runs once per pair per
-//!   configuration) and `warm_start` (V-Clip's last feature pairs, kept
-//!   across calls).
+//!   configuration), `warm_start` (V-Clip's last feature pairs, kept
+//!   across calls) and `certificate` (pairs certified separated beyond the
+//!   margin by a bound on their motion, not queried again).
 
+pub mod certificate;
 pub mod contact_row;
 mod detection;
 pub mod gauss_map;
@@ -55,6 +57,7 @@ use crate::geometry::{ConvexPolyhedron, Feature, Rounding};
 use crate::rows::ConstraintRow;
 use crate::settings::Settings;
 use crate::vclip::{FeaturePair, Outcome, VClip, VClipError, VClipResult};
+pub use certificate::SeparationCertificates;
 pub use contact_row::{ContactSide, contact_row, contact_row_with_friction, tangent_basis};
 pub use detection::{Detection, DetectionError, DetectionState, PairPenetration, detect};
 pub use island::{Island, IslandError, islands, islands_with_joints};

@@ -5,8 +5,11 @@
 //!    phase on the bodies' AABBs enlarged by the contact margin, V-Clip on
 //!    every candidate pair of convex parts (a convex body is one part, a
 //!    compound several, `contact::scene_parts`), warm-started from the
-//!    pair's last query (kept across passes and calls); if no penetration
-//!    is deeper than the tolerance, stop;
+//!    pair's last query (kept across passes and calls), except the pairs
+//!    whose parts did not move since their last answer or that a bound on
+//!    their motion certifies separated beyond the contact margin
+//!    (`contact::certificate`, kept across calls); if no penetration is
+//!    deeper than the tolerance, stop;
 //! 2. islands: union-find over the bodies of the pairs that penetrate or are within the
 //!    contact margin (fixed bodies never join islands);
 //! 3. for every island with a penetration deeper than the tolerance, one
@@ -69,7 +72,10 @@ pub use velocity::{BodyVelocity, VelocityFriction, VelocityReport};
 use crate::Error;
 use crate::broad_phase::IncrementalBroadPhase;
 use crate::contact::SceneParts;
-use crate::contact::{Detection, DetectionState, QueryMemo, SceneGeometry, WarmStartCache, detect};
+use crate::contact::{
+    Detection, DetectionState, QueryMemo, SceneGeometry, SeparationCertificates, WarmStartCache,
+    detect,
+};
 use crate::joints::JointErrors;
 use crate::parallel;
 use crate::scene::Scene;
@@ -90,6 +96,9 @@ pub struct Stabilizer {
     /// resolution ([`Stabilizer::set_call_lengths`]).
     call_lengths: Option<ResolvedLengths>,
     cache: WarmStartCache,
+    /// The last exact answer of each pair, to certify later that it is
+    /// still separated beyond the margin (`contact::certificate`).
+    certificates: SeparationCertificates,
     /// The solver's warm starts for the next call: the multipliers of the
     /// last call's first pass (`solver_warm`).
     solver_warm: SolverWarmCache,
@@ -106,6 +115,7 @@ impl Stabilizer {
             settings,
             call_lengths: None,
             cache: WarmStartCache::default(),
+            certificates: SeparationCertificates::default(),
             solver_warm: SolverWarmCache::default(),
             last_detection: None,
         })
@@ -149,6 +159,14 @@ impl Stabilizer {
     #[doc(hidden)]
     pub fn warm_start_cache(&self) -> &WarmStartCache {
         &self.cache
+    }
+
+    /// Number of part pairs whose last exact answer is kept to certify
+    /// them, or answer them again, in later calls (`contact::certificate`;
+    /// freed when their shapes go, when bodies are removed through the
+    /// stabilizer, and when unused for a call).
+    pub fn separation_certificates(&self) -> usize {
+        self.certificates.len()
     }
 
     /// Number of multipliers kept as the solver's warm starts of the next
@@ -268,10 +286,13 @@ impl Stabilizer {
             parts: &parts,
             poses: &part_poses,
         };
+        let certify = self.settings.vclip.motion_certificates;
+        self.certificates.use_settings(&self.settings.vclip);
         let state = DetectionState {
             broad_phase: &mut IncrementalBroadPhase::new(),
             cache: &mut self.cache,
             memo: &mut QueryMemo::default(),
+            certificates: certify.then_some(&mut self.certificates),
         };
         let detection = detect(
             scene,
@@ -323,6 +344,8 @@ impl Stabilizer {
         let parts = SceneParts::of(scene);
         let mut report = Report::new(&lengths);
         self.cache.forget_dropped_shapes();
+        self.certificates.begin_call(&self.settings.vclip);
+        let certify = self.settings.vclip.motion_certificates;
         self.solver_warm.forget_dropped_shapes();
         // The first pass starts from the last call's first pass, each
         // later one from the passes before it.
@@ -344,6 +367,7 @@ impl Stabilizer {
                 broad_phase: &mut broad_phase,
                 cache: &mut self.cache,
                 memo: &mut memo,
+                certificates: certify.then_some(&mut self.certificates),
             };
             let detection = detect(scene, geometry, state, &vclip, &lengths)?;
             report.record_detection(&detection);
@@ -390,7 +414,7 @@ impl Stabilizer {
                 pass_warm.merge(solution.solver_warm.clone());
             }
             report.solver_warm_multipliers = self.solver_warm.multipliers();
-            let stuck = self.apply(scene, solutions, &mut memo, &mut report, &mut pass)?;
+            let stuck = self.apply(scene, &parts, solutions, &mut memo, &mut report, &mut pass)?;
             for island in pass.solved.iter().filter(|i| i.friction_dropped) {
                 island
                     .bodies
@@ -436,6 +460,7 @@ impl Stabilizer {
     fn apply(
         &mut self,
         scene: &mut Scene,
+        parts: &SceneParts,
         solutions: Vec<IslandSolution>,
         memo: &mut QueryMemo,
         report: &mut Report,
@@ -467,6 +492,10 @@ impl Stabilizer {
             solution.apply(scene, &mut self.cache)?;
             for (pair, answer) in &solution.answers {
                 memo.insert(*pair, *answer);
+                if self.settings.vclip.motion_certificates {
+                    self.certificates
+                        .record(*pair, parts, answer.poses, &answer.query);
+                }
             }
             pass.solved.push(solution.report);
         }
@@ -541,10 +570,12 @@ fn worse_than_input(
 /// The debug line of a pass.
 fn log_pass(number: usize, pass: &PassReport, left: &[IslandLeft], start: Instant) {
     log::debug!(
-        "pass {number} done: {} candidates ({} queried), {} active, {} penetrating, {} islands, \
+        "pass {number} done: {} candidates ({} queried, {} certified, {} reused), {} active, {} penetrating, {} islands, \
          {} solved ({} left), deepest {:.3e}, joint error {:.3e}, {:.3} ms so far",
         pass.candidate_pairs,
         pass.queried_pairs,
+        pass.certified_pairs,
+        pass.reused_pairs,
         pass.active_pairs,
         pass.penetrating_pairs,
         pass.islands,
@@ -561,6 +592,8 @@ pub(crate) fn pass_report(detection: &Detection, tolerance: f64) -> PassReport {
     PassReport {
         candidate_pairs: detection.candidates,
         queried_pairs: detection.queried,
+        certified_pairs: detection.certified,
+        reused_pairs: detection.reused,
         penetrating_pairs: detection.penetrating(tolerance),
         active_pairs: detection.active_pairs.len(),
         islands: 0,

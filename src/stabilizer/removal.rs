@@ -48,6 +48,9 @@ impl Stabilizer {
         // Part indices shift: the solver's warm starts are dropped rather
         // than remapped (they cost a cold solve, never an answer).
         self.solver_warm.clear();
+        // Certificates are keyed by part pair: dropped likewise (a pair's
+        // next detection queries it once and records it again).
+        self.certificates.clear();
         Ok(map)
     }
 }

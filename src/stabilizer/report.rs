@@ -224,8 +224,15 @@ pub struct PassReport {
     /// Candidate pairs from the broad phase.
     pub candidate_pairs: usize,
     /// Candidate pairs queried by the narrow phase (the others had not
-    /// moved since their last answer).
+    /// moved since their last answer, or were certified separated).
     pub queried_pairs: usize,
+    /// Candidate pairs certified separated beyond the contact margin by a
+    /// bound on their motion since their last exact answer, and not queried
+    /// (`contact::certificate`).
+    pub certified_pairs: usize,
+    /// Candidate pairs answered by an earlier call's answer at the same
+    /// poses of the same solids (`contact::certificate`), not queried.
+    pub reused_pairs: usize,
     /// Pairs penetrating deeper than the tolerance.
     pub penetrating_pairs: usize,
     /// Pairs within the contact margin (penetrating or not).
@@ -314,6 +321,15 @@ pub struct Report {
     /// depth) run by the call: detections and line-search trials. A pair is
     /// queried once per configuration of its two bodies.
     pub pair_queries: usize,
+    /// Detections' candidate pairs not queried because a bound on their
+    /// motion since their last exact answer (this call's or an earlier
+    /// one's) certified them separated beyond the contact margin, summed
+    /// over the passes.
+    pub certified_pairs: usize,
+    /// Detections' candidate pairs answered by an earlier call's answer at
+    /// the same poses of the same solids, not queried, summed over the
+    /// passes.
+    pub reused_pairs: usize,
     /// Multipliers the stabilizer keeps after the call as the solver's warm
     /// starts of the next calls (one per contact row and friction row of
     /// the pairs last solved; freed when their bodies go).
@@ -344,6 +360,8 @@ impl Report {
             islands_left: Vec::new(),
             restored_input: false,
             pair_queries: 0,
+            certified_pairs: 0,
+            reused_pairs: 0,
             solver_warm_multipliers: 0,
             times: StageTimes::default(),
         }
@@ -355,6 +373,8 @@ impl Report {
         self.times.broad_phase += detection.broad_phase_seconds;
         self.times.narrow_phase += detection.narrow_phase_seconds;
         self.pair_queries += detection.queried;
+        self.certified_pairs += detection.certified;
+        self.reused_pairs += detection.reused;
         if self.pass_reports.is_empty() {
             self.depth_before = detection.deepest;
             self.penetrations_before = detection.penetrations.clone();

@@ -64,6 +64,15 @@ pub struct VClipSettings {
     /// deviation `geometry::curved::CURVED_DEVIATION_RELATIVE` of the
     /// radius (`Shape::surface_deviation`).
     pub curved_support_functions: bool,
+    /// Detection skips a pair whose last exact answer certifies that it is
+    /// still separated beyond the contact margin, by a bound on how far its
+    /// two parts moved since, and reuses an earlier call's answer of a pair
+    /// whose parts have not moved at all (`contact::certificate`); `false`
+    /// queries every candidate pair whose parts moved since its last answer
+    /// in the call. The poses of a call are the same either way (a
+    /// certified pair gives no row; an answer is a function of the solids
+    /// and their poses).
+    pub motion_certificates: bool,
 }
 
 impl Default for VClipSettings {
@@ -76,6 +85,7 @@ impl Default for VClipSettings {
             touch_tolerance: DEFAULT_TOUCH_TOLERANCE,
             refine_face: true,
             curved_support_functions: true,
+            motion_certificates: true,
         }
     }
 }

@@ -122,6 +122,7 @@ pub fn run(
             broad_phase: &mut broad_phase,
             cache,
             memo: &mut memo,
+            certificates: None,
         };
         let detection = detect(scene, geometry, state, &vclip, lengths)?;
         report.record_detection(&detection);
