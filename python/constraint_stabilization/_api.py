@@ -134,7 +134,11 @@ class Report:
     deeper than the tolerance; ``islands`` every island solved in every
     pass (``pass_index``, ``bodies``, ``outcome``, ``solver``,
     ``constraints``, depths); ``islands_left`` the islands the last pass
-    could not finish, with the ``reason``; ``times`` seconds per stage,
+    could not finish, with the ``reason``; ``pair_queries`` the narrow
+    phase's exact queries, ``certified_pairs`` the candidate pairs a bound
+    on their motion certified separated and ``reused_pairs`` those whose
+    earlier answer at the same poses was reused (neither queried);
+    ``times`` seconds per stage,
     measured inside the library (``total`` is the library's whole call).
     """
 
@@ -151,6 +155,8 @@ class Report:
     bodies_moved: int
     restored_input: bool
     pair_queries: int
+    certified_pairs: int
+    reused_pairs: int
     islands_left: List[Dict[str, Any]]
     islands: List[Dict[str, Any]]
     times: Dict[str, float]

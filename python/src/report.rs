@@ -47,6 +47,8 @@ pub fn report_dict<'py>(py: Python<'py>, report: &Report) -> PyResult<Bound<'py,
     d.set_item("bodies_moved", report.bodies_moved)?;
     d.set_item("restored_input", report.restored_input)?;
     d.set_item("pair_queries", report.pair_queries)?;
+    d.set_item("certified_pairs", report.certified_pairs)?;
+    d.set_item("reused_pairs", report.reused_pairs)?;
     let left = PyList::empty(py);
     for island in &report.islands_left {
         let entry = PyDict::new(py);

@@ -7,14 +7,14 @@
 
 use std::time::Duration;
 
-use constraint_stabilization::{Error, FrictionModel, Method, Settings};
+use constraint_stabilization::{Error, FrictionModel, FrictionRows, Method, Settings};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::{input_error, input_type_error, library_error};
 
 /// Every keyword accepted, in `Settings`' order.
-pub const SETTING_NAMES: [&str; 20] = [
+pub const SETTING_NAMES: [&str; 21] = [
     "method",
     "tolerance_relative",
     "tolerance_absolute",
@@ -31,6 +31,7 @@ pub const SETTING_NAMES: [&str; 20] = [
     "friction",
     "friction_directions",
     "friction_model",
+    "friction_rows",
     "solve_whole_islands",
     "joint_rotation_weight",
     "step_max_rotation",
@@ -119,6 +120,14 @@ pub fn settings_from_kwargs(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Sett
             "friction_directions" => s.friction_directions = typed(&name, v)?,
             "friction_model" => {
                 s.friction_model = named(&name, v, FrictionModel::from_name, &["pyramid", "cone"])?
+            }
+            "friction_rows" => {
+                s.friction_rows = named(
+                    &name,
+                    v,
+                    FrictionRows::from_name,
+                    &["all", "implied", "generated"],
+                )?
             }
             "solve_whole_islands" => s.solve_whole_islands = typed(&name, v)?,
             "joint_rotation_weight" => s.joint_rotation_weight = typed(&name, v)?,

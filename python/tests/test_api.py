@@ -86,6 +86,15 @@ def test_settings_are_keywords_with_the_library_defaults():
     assert loose.tolerance == 1e-3
     _, one = cs.stabilize(scene, poses, quaternion_order="xyzw", max_passes=1)
     assert one.passes <= 1
+    # The same minimizer whichever way the friction rows enter the problem.
+    answers = {
+        rows: cs.stabilize(scene, poses, quaternion_order="xyzw", friction=0.5, friction_rows=rows)
+        for rows in ["all", "implied", "generated"]
+    }
+    for rows, (corrected, report) in answers.items():
+        assert report.converged, rows
+        assert report.certified_pairs >= 0 and report.reused_pairs == 0
+        assert np.allclose(corrected, answers["all"][0], atol=1e-6 * scene.scale), rows
 
 
 def test_compounds_and_round_shapes_build_and_separate():

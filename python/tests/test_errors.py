@@ -60,6 +60,8 @@ def test_settings_errors(two_boxes):
         cs.stabilize(scene, poses, quaternion_order="xyzw", time_budget=-1.0)
     with pytest.raises(cs.InputError, match="method"):
         cs.stabilize(scene, poses, quaternion_order="xyzw", method="newton")
+    with pytest.raises(cs.InputError, match="friction_rows"):
+        cs.stabilize(scene, poses, quaternion_order="xyzw", friction_rows="some")
     with pytest.raises(cs.InputTypeError, match="unknown setting"):
         cs.stabilize_batch(scene, poses[None], quaternion_order="xyzw", threads=1, tolerance=1e-3)
 

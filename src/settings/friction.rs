@@ -68,3 +68,26 @@ pub enum FrictionRows {
     /// many do.
     Generated,
 }
+
+impl FrictionRows {
+    /// Every way, with [`FrictionRows::name`] as in the Python keyword.
+    pub const ALL: [FrictionRows; 3] = [
+        FrictionRows::All,
+        FrictionRows::Implied,
+        FrictionRows::Generated,
+    ];
+
+    /// `all`, `implied` or `generated`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FrictionRows::All => "all",
+            FrictionRows::Implied => "implied",
+            FrictionRows::Generated => "generated",
+        }
+    }
+
+    /// The way with the given name, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|rows| rows.name() == name)
+    }
+}
