@@ -34,7 +34,9 @@
 //! differ slightly.
 //!
 //! Outputs: `benchmarks/results/engine_states.md` and `.csv` (`--quick`
-//! writes `engine_states_quick.*`).
+//! writes `engine_states_quick.*`, `--only` `engine_states_only.*`); the
+//! table replaces the file's part before its first `## ` section, and the
+//! sections after it are kept.
 //!
 //! Run: `cargo bench --features rapier,serde --bench engine_states`
 //! (`-- --quick`: fewer repeats, no pile of 1,000, for a smoke run;
@@ -132,14 +134,27 @@ fn main() {
     let rows: Vec<Row> = cases.iter().map(|c| measure(c, quick)).collect();
     let (md, csv) = write_tables(&rows, &provenance, quick, threads);
     let dir = common::results_dir();
-    let stem = if quick {
-        "engine_states_quick"
-    } else {
-        "engine_states"
+    let stem = match (quick, only.is_some()) {
+        (true, _) => "engine_states_quick",
+        (false, true) => "engine_states_only",
+        (false, false) => "engine_states",
     };
-    std::fs::write(dir.join(format!("{stem}.md")), &md).expect("write md");
+    let md_path = dir.join(format!("{stem}.md"));
+    write_keeping_sections(&md_path, &md);
     std::fs::write(dir.join(format!("{stem}.csv")), &csv).expect("write csv");
-    println!("{md}\nwritten to {}", dir.display());
+    println!("{md}\nwritten to {}", md_path.display());
+}
+
+/// Writes `table` in place of the generated part of the file at `path`
+/// (everything before its first `## ` section) and keeps the sections
+/// after it: the readings and measurements appended to a results file
+/// survive its regeneration.
+fn write_keeping_sections(path: &std::path::Path, table: &str) {
+    let kept = std::fs::read_to_string(path)
+        .ok()
+        .and_then(|old| old.find("\n## ").map(|at| old[at..].to_owned()))
+        .unwrap_or_default();
+    std::fs::write(path, format!("{}{kept}", table.trim_end_matches('\n'))).expect("write md");
 }
 
 /// Every engine state of the test data.
