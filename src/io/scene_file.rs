@@ -33,7 +33,8 @@
 //!   (`projection|gauss_seidel`: the projection, the default, or the
 //!   game-engine baseline of `stabilizer::gauss_seidel` with its defaults),
 //!   `friction_model` (`pyramid|cone`, [`crate::FrictionModel`];
-//!   friction itself is per body).
+//!   friction itself is per body), `friction_rows`
+//!   (`all|implied|generated`, [`crate::FrictionRows`]).
 //! - Limits: a file of at most [`MAX_SCENE_FILE_BYTES`], at most
 //!   [`MAX_BODIES`] bodies, at most [`MAX_HULL_POINTS`] points per hull;
 //!   beyond them, an error before anything is built.
@@ -69,7 +70,7 @@ use super::scene_joints::{self, FrameProblem, JointOut};
 use crate::body::{Body, BodyDesc, BodyError, MAX_COMPOUND_PARTS, MassSpec, Shape, ShapePart};
 use crate::joints::JointError;
 use crate::scene::Scene;
-use crate::settings::FrictionModel;
+use crate::settings::{FrictionModel, FrictionRows};
 use crate::settings::{Method, SceneSettings, SettingsError};
 use crate::solver::SolverChoice;
 
@@ -84,7 +85,7 @@ const BODY_FIELDS: [&str; 8] = [
     "friction",
 ];
 const TOP_FIELDS: [&str; 4] = ["bodies", "joints", "settings", "report"];
-const SETTINGS_FIELDS: [&str; 8] = [
+const SETTINGS_FIELDS: [&str; 9] = [
     "tolerance",
     "contact_margin",
     "target_margin",
@@ -93,6 +94,7 @@ const SETTINGS_FIELDS: [&str; 8] = [
     "cross_check",
     "method",
     "friction_model",
+    "friction_rows",
 ];
 
 /// What is wrong with one field.
@@ -708,6 +710,17 @@ fn parse_settings(value: &Value) -> Result<SceneSettings, SceneFileError> {
                 })
         })
         .transpose()?;
+    let friction_rows = object
+        .get("friction_rows")
+        .map(|v| {
+            v.as_str().and_then(FrictionRows::from_name).ok_or_else(|| {
+                settings_error(
+                    "friction_rows",
+                    FieldProblem::WrongType("one of \"all\", \"implied\", \"generated\""),
+                )
+            })
+        })
+        .transpose()?;
     Ok(SceneSettings {
         tolerance: number("tolerance")?,
         contact_margin: number("contact_margin")?,
@@ -717,6 +730,7 @@ fn parse_settings(value: &Value) -> Result<SceneSettings, SceneFileError> {
         cross_check,
         method,
         friction_model,
+        friction_rows,
     })
 }
 
@@ -864,6 +878,8 @@ struct SettingsOut {
     method: Option<&'static str>,
     #[serde(skip_serializing_if = "Option::is_none")]
     friction_model: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    friction_rows: Option<&'static str>,
 }
 
 impl SettingsOut {
@@ -877,6 +893,7 @@ impl SettingsOut {
             cross_check: settings.cross_check,
             method: settings.method.map(Method::name),
             friction_model: settings.friction_model.map(FrictionModel::name),
+            friction_rows: settings.friction_rows.map(FrictionRows::name),
         }
     }
 }

@@ -4,7 +4,7 @@
 //! place.
 
 use super::error::{at_least, non_negative, positive};
-use super::{FrictionModel, Method, Settings, SettingsError};
+use super::{FrictionModel, FrictionRows, Method, Settings, SettingsError};
 use crate::solver::SolverChoice;
 
 /// Settings carried by a scene; `None` means "the stabilizer's default".
@@ -27,6 +27,9 @@ pub struct SceneSettings {
     pub method: Option<Method>,
     /// How rows with friction bound their sliding (`pyramid` or `cone`).
     pub friction_model: Option<FrictionModel>,
+    /// How the friction rows enter the problem (`all`, `implied` or
+    /// `generated`: the same minimizer).
+    pub friction_rows: Option<FrictionRows>,
 }
 
 impl SceneSettings {
@@ -80,6 +83,9 @@ impl Settings {
         }
         if let Some(model) = scene.friction_model {
             self.friction_model = model;
+        }
+        if let Some(rows) = scene.friction_rows {
+            self.friction_rows = rows;
         }
         self
     }

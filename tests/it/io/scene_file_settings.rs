@@ -142,3 +142,20 @@ fn file_friction_model_chooses_the_cone_and_round_trips() {
     let message = parse_scene(bad).expect_err("unknown model").to_string();
     assert!(message.contains("friction_model"), "{message}");
 }
+
+#[test]
+fn file_friction_rows_are_read_applied_and_round_trip() {
+    use constraint_stabilization::FrictionRows;
+    use constraint_stabilization::io::scene_file::scene_to_string;
+    let scene = box_on_ground(r#"{"friction_rows": "generated"}"#);
+    let resolved = Settings::default().with_scene_settings(scene.settings());
+    assert_eq!(resolved.friction_rows, FrictionRows::Generated);
+    assert_eq!(Settings::default().friction_rows, FrictionRows::All);
+    let text = scene_to_string(&scene, None);
+    assert!(text.contains(r#""friction_rows": "generated""#), "{text}");
+    let again = parse_scene(&text).expect("reads back");
+    assert_eq!(again.settings(), scene.settings());
+    let bad = r#"{"bodies": [], "settings": {"friction_rows": "some"}}"#;
+    let message = parse_scene(bad).expect_err("unknown way").to_string();
+    assert!(message.contains("friction_rows"), "{message}");
+}
