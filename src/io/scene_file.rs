@@ -667,17 +667,12 @@ fn parse_settings(value: &Value) -> Result<SceneSettings, SceneFileError> {
                 })
         })
         .transpose()?;
-    let solver = object
-        .get("solver")
-        .map(|v| {
-            v.as_str().and_then(SolverChoice::from_name).ok_or_else(|| {
-                settings_error(
-                    "solver",
-                    FieldProblem::WrongType("one of \"auto\", \"clarabel\", \"lemke\", \"pgs\""),
-                )
-            })
-        })
-        .transpose()?;
+    let solver = named_setting(
+        object,
+        "solver",
+        "one of \"auto\", \"clarabel\", \"lemke\", \"pgs\"",
+        SolverChoice::from_name,
+    )?;
     let cross_check = object
         .get("cross_check")
         .map(|v| {
@@ -686,41 +681,24 @@ fn parse_settings(value: &Value) -> Result<SceneSettings, SceneFileError> {
             })
         })
         .transpose()?;
-    let method = object
-        .get("method")
-        .map(|v| {
-            v.as_str().and_then(Method::from_name).ok_or_else(|| {
-                settings_error(
-                    "method",
-                    FieldProblem::WrongType("one of \"projection\", \"gauss_seidel\""),
-                )
-            })
-        })
-        .transpose()?;
-    let friction_model = object
-        .get("friction_model")
-        .map(|v| {
-            v.as_str()
-                .and_then(FrictionModel::from_name)
-                .ok_or_else(|| {
-                    settings_error(
-                        "friction_model",
-                        FieldProblem::WrongType("one of \"pyramid\", \"cone\""),
-                    )
-                })
-        })
-        .transpose()?;
-    let friction_rows = object
-        .get("friction_rows")
-        .map(|v| {
-            v.as_str().and_then(FrictionRows::from_name).ok_or_else(|| {
-                settings_error(
-                    "friction_rows",
-                    FieldProblem::WrongType("one of \"all\", \"implied\", \"generated\""),
-                )
-            })
-        })
-        .transpose()?;
+    let method = named_setting(
+        object,
+        "method",
+        "one of \"projection\", \"gauss_seidel\"",
+        Method::from_name,
+    )?;
+    let friction_model = named_setting(
+        object,
+        "friction_model",
+        "one of \"pyramid\", \"cone\"",
+        FrictionModel::from_name,
+    )?;
+    let friction_rows = named_setting(
+        object,
+        "friction_rows",
+        "one of \"all\", \"implied\", \"generated\"",
+        FrictionRows::from_name,
+    )?;
     Ok(SceneSettings {
         tolerance: number("tolerance")?,
         contact_margin: number("contact_margin")?,
@@ -732,6 +710,24 @@ fn parse_settings(value: &Value) -> Result<SceneSettings, SceneFileError> {
         friction_model,
         friction_rows,
     })
+}
+
+/// The setting `field` given by name: the library's value of that name,
+/// `None` when absent, else an error saying which names are `expected`.
+fn named_setting<T>(
+    object: &Map<String, Value>,
+    field: &str,
+    expected: &'static str,
+    from_name: fn(&str) -> Option<T>,
+) -> Result<Option<T>, SceneFileError> {
+    object
+        .get(field)
+        .map(|v| {
+            v.as_str()
+                .and_then(from_name)
+                .ok_or_else(|| settings_error(field, FieldProblem::WrongType(expected)))
+        })
+        .transpose()
 }
 
 fn settings_error(field: &str, problem: FieldProblem) -> SceneFileError {
