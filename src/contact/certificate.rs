@@ -49,7 +49,7 @@
 //!
 //! **What an entry belongs to.** A certificate is recorded per part pair
 //! with the two shape objects (`Weak` references, as the V-Clip warm
-//! starts, [`super::ShapeIdentity`]) and the parts' roundings and curved
+//! starts, `ShapeIdentity`) and the parts' roundings and curved
 //! solids, and is used only when all of them are the very ones of the
 //! pair now: bodies added, removed, reordered or replaced, and shapes
 //! changed miss, unless the very same shape objects (shared by several
