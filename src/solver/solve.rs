@@ -105,7 +105,7 @@ use super::closed_form::solve_single_row;
 use super::cross_check::{CrossCheck, CrossCheckOutcome, differences};
 use super::error::SolverError;
 use super::friction_cone::{CONE_DIM, cone_multipliers_of_facets};
-use super::interior_point::{self, InteriorPointSettings, IpStart};
+use super::interior_point::{self, InteriorPointSettings};
 use super::lcp::Lcp;
 use super::lemke::{self, LemkeSettings};
 use super::metric::BlockMetric;
@@ -691,6 +691,12 @@ impl Problem<'_> {
 
     fn run_unlimited(&self, kind: SolverKind) -> Result<Candidate, FailureReason> {
         let s = self.settings;
+        // The start of the two warm-startable solvers.
+        let start = Start {
+            warm: self.warm,
+            tolerance: s.tol_residual,
+            deadline: s.deadline,
+        };
         match kind {
             SolverKind::Trivial => Ok(Candidate {
                 dq: DVector::zeros(self.qp.num_dofs()),
@@ -700,20 +706,10 @@ impl Problem<'_> {
             }),
             SolverKind::ClosedForm => solve_single_row(self.qp, self.metric),
             SolverKind::AugmentedLagrangian => {
-                let start = Start {
-                    warm: self.warm,
-                    tolerance: s.tol_residual,
-                    deadline: s.deadline,
-                };
                 augmented_lagrangian::solve(self.qp, self.metric, &s.augmented_lagrangian, &start)
                     .map_err(FailureReason::AugmentedLagrangian)
             }
             SolverKind::InteriorPoint => {
-                let start = IpStart {
-                    warm: self.warm,
-                    tolerance: s.tol_residual,
-                    deadline: s.deadline,
-                };
                 interior_point::solve(self.qp, self.metric, &s.interior_point, &start)
                     .map_err(FailureReason::InteriorPoint)
             }

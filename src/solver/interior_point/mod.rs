@@ -66,6 +66,7 @@ use std::time::Instant;
 
 use nalgebra::DVector;
 
+use super::augmented_lagrangian::Start;
 use super::augmented_lagrangian::hessian::NewtonMatrix;
 use super::metric::BlockMetric;
 use super::outcome::Candidate;
@@ -124,23 +125,13 @@ pub enum InteriorPointFailure {
     Deadline,
 }
 
-/// The inputs of one solve beside the problem.
-pub struct IpStart<'a> {
-    /// Multipliers of a neighbouring problem, one per row (module docs).
-    pub warm: Option<&'a DVector<f64>>,
-    /// The caller's acceptance tolerance.
-    pub tolerance: f64,
-    /// Give up at this instant.
-    pub deadline: Option<Instant>,
-}
-
 /// Solves `qp` (module docs). `Candidate::iterations` counts interior-point
 /// iterations, `Candidate::factorizations` numeric factorizations of `H`.
 pub fn solve(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
     settings: &InteriorPointSettings,
-    start: &IpStart<'_>,
+    start: &Start<'_>,
 ) -> Result<Candidate, InteriorPointFailure> {
     if qp.num_equalities > 0 || !qp.cones.is_empty() {
         return Err(InteriorPointFailure::NotApplicable);
