@@ -3,14 +3,15 @@
 //! scene files (docs/design.md section 6), read through the Rapier bridge.
 //!
 //! ```text
-//! cargo run --features rapier --example engine_states -- DIR [--large PATH]
+//! cargo run --features rapier --example engine_states -- DIR [--large PATH [--large-step N]]
 //! ```
 //!
 //! writes the small states to `DIR/rp*.json` with `DIR/engine-notes-rapier.tsv`
 //! (step, time, bodies, Rapier's own deepest contact depth and number of
 //! contact points from its narrow phase, and parry's deepest penetration
 //! and penetrating pairs on the state as written), and with `--large` the
-//! settled pile of 1,000 to `PATH`. `rp08_mixed_pile` is a pile of 60
+//! settled pile of 1,000 to `PATH` (after [`LARGE_PILE_STEPS`] steps, or
+//! `--large-step N`: an earlier step dumps it mid-settle). `rp08_mixed_pile` is a pile of 60
 //! balls, capsules, cylinders and rounded boxes (issue 25) after 5 s.
 //!
 //! Z up, gravity -9.81, SI units, density 1000 kg/m^3 unless a mass is
@@ -43,16 +44,28 @@ struct State {
     rapier_contacts: usize,
 }
 
+/// Steps of the pile of 1,000 before it is written (8 s: settled).
+const LARGE_PILE_STEPS: usize = 480;
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let Some(dir) = args.first().map(PathBuf::from) else {
-        return Err("usage: engine_states DIR [--large PATH]".into());
+        return Err("usage: engine_states DIR [--large PATH [--large-step N]]".into());
     };
-    let large = match args.get(1).map(String::as_str) {
-        Some("--large") => Some(PathBuf::from(args.get(2).ok_or("--large needs a path")?)),
-        Some(other) => return Err(format!("unknown argument {other}").into()),
-        None => None,
-    };
+    let (mut large, mut large_step) = (None, LARGE_PILE_STEPS);
+    let mut rest = args[1..].iter();
+    while let Some(flag) = rest.next() {
+        match flag.as_str() {
+            "--large" => large = Some(PathBuf::from(rest.next().ok_or("--large needs a path")?)),
+            "--large-step" => {
+                large_step = rest
+                    .next()
+                    .and_then(|n| n.parse().ok())
+                    .ok_or("--large-step needs a number of steps")?
+            }
+            other => return Err(format!("unknown argument {other}").into()),
+        }
+    }
     std::fs::create_dir_all(&dir)?;
     let states = vec![
         settled_pile("rp01_pile_200", 200, 1.0, 300, 1)?,
@@ -71,7 +84,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     std::fs::write(dir.join("engine-notes-rapier.tsv"), notes)?;
     if let Some(path) = large {
-        let state = settled_pile("rp_pile_1000", 1000, 2.0, 480, 2)?;
+        let state = settled_pile("rp_pile_1000", 1000, 2.0, large_step, 2)?;
         write(&path, &state, &mut String::new())?;
     }
     Ok(())
