@@ -17,7 +17,7 @@ use dev_support::sat::sat_deepest;
 use dev_support::scene::{IDENTITY_XYZW, cuboid, ground, scene_of};
 
 /// The coefficient of a pair of default bodies in the state's engine.
-fn engine_friction(stem: &str) -> f64 {
+pub(super) fn engine_friction(stem: &str) -> f64 {
     match &stem[..2] {
         "bt" => 0.5 * 0.5,
         "mj" => 1.0,
@@ -25,7 +25,8 @@ fn engine_friction(stem: &str) -> f64 {
     }
 }
 
-fn with_friction_on_every_body(scene: &Scene, mu: f64) -> Scene {
+/// `scene` with the friction coefficient `mu` written on every body.
+pub(super) fn with_friction_on_every_body(scene: &Scene, mu: f64) -> Scene {
     let mut scene = scene.clone();
     for body in 0..scene.bodies().len() {
         scene

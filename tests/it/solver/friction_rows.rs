@@ -411,23 +411,12 @@ const POSE_AGREEMENT_REL: f64 = 1e-5;
 /// frictional problem with clarabel, polished, does, under both models.
 #[test]
 fn engine_states_end_where_full_clarabel_calls_do() {
+    use super::friction_finishes::{engine_friction, with_friction_on_every_body};
     use crate::support::engine_states::{call, engine_states, pose_difference};
     use constraint_stabilization::{FrictionRows, Settings, Stabilizer};
     let mut failures = Vec::new();
     for (stem, input) in engine_states() {
-        let mu = match &stem[..2] {
-            "bt" => 0.25,
-            "mj" => 1.0,
-            _ => 0.5,
-        };
-        let mut input = input.clone();
-        for body in 0..input.bodies().len() {
-            input
-                .body_mut(body)
-                .expect("a body of the scene")
-                .set_friction(Some(mu))
-                .expect("a valid coefficient");
-        }
+        let input = with_friction_on_every_body(&input, engine_friction(&stem));
         for model in FrictionModel::ALL {
             let mut reference = Settings::default();
             reference.friction_model = model;
