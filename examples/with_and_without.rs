@@ -369,6 +369,11 @@ impl Run {
             settings.stabilizer.solver.clarabel.tol_gap = gap;
             settings.stabilizer.solver.clarabel.tol_feas = gap;
         }
+        // `WITH_AND_WITHOUT_KEEP_PAIRS=0`: `Settings::keep_penetrated_pairs`
+        // off (measurements of issue 21).
+        if let Ok(keep) = std::env::var("WITH_AND_WITHOUT_KEEP_PAIRS") {
+            settings.stabilizer.keep_penetrated_pairs = keep != "0";
+        }
         Some(RapierBridge::with_settings(settings).expect("valid settings"))
     }
 }

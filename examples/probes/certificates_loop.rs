@@ -50,7 +50,9 @@ fn median(values: &[f64]) -> f64 {
     sorted.get(sorted.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
-fn world_of(name: &str) -> Option<PhysicsWorld> {
+/// The world of a scene of the Rapier loop by name (`pile_200`,
+/// `pyramid_55`, `compound_pile_60`, `mixed_pile_60`).
+pub(crate) fn world_of(name: &str) -> Option<PhysicsWorld> {
     Some(match name {
         "pile_200" => scenes::pile_world(200, 1.0, 1),
         "pyramid_55" => scenes::pyramid_world().0,

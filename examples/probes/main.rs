@@ -20,7 +20,10 @@
 //!   [`curved_speed`];
 //! - `certificates`: the narrow phase's queries and time per call with and
 //!   without separation certificates in the Rapier loop, interleaved
-//!   (issue 21), [`certificates_loop`].
+//!   (issue 21), [`certificates_loop`];
+//! - `passes`: passes per call in the Rapier loop with and without
+//!   `Settings::keep_penetrated_pairs`, and the input of the longest call
+//!   (issue 21), [`passes_probe`].
 //!
 //! Each probe reads the arguments after its name as it documents them.
 
@@ -30,13 +33,14 @@ mod scenes;
 mod certificates_loop;
 mod curved_speed;
 mod friction_probe;
+mod passes_probe;
 mod polish_probe;
 mod rest_probe;
 mod slide_probe;
 mod thrown_probe;
 
 /// The probes' names, as the first argument.
-const PROBES: &str = "slide | rest | thrown | polish | friction | curved | certificates";
+const PROBES: &str = "slide | rest | thrown | polish | friction | curved | certificates | passes";
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -53,6 +57,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some("friction") => friction_probe::run(args),
         Some("curved") => curved_speed::run(args),
         Some("certificates") => certificates_loop::run(args),
+        Some("passes") => passes_probe::run(args),
         other => Err(format!("usage: probes <{PROBES}> [ARGS...] (got {other:?})").into()),
     }
 }

@@ -34,7 +34,7 @@ fn point_motion(a: &Pose, b: &Pose, reach: f32) -> f64 {
 }
 
 /// The word after `flag` on the command line.
-fn flag_value(args: &[String], flag: &str) -> Option<String> {
+pub(crate) fn flag_value(args: &[String], flag: &str) -> Option<String> {
     args.windows(2).find(|w| w[0] == flag).map(|w| w[1].clone())
 }
 

@@ -13,6 +13,7 @@
 //! other pair runs V-Clip, warm-started from the pair's last feature pair
 //! ([`WarmStartCache`]).
 
+use std::borrow::Cow;
 use std::time::Instant;
 
 use super::certificate::SeparationCertificates;
@@ -131,6 +132,11 @@ pub struct DetectionState<'a> {
     pub memo: &'a mut QueryMemo,
     /// The separation certificates (across calls); `None`: none used.
     pub certificates: Option<&'a mut SeparationCertificates>,
+    /// Part pairs kept active whatever their distance, ascending: queried
+    /// even when the broad phase or a certificate would skip them, and
+    /// recorded as active (with rows) even beyond the contact margin
+    /// (`stabilizer::kept_pairs`). Empty: none.
+    pub kept_pairs: &'a [BodyPair],
 }
 
 /// Broad and narrow phase at the scene's current poses; updates the broad
@@ -147,20 +153,26 @@ pub fn detect(
         cache,
         memo,
         mut certificates,
+        kept_pairs,
     } = state;
     let broad_start = Instant::now();
     let (body_pairs, _) = broad_phase.candidate_pairs(scene, lengths.contact_margin)?;
-    let expanded;
-    let candidates = match geometry.parts.all_convex() {
-        true => body_pairs,
-        false => {
-            expanded =
-                geometry
-                    .parts
-                    .part_pairs(body_pairs, geometry.poses, lengths.contact_margin);
-            &expanded
-        }
+    let mut candidates = match geometry.parts.all_convex() {
+        true => Cow::Borrowed(body_pairs),
+        false => Cow::Owned(geometry.parts.part_pairs(
+            body_pairs,
+            geometry.poses,
+            lengths.contact_margin,
+        )),
     };
+    let kept = |pair: &BodyPair| kept_pairs.binary_search(pair).is_ok();
+    if !kept_pairs.is_empty() {
+        let all = candidates.to_mut();
+        all.extend(kept_pairs.iter().copied());
+        all.sort_unstable();
+        all.dedup();
+    }
+    let candidates: &[BodyPair] = &candidates;
     let broad_phase_seconds = broad_start.elapsed().as_secs_f64();
     let narrow_start = Instant::now();
     let poses_of = |pair: BodyPair| [&geometry.poses[pair.body_a], &geometry.poses[pair.body_b]];
@@ -180,8 +192,8 @@ pub fn detect(
                 reused += 1;
                 continue;
             }
-            certified[i] =
-                store.certifies(pair, geometry.parts, poses_of(pair), lengths.contact_margin);
+            certified[i] = !kept(&pair)
+                && store.certifies(pair, geometry.parts, poses_of(pair), lengths.contact_margin);
         }
     }
     let to_query: Vec<usize> = (0..candidates.len())
@@ -228,7 +240,7 @@ pub fn detect(
         if let Some(result) = answer {
             let bodies = geometry.parts.owner_pair(pair);
             log_pair(scene, bodies, &result, lengths);
-            detection.record(geometry, pair, result, lengths);
+            detection.record(geometry, pair, result, lengths, kept(&pair));
         }
     }
     detection.narrow_phase_seconds = narrow_start.elapsed().as_secs_f64();
@@ -236,13 +248,15 @@ pub fn detect(
 }
 
 impl Detection {
-    /// Classifies one part pair's answer.
+    /// Classifies one part pair's answer; a `kept` pair is active whatever
+    /// its distance.
     fn record(
         &mut self,
         geometry: SceneGeometry,
         pair: BodyPair,
         result: PairQuery,
         lengths: &ResolvedLengths,
+        kept: bool,
     ) {
         let value = result.signed_value();
         self.deepest = self.deepest.max(-value);
@@ -265,7 +279,7 @@ impl Detection {
                 depth,
             });
         }
-        if value < lengths.contact_margin {
+        if value < lengths.contact_margin || kept {
             self.active_pairs.push(pair);
             self.active_bodies.push(bodies);
             self.active_values.push(value);

@@ -90,6 +90,8 @@ impl SettingsBuilder {
         friction_max_iterations: usize,
         /// [`Settings::solve_whole_islands`].
         solve_whole_islands: bool,
+        /// [`Settings::keep_penetrated_pairs`].
+        keep_penetrated_pairs: bool,
         /// [`Settings::joint_rotation_weight`].
         joint_rotation_weight: f64,
         /// [`Settings::step_max_rotation`].

@@ -203,6 +203,17 @@ pub struct Settings {
     /// `stabilizer/region.rs`), which gives the whole island's answer to
     /// within the tolerance at the cost of the part that moves.
     pub solve_whole_islands: bool,
+    /// Keep every pair that penetrated beyond the tolerance in a pass of a
+    /// call active in the call's later passes, whatever its distance then:
+    /// it is queried and gives rows even when separated beyond the contact
+    /// margin. Default true: a body wedged between two others (or a body
+    /// and the ground) whose contacts are never both within the margin at
+    /// once is otherwise pushed out of one into the other and back, each
+    /// pass seeing one contact; on the Rapier pile of 200 one call took 61
+    /// passes so (`CHANGELOG.md`). With the pair kept, the pass after the
+    /// push sees both contacts and solves them together. `false`: a pass
+    /// sees the pairs within the margin only.
+    pub keep_penetrated_pairs: bool,
     /// In islands with joints, each body's rotational metric is
     /// `I + w (tr I / 2) Id` with this `w`, instead of the inertia `I`
     /// alone: a rotation costs at least `w` times what turning the body
@@ -267,6 +278,7 @@ impl Default for Settings {
             allowed_penetration: 0.0,
             time_budget: None,
             max_passes: 100,
+            keep_penetrated_pairs: true,
             contact_manifold: true,
             near_pair_faces: true,
             hold_open_gaps: true,

@@ -70,7 +70,7 @@ pub use report::{
 pub use velocity::{BodyVelocity, VelocityFriction, VelocityReport};
 
 use crate::Error;
-use crate::broad_phase::IncrementalBroadPhase;
+use crate::broad_phase::{BodyPair, IncrementalBroadPhase};
 use crate::contact::SceneParts;
 use crate::contact::{
     Detection, DetectionState, QueryMemo, SceneGeometry, SeparationCertificates, WarmStartCache,
@@ -293,6 +293,7 @@ impl Stabilizer {
             cache: &mut self.cache,
             memo: &mut QueryMemo::default(),
             certificates: certify.then_some(&mut self.certificates),
+            kept_pairs: &[],
         };
         let detection = detect(
             scene,
@@ -355,6 +356,9 @@ impl Stabilizer {
         // Bodies of the islands whose friction could not be honoured in an
         // earlier pass of this call (`solve_island`'s "Friction").
         let mut without_friction = vec![false; scene.bodies().len()];
+        // Part pairs that penetrated in an earlier pass, ascending
+        // (`Settings::keep_penetrated_pairs`).
+        let mut kept_pairs: Vec<BodyPair> = Vec::new();
         loop {
             let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
             let part_poses = parts.poses(&poses);
@@ -368,9 +372,13 @@ impl Stabilizer {
                 cache: &mut self.cache,
                 memo: &mut memo,
                 certificates: certify.then_some(&mut self.certificates),
+                kept_pairs: &kept_pairs,
             };
             let detection = detect(scene, geometry, state, &vclip, &lengths)?;
             report.record_detection(&detection);
+            if self.settings.keep_penetrated_pairs {
+                keep_penetrating(&detection, lengths.tolerance, &mut kept_pairs);
+            }
             let joints = joint_errors(scene)?;
             let mut pass = pass_report(&detection, lengths.tolerance);
             pass.joint_error = largest_joint_error(&joints, lengths.scale);
@@ -541,6 +549,24 @@ impl Stabilizer {
         Ok(parallel::map(&penetrating, |island| {
             solve_island(input, island)
         }))
+    }
+}
+
+/// Adds the detection's pairs penetrating deeper than `tolerance` to
+/// `kept` (ascending, without repeats).
+fn keep_penetrating(detection: &Detection, tolerance: f64, kept: &mut Vec<BodyPair>) {
+    let before = kept.len();
+    kept.extend(
+        detection
+            .active_pairs
+            .iter()
+            .zip(&detection.active_values)
+            .filter(|(_, value)| -**value > tolerance)
+            .map(|(pair, _)| *pair),
+    );
+    if kept.len() > before {
+        kept.sort_unstable();
+        kept.dedup();
     }
 }
 

@@ -123,6 +123,7 @@ pub fn run(
             cache,
             memo: &mut memo,
             certificates: None,
+            kept_pairs: &[],
         };
         let detection = detect(scene, geometry, state, &vclip, lengths)?;
         report.record_detection(&detection);

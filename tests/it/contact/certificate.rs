@@ -92,6 +92,7 @@ fn detection(
         cache: &mut WarmStartCache::default(),
         memo: &mut QueryMemo::default(),
         certificates,
+        kept_pairs: &[],
     };
     detect(
         scene,

@@ -17,6 +17,8 @@ mod faults;
 mod friction;
 mod friction_pyramid_rows;
 mod infeasible;
+#[cfg(feature = "serde")]
+mod kept_pairs;
 mod minimal;
 #[cfg(feature = "serde")]
 mod permutation;
