@@ -140,21 +140,9 @@ fn main() {
         (false, false) => "engine_states",
     };
     let md_path = dir.join(format!("{stem}.md"));
-    write_keeping_sections(&md_path, &md);
+    common::write_keeping_sections(&md_path, &md);
     std::fs::write(dir.join(format!("{stem}.csv")), &csv).expect("write csv");
     println!("{md}\nwritten to {}", md_path.display());
-}
-
-/// Writes `table` in place of the generated part of the file at `path`
-/// (everything before its first `## ` section) and keeps the sections
-/// after it: the readings and measurements appended to a results file
-/// survive its regeneration.
-fn write_keeping_sections(path: &std::path::Path, table: &str) {
-    let kept = std::fs::read_to_string(path)
-        .ok()
-        .and_then(|old| old.find("\n## ").map(|at| old[at..].to_owned()))
-        .unwrap_or_default();
-    std::fs::write(path, format!("{}{kept}", table.trim_end_matches('\n'))).expect("write md");
 }
 
 /// Every engine state of the test data.

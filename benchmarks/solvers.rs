@@ -2,7 +2,8 @@
 //! with redundant corner contacts, see `dev_support::solver`): time and
 //! residual for each solver, side by side, at 1, 10, 100, 500 and 1000
 //! constraints. Writes `benchmarks/results/solvers.md` (with the command,
-//! the date, the commit, the load average and the seeds) and
+//! the date, the commit, the load average and the seeds; in place of the
+//! file's part before its first `## ` section, keeping the sections) and
 //! `benchmarks/results/solvers.csv`, and prints the Markdown table.
 //!
 //! `cargo bench --bench solvers` (all sizes), or with a list of sizes:
@@ -32,6 +33,7 @@ use constraint_stabilization::solver::augmented_lagrangian::{
     self, AugmentedLagrangianSettings, Start,
 };
 use constraint_stabilization::solver::clarabel_qp::{ClarabelSettings, dual, primal};
+use constraint_stabilization::solver::interior_point::{self, InteriorPointSettings};
 use constraint_stabilization::solver::lemke::{self, LemkeSettings};
 use constraint_stabilization::solver::pgs::{self, PgsSettings, PgsStatus};
 use constraint_stabilization::solver::residuals::projection_residuals;
@@ -65,10 +67,14 @@ enum Method {
     AugmentedLagrangianDense,
     AugmentedLagrangianSparse,
     AugmentedLagrangianWarm,
+    InteriorPoint,
+    InteriorPointWarm,
 }
 
-const METHODS: [Method; 9] = [
+const METHODS: [Method; 11] = [
     Method::BuildA,
+    Method::InteriorPoint,
+    Method::InteriorPointWarm,
     Method::AugmentedLagrangianDense,
     Method::AugmentedLagrangianSparse,
     Method::AugmentedLagrangianWarm,
@@ -91,6 +97,8 @@ impl Method {
             Method::AugmentedLagrangianDense => "augmented Lagrangian, dense H",
             Method::AugmentedLagrangianSparse => "augmented Lagrangian, sparse H",
             Method::AugmentedLagrangianWarm => "augmented Lagrangian, warm",
+            Method::InteriorPoint => "interior point",
+            Method::InteriorPointWarm => "interior point, warm",
         }
     }
 }
@@ -139,6 +147,17 @@ fn augmented_lagrangian(
         .map_err(|e| (format!("{e:?}"), None))
 }
 
+/// Runs the interior point on the body-space matrix, from `warm`.
+fn interior_point(p: &Problem, warm: Option<&DVector<f64>>) -> Result<Candidate, Failure> {
+    let start = Start {
+        warm,
+        tolerance: ACCEPTANCE_TOL,
+        deadline: None,
+    };
+    interior_point::solve(&p.qp, &p.metric, &InteriorPointSettings::default(), &start)
+        .map_err(|e| (format!("{e:?}"), None))
+}
+
 /// A failure: its text, and the residual the solver reached in its own
 /// measure when it says (PGS at its sweep limit).
 type Failure = (String, Option<f64>);
@@ -160,6 +179,8 @@ fn run_once(p: &Problem, method: Method) -> Result<Candidate, Failure> {
             AugmentedLagrangianSettings::default().dense_max_dofs,
             Some(&p.warm),
         ),
+        Method::InteriorPoint => interior_point(p, None),
+        Method::InteriorPointWarm => interior_point(p, Some(&p.warm)),
         Method::BuildA => {
             let a = lcp();
             Ok(Candidate {
@@ -396,13 +417,14 @@ fn main() {
          `solve_projection` passed (`ProjectionResiduals::acceptance` at most \
          1e-6). The augmented Lagrangian runs with a dense and with a sparse \
          Cholesky of `H`, and warm-started from the multipliers of the same \
-         problem with every `phi` scaled by 0.9 (as between two passes). \
-         Every run is in `solvers.csv`.\n\n{table}",
+         problem with every `phi` scaled by 0.9 (as between two passes); so \
+         does the interior point on the body-space matrix \
+         (`solver::interior_point`). Every run is in `solvers.csv`.\n\n{table}",
         provenance.markdown(),
         SEED_BASE + SEEDS - 1,
     );
     let dir = results_dir();
     std::fs::write(dir.join("solvers.csv"), csv).expect("write solvers.csv");
-    std::fs::write(dir.join("solvers.md"), md).expect("write solvers.md");
+    common::write_keeping_sections(&dir.join("solvers.md"), &md);
     println!("written to {}", dir.join("solvers.md").display());
 }

@@ -296,3 +296,15 @@ pub fn bench_command(name: &str, env_vars: &[&str]) -> String {
     }
     command
 }
+
+/// Writes `table` in place of the generated part of the file at `path`
+/// (everything before its first `## ` section) and keeps the sections
+/// after it: the readings and measurements appended to a results file
+/// survive its regeneration.
+pub fn write_keeping_sections(path: &std::path::Path, table: &str) {
+    let kept = std::fs::read_to_string(path)
+        .ok()
+        .and_then(|old| old.find("\n## ").map(|at| old[at..].to_owned()))
+        .unwrap_or_default();
+    std::fs::write(path, format!("{}{kept}", table.trim_end_matches('\n'))).expect("write md");
+}

@@ -33,6 +33,7 @@ pub const SETTING_NAMES: [&str; 21] = [
     "friction_model",
     "friction_rows",
     "solve_whole_islands",
+    "keep_penetrated_pairs",
     "joint_rotation_weight",
     "step_max_rotation",
     "step_max_translation_relative",
@@ -130,6 +131,7 @@ pub fn settings_from_kwargs(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Sett
                 )?
             }
             "solve_whole_islands" => s.solve_whole_islands = typed(&name, v)?,
+            "keep_penetrated_pairs" => s.keep_penetrated_pairs = typed(&name, v)?,
             "joint_rotation_weight" => s.joint_rotation_weight = typed(&name, v)?,
             "step_max_rotation" => s.step_max_rotation = typed(&name, v)?,
             "step_max_translation_relative" => s.step_max_translation_relative = typed(&name, v)?,
