@@ -16,7 +16,8 @@
 //! then stabilized by a fresh `Stabilizer` with those lengths, with and
 //! without the setting, the two in alternating order. Reported: passes per
 //! call (median, 90th percentile, max), calls over 10 passes, call ms
-//! (median, max), and the exact depth after (`dev_support::sat`) against
+//! (median, max), the stages' medians (`Report::times`: narrow phase,
+//! solve, line search; summed over islands), and the exact depth after (`dev_support::sat`) against
 //! the call's tolerance. With `--dump DIR` the input whose call took the
 //! most passes without the setting is written as a scene file (with its
 //! lengths) to `DIR/<scene>_most_passes.json`, its allowed penetration
@@ -88,6 +89,8 @@ fn record_inputs(name: &str, steps: usize) -> Result<Vec<Input>, Box<dyn std::er
 struct Outcomes {
     passes: Vec<f64>,
     ms: Vec<f64>,
+    /// Stage times (ms): narrow phase, solve, line search.
+    stages: [Vec<f64>; 3],
     /// Calls whose exact depth after exceeds the call's tolerance.
     over_tolerance: usize,
     failed: usize,
@@ -99,7 +102,7 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     let names = value("--scenes").unwrap_or_else(|| "pile_200".into());
     let dump = value("--dump").map(PathBuf::from);
     println!(
-        "| scene | inputs | variant | passes per call: median / p90 / max | calls over {LONG_CALL_PASSES} passes | call ms: median / max | exact depth after over the tolerance | failed |\n|---|---|---|---|---|---|---|---|"
+        "| scene | inputs | variant | passes per call: median / p90 / max | calls over {LONG_CALL_PASSES} passes | call ms: median / max | narrow / solve / line search ms (medians) | exact depth after over the tolerance | failed |\n|---|---|---|---|---|---|---|---|---|"
     );
     for name in names.split(',').map(str::trim) {
         let inputs = record_inputs(name, steps)?;
@@ -122,6 +125,14 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
                 };
                 outcome.passes.push(report.passes as f64);
                 outcome.ms.push(ms);
+                let t = &report.times;
+                for (stage, seconds) in outcome
+                    .stages
+                    .iter_mut()
+                    .zip([t.narrow_phase, t.solve, t.line_search])
+                {
+                    stage.push(seconds * 1e3);
+                }
                 if dev_support::sat::sat_deepest(&scene).0 > report.tolerance {
                     outcome.over_tolerance += 1;
                 }
@@ -138,13 +149,16 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
                 .filter(|&&p| p > LONG_CALL_PASSES as f64)
                 .count();
             println!(
-                "| {name} | {} | {variant} | {:.0} / {:.0} / {:.0} | {long} | {:.2} / {:.1} | {} | {} |",
+                "| {name} | {} | {variant} | {:.0} / {:.0} / {:.0} | {long} | {:.2} / {:.1} | {:.2} / {:.2} / {:.2} | {} | {} |",
                 inputs.len(),
                 quantile(&o.passes, 0.5),
                 quantile(&o.passes, 0.9),
                 quantile(&o.passes, 1.0),
                 quantile(&o.ms, 0.5),
                 quantile(&o.ms, 1.0),
+                quantile(&o.stages[0], 0.5),
+                quantile(&o.stages[1], 0.5),
+                quantile(&o.stages[2], 0.5),
                 o.over_tolerance,
                 o.failed,
             );
