@@ -369,8 +369,8 @@ impl Run {
             settings.stabilizer.solver.clarabel.tol_gap = gap;
             settings.stabilizer.solver.clarabel.tol_feas = gap;
         }
-        // `WITH_AND_WITHOUT_KEEP_PAIRS=0`: `Settings::keep_penetrated_pairs`
-        // off (measurements of issue 21).
+        // `WITH_AND_WITHOUT_KEEP_PAIRS=1` (or `0`):
+        // `Settings::keep_penetrated_pairs` on (off; measurements of issue 21).
         if let Ok(keep) = std::env::var("WITH_AND_WITHOUT_KEEP_PAIRS") {
             settings.stabilizer.keep_penetrated_pairs = keep != "0";
         }

@@ -126,10 +126,11 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
                 outcome.passes.push(report.passes as f64);
                 outcome.ms.push(ms);
                 let t = &report.times;
-                for (stage, seconds) in outcome
-                    .stages
-                    .iter_mut()
-                    .zip([t.narrow_phase, t.solve, t.line_search])
+                for (stage, seconds) in
+                    outcome
+                        .stages
+                        .iter_mut()
+                        .zip([t.narrow_phase, t.solve, t.line_search])
                 {
                     stage.push(seconds * 1e3);
                 }

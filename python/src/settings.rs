@@ -14,7 +14,7 @@ use pyo3::types::PyDict;
 use crate::errors::{input_error, input_type_error, library_error};
 
 /// Every keyword accepted, in `Settings`' order.
-pub const SETTING_NAMES: [&str; 21] = [
+pub const SETTING_NAMES: [&str; 22] = [
     "method",
     "tolerance_relative",
     "tolerance_absolute",

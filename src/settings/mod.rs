@@ -206,13 +206,19 @@ pub struct Settings {
     /// Keep every pair that penetrated beyond the tolerance in a pass of a
     /// call active in the call's later passes, whatever its distance then:
     /// it is queried and gives rows even when separated beyond the contact
-    /// margin. Default true: a body wedged between two others (or a body
-    /// and the ground) whose contacts are never both within the margin at
-    /// once is otherwise pushed out of one into the other and back, each
-    /// pass seeing one contact; on the Rapier pile of 200 one call took 61
-    /// passes so (`CHANGELOG.md`). With the pair kept, the pass after the
-    /// push sees both contacts and solves them together. `false`: a pass
-    /// sees the pairs within the margin only.
+    /// margin. A body wedged between two others (or a body and the ground)
+    /// whose contacts are never both within the margin at once is
+    /// otherwise pushed out of one into the other and back, each pass
+    /// seeing one contact; with the pair kept, the pass after the push
+    /// sees both contacts and solves them together. On the inputs of the
+    /// Rapier pile of 200's loop the longest call goes from 61 passes to 6
+    /// (`examples/probes/passes_probe.rs`, `CHANGELOG.md`). Default false,
+    /// by measurement: with it on, the interior point's and clarabel's
+    /// calls on the mixed pile `rp08` end 6.4e-6 apart relative to the
+    /// largest motion (2.4e-6 without: the kept rows make the passes
+    /// follow the solvers' differences), and the bridge's settling pile of
+    /// 200 takes another trajectory (it follows any change of answers,
+    /// `benchmarks/results/solvers.md`).
     pub keep_penetrated_pairs: bool,
     /// In islands with joints, each body's rotational metric is
     /// `I + w (tr I / 2) Id` with this `w`, instead of the inertia `I`
@@ -278,7 +284,7 @@ impl Default for Settings {
             allowed_penetration: 0.0,
             time_budget: None,
             max_passes: 100,
-            keep_penetrated_pairs: true,
+            keep_penetrated_pairs: false,
             contact_manifold: true,
             near_pair_faces: true,
             hold_open_gaps: true,

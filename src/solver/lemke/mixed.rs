@@ -29,15 +29,23 @@
 //! (`S` does not depend on which generalized inverse `G` is, and it is
 //! positive semidefinite when `A` is: a Schur complement). Redundant
 //! equality rows (closed loops of joints: a four-bar linkage lists more
-//! rows than it removes degrees of freedom) make `A_EE` singular, so `G`
-//! is a pseudo-inverse: `G = D (D A_EE D)^+ D` with the Jacobi scaling `D`
-//! of `A_EE` (`crate::solver::scaling`), so that the relative rank
-//! tolerance [`EQUALITY_RANK_TOL_REL`] does not depend on masses and
-//! lengths, and the SVD's pseudo-inverse of the scaled block (singular
-//! values below that tolerance times the largest are dropped).
-//! `D X^+ D` is a generalized inverse of `A_EE` (`A D (D A D)^+ D A =
-//! D^-1 (D A D)(D A D)^+(D A D) D^-1 = A`), though not its Moore-Penrose
-//! one, which is all the elimination needs.
+//! rows than it removes degrees of freedom) make `A_EE` singular. With the
+//! Jacobi scaling `D` of `A_EE` (`crate::solver::scaling`: unit diagonal,
+//! so that the relative rank tolerance [`EQUALITY_RANK_TOL_REL`] does not
+//! depend on masses and lengths), the pivoted Cholesky factorization
+//! (faer's, diagonal pivoting) `P X P^T = L L^T` of `X = D A_EE D` stops
+//! at the numerical rank `r`: the first pivot below the tolerance. Then
+//!
+//! ```text
+//! G = D P^T [(L_11 L_11^T)^-1, 0; 0, 0] P D
+//! ```
+//!
+//! with `L_11` the leading `r x r` block: `X^- = P^T [(L_11 L_11^T)^-1, 0;
+//! 0, 0] P` is a generalized inverse of `X` when its trailing Schur
+//! complement vanishes (rank `r`), and `D X^- D` one of `A_EE` (`A D X^- D
+//! A = D^-1 X X^- X D^-1 = A`). It costs `O(e^2 r)` where the SVD's
+//! pseudo-inverse cost about twenty times `e^3` (a chain of 21 links, 106
+//! rows: most of the bridge's call, `CHANGELOG.md`).
 //!
 //! Inconsistent equalities (`b_E` not in the range: two joint rows asking
 //! for different values of one quantity) are reported as
@@ -49,17 +57,21 @@
 //! returned, which also catches a non-symmetric `A` whose elimination does
 //! not hold.
 
-use nalgebra::{DMatrix, DVector, SVD};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt_pivoting::factor::{cholesky_in_place, cholesky_in_place_scratch};
+use faer::{Mat, Par};
+use nalgebra::{DMatrix, DVector};
 
 use super::{LemkeFailure, LemkeSettings, LemkeSolution, LemkeStatus, solve_plain};
 use crate::solver::lcp::Lcp;
 use crate::solver::residuals::{lcp_natural_map, natural_map_relative};
 use crate::solver::scaling::LcpScaling;
 
-/// Singular values of the Jacobi-scaled `A_EE` (unit diagonal) below this
-/// fraction of the largest count as zero: redundant rows. `A_EE = J_E M^-1
-/// J_E^T` squares the singular values of the (whitened) equality rows, so
-/// this treats rows dependent to about `1e-5` in angle as redundant; a
+/// Pivots of the pivoted Cholesky factor of the Jacobi-scaled `A_EE`
+/// (unit diagonal) below this fraction of the first count as zero:
+/// redundant rows. With a unit diagonal the pivot of a row is the squared
+/// sine of its (whitened) angle to the span of the rows pivoted before it,
+/// so this treats rows dependent to about `1e-5` in angle as redundant; a
 /// dependence formed in f64 leaves about `1e-16`.
 pub const EQUALITY_RANK_TOL_REL: f64 = 1e-10;
 
@@ -70,12 +82,6 @@ pub const EQUALITY_RANK_TOL_REL: f64 = 1e-10;
 /// projection): rows redundant up to that part are solved, and the final
 /// check of the whole mixed problem decides.
 pub const EQUALITY_RANGE_TOL_REL: f64 = 1e-9;
-
-/// Convergence threshold of the SVD (nalgebra's default, five ulps).
-const SVD_EPS: f64 = 5.0 * f64::EPSILON;
-
-/// Iteration limit of the SVD (nalgebra's `0` would mean none).
-const SVD_MAX_ITERATIONS: usize = 10_000;
 
 /// Solves a mixed LCP (`lcp.free() > 0`) by elimination (module docs).
 pub(super) fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution, LemkeFailure> {
@@ -139,14 +145,41 @@ fn failure(status: LemkeStatus) -> LemkeFailure {
     }
 }
 
-/// `G = D (D A D)^+ D` (module docs), `None` when the SVD does not
-/// converge or `G` is not finite.
+/// `G = D P^T [(L_11 L_11^T)^-1, 0; 0, 0] P D` (module docs), `None` when
+/// the factorization fails or `G` is not finite.
 fn generalized_inverse(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<DMatrix<f64>> {
     let scaling = LcpScaling::jacobi(a, b);
-    let svd = SVD::try_new(scaling.scale_m(a), true, true, SVD_EPS, SVD_MAX_ITERATIONS)?;
-    let largest = svd.singular_values.max();
-    let pinv = svd.pseudo_inverse(EQUALITY_RANK_TOL_REL * largest).ok()?;
-    let d = DMatrix::from_diagonal(&scaling.d);
-    let g = &d * pinv * &d;
+    let scaled = scaling.scale_m(a);
+    let n = scaled.nrows();
+    let mut factor = Mat::<f64>::from_fn(n, n, |i, j| scaled[(i, j)]);
+    let (mut perm, mut perm_inv) = (vec![0usize; n], vec![0usize; n]);
+    let params = Default::default();
+    let mut workspace =
+        MemBuffer::try_new(cholesky_in_place_scratch::<usize, f64>(n, Par::Seq, params)).ok()?;
+    cholesky_in_place(
+        factor.as_mut(),
+        &mut perm,
+        &mut perm_inv,
+        Par::Seq,
+        MemStack::new(&mut workspace),
+        params,
+    )
+    .ok()?;
+    // The pivots `L_jj^2` do not increase (each is the largest left); the
+    // rank is where they fall below the tolerance relative to the first.
+    let first = factor[(0, 0)].powi(2);
+    let rank = (0..n)
+        .take_while(|&j| factor[(j, j)].powi(2) > EQUALITY_RANK_TOL_REL * first)
+        .count();
+    let l_11 = DMatrix::from_fn(rank, rank, |i, j| if i >= j { factor[(i, j)] } else { 0.0 });
+    let l_inv = l_11.solve_lower_triangular(&DMatrix::identity(rank, rank))?;
+    let inner = l_inv.transpose() * l_inv;
+    let mut g = DMatrix::zeros(n, n);
+    for i in 0..rank {
+        for j in 0..rank {
+            let (pi, pj) = (perm[i], perm[j]);
+            g[(pi, pj)] = scaling.d[pi] * inner[(i, j)] * scaling.d[pj];
+        }
+    }
     g.iter().all(|x| x.is_finite()).then_some(g)
 }
