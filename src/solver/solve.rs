@@ -343,9 +343,24 @@ pub fn solve_projection_warm(
     settings: &SolverSettings,
     warm: Option<&DVector<f64>>,
 ) -> Result<ProjectionSolution, SolverError> {
+    if !super::recorder::is_on() {
+        return solve_validated(qp, settings, warm);
+    }
+    let start = Instant::now();
+    let result = solve_validated(qp, settings, warm);
+    let solver = result.as_ref().ok().map(|s| s.solver);
+    super::recorder::record(qp, warm, start.elapsed().as_secs_f64(), solver);
+    result
+}
+
+/// [`solve_projection_warm`] without the recorder.
+fn solve_validated(
+    qp: &ProjectionQp,
+    settings: &SolverSettings,
+    warm: Option<&DVector<f64>>,
+) -> Result<ProjectionSolution, SolverError> {
     let metric = qp.validate()?;
     check_zero_rows(qp, settings.tol_residual)?;
-    super::recorder::record(qp, warm);
     let pyramid_qp = (!qp.cones.is_empty()).then(|| qp.pyramid().0);
     let pyramid = pyramid_qp.as_ref().map(|pyramid_qp| Problem {
         qp: pyramid_qp,
