@@ -94,6 +94,14 @@ fn variant(name: &str) -> SolverSettings {
             s.augmented_lagrangian.exact_only = false;
         }
         "ip" => s.choice = SolverChoice::InteriorPoint,
+        "ip_sparse" => {
+            s.choice = SolverChoice::InteriorPoint;
+            s.interior_point.dense_max_dofs = 0;
+        }
+        "ip_unpacked" => {
+            s.choice = SolverChoice::InteriorPoint;
+            s.interior_point.packed_rows = false;
+        }
         "ip_simplicial" => {
             s.choice = SolverChoice::InteriorPoint;
             s.interior_point.supernodal = false;
@@ -171,6 +179,7 @@ fn run(p: &RecordedQp, s: &SolverSettings, warm: bool) -> Outcome {
 }
 
 fn main() {
+    let _ = env_logger::try_init();
     let args = parse();
     println!(
         "| state | QP rows | variant | solve ms (median) | / clarabel | max dq diff (M, rel) | worst acceptance | answered by | iterations | factorizations |"

@@ -42,6 +42,7 @@ mod lcp;
 pub mod lemke;
 pub(crate) mod metric;
 mod outcome;
+pub(crate) mod packed_rows;
 pub mod pgs;
 mod projection;
 pub(crate) mod projection_lcp;

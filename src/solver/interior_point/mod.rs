@@ -70,6 +70,7 @@ use super::augmented_lagrangian::Start;
 use super::augmented_lagrangian::hessian::NewtonMatrix;
 use super::metric::BlockMetric;
 use super::outcome::Candidate;
+use super::packed_rows::PackedRows;
 use super::projection::ProjectionQp;
 use super::projection_lcp::dq_from_lambda;
 use super::residuals::{m_apply, projection_residuals, row_diagonal};
@@ -96,6 +97,11 @@ pub struct InteriorPointSettings {
     /// The sparse factor is supernodal (as the augmented Lagrangian's)
     /// rather than left to faer's flop-ratio choice. Default true.
     pub supernodal: bool,
+    /// `H` is assembled from the rows grouped by body pair and `J v`,
+    /// `J^T v` read packed gradients (`super::packed_rows`), where every
+    /// row has at most two bodies. Default true; false: the general
+    /// per-row path (the same matrices up to the order of the sums).
+    pub packed_rows: bool,
 }
 
 impl Default for InteriorPointSettings {
@@ -106,6 +112,7 @@ impl Default for InteriorPointSettings {
             step_fraction: 0.99,
             dense_max_dofs: 96,
             supernodal: true,
+            packed_rows: true,
         }
     }
 }
@@ -201,6 +208,7 @@ pub fn solve(
             }
         }),
     };
+    let packed = settings.packed_rows.then(|| PackedRows::new(qp)).flatten();
     let mut best: Option<(Candidate, f64)> = None;
     for iteration in 1..=settings.max_iter {
         if start.deadline.is_some_and(|d| Instant::now() >= d) {
@@ -212,6 +220,7 @@ pub fn solve(
             b: &b,
             moved: &moved,
             a: &a,
+            packed: packed.as_ref(),
         };
         let gap = newton_step(&inputs, &mut newton, &mut it, settings.step_fraction)?;
         factorizations += 1;
