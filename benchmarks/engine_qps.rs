@@ -217,17 +217,22 @@ fn loop_cases(args: &Args, scene: &str) {
     let min_rows = args.min_rows.unwrap_or(2);
     for call in engine_qps_loop::worst_calls(scene, args.steps, args.worst, |_| {}) {
         let in_solver: f64 = call.qps.iter().map(|p| p.seconds).sum();
-        let solved: Vec<String> = call
-            .qps
+        // Per answering solver: QPs, rows and milliseconds.
+        let mut by_solver: Vec<(String, usize, usize, f64)> = Vec::new();
+        for p in &call.qps {
+            let solver = p.solver.map_or("failed".into(), |k| format!("{k:?}"));
+            match by_solver.iter_mut().find(|(s, ..)| *s == solver) {
+                Some(entry) => {
+                    entry.1 += 1;
+                    entry.2 += p.qp.num_rows();
+                    entry.3 += 1e3 * p.seconds;
+                }
+                None => by_solver.push((solver, 1, p.qp.num_rows(), 1e3 * p.seconds)),
+            }
+        }
+        let solved: Vec<String> = by_solver
             .iter()
-            .map(|p| {
-                let solver = p.solver.map_or("failed".into(), |k| format!("{k:?}"));
-                format!(
-                    "{} rows {solver} {:.2} ms",
-                    p.qp.num_rows(),
-                    1e3 * p.seconds
-                )
-            })
+            .map(|(s, n, rows, ms)| format!("{s}: {n} QPs, {rows} rows, {ms:.2} ms"))
             .collect();
         println!(
             "\n{scene} step {}: call {:.2} ms, {:.2} ms in the solver ({}); last stabilizer run: {} passes, narrow phase {:.2} ms, solve stage {:.2} ms, line search {:.2} ms, total {:.2} ms\n",
@@ -288,11 +293,16 @@ fn compare(args: &Args, name: &str, qps: &[RecordedQp]) {
             }
         }
     }
-    let rows: String = qps
-        .iter()
-        .map(|p| p.qp.num_rows().to_string())
-        .collect::<Vec<_>>()
-        .join("+");
+    let rows: String = if qps.len() <= 4 {
+        qps.iter()
+            .map(|p| p.qp.num_rows().to_string())
+            .collect::<Vec<_>>()
+            .join("+")
+    } else {
+        let total: usize = qps.iter().map(|p| p.qp.num_rows()).sum();
+        let largest = qps.iter().map(|p| p.qp.num_rows()).max().unwrap_or(0);
+        format!("{} QPs, {total} rows, largest {largest}", qps.len())
+    };
     let clarabel_time: f64 = times[0].iter().map(|t| common::median(t)).sum();
     for (v, vname) in args.variants.iter().enumerate() {
         let time: f64 = times[v].iter().map(|t| common::median(t)).sum();

@@ -71,7 +71,7 @@ pub fn worst_calls(
         let call_ms = t.elapsed().as_secs_f64() * 1e3;
         let qps = recorder::stop();
         let stabilizer = report.ok().and_then(|r| r.stabilizer);
-        let times = stabilizer.as_ref().map(|r| r.times.clone());
+        let times = stabilizer.as_ref().map(|r| r.times);
         let times = times.unwrap_or_default();
         calls.push(LoopCall {
             step,

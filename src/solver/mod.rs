@@ -35,6 +35,7 @@ pub mod clarabel_qp;
 pub(crate) mod closed_form;
 pub(crate) mod cone_residuals;
 pub(crate) mod cross_check;
+pub(crate) mod dense_cholesky;
 mod error;
 pub mod friction_cone;
 pub mod interior_point;

@@ -22,6 +22,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use nalgebra::{DMatrix, DVector, Matrix6};
 
+use super::super::dense_cholesky::DenseCholesky;
 use super::super::metric::BlockMetric;
 use super::super::packed_rows::{Gram, PackedRows};
 use super::super::projection::ProjectionQp;
@@ -131,7 +132,7 @@ struct SparseFactor {
 
 /// A Cholesky factor of `H`.
 enum Factor {
-    Dense(nalgebra::Cholesky<f64, nalgebra::Dyn>),
+    Dense(DenseCholesky),
     Sparse,
 }
 
@@ -205,7 +206,7 @@ impl NewtonMatrix {
                     mirror += block.transpose();
                 }
             });
-            Factor::Dense(h.cholesky().ok_or(FactorizationFailed)?)
+            Factor::Dense(DenseCholesky::new(h).ok_or(FactorizationFailed)?)
         } else {
             self.sparse_factor(qp, metric, rho, active)?;
             Factor::Sparse
@@ -236,7 +237,7 @@ impl NewtonMatrix {
             for (group, gram) in packed.groups.iter().zip(grams) {
                 add_gram_dense(&mut h, group.bodies, &gram);
             }
-            Factor::Dense(h.cholesky().ok_or(FactorizationFailed)?)
+            Factor::Dense(DenseCholesky::new(h).ok_or(FactorizationFailed)?)
         } else {
             self.prepare_sparse()?;
             if self.group_bases.is_none() {

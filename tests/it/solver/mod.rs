@@ -13,6 +13,7 @@ mod friction_cone;
 mod friction_cone_unit;
 mod friction_finishes;
 mod friction_rows;
+mod interior_point_friction;
 mod lcp_siconos;
 mod lemke;
 mod pgs;
