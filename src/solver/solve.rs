@@ -245,7 +245,12 @@ pub struct SolverSettings {
     /// drifted 6.2 mm against 0.6 mm (clarabel at a tighter gap, 1e-10,
     /// did too: 15.9 mm, 33 steps later; the settle moves with any change
     /// of the answers: `benchmarks/results/solvers.md`, "The interior
-    /// point").
+    /// point"). From 41 rows (Lemke below; friction pyramids included) it
+    /// answers the worst calls of the Rapier loop at 0.15-0.39x Lemke's
+    /// time (the thrown box's 120 rows) and 0.16-0.21x clarabel's (the
+    /// pyramid's 2,900), and the pile of 200's settling calls at 0.4x;
+    /// the pile then sleeps 20 steps later (`solvers.md`, "The worst calls
+    /// of the Rapier loop"; `call_cost.md`, last section).
     pub auto_interior_point_min_rows: usize,
     /// Augmented Lagrangian settings.
     pub augmented_lagrangian: AugmentedLagrangianSettings,

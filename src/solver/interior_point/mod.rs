@@ -28,6 +28,16 @@
 //! ordering and symbolic factorization are done once, each iteration costs
 //! one numeric factorization and two solves.
 //!
+//! **Per-iteration work.** Where every row has at most two bodies (contact
+//! rows, friction facets), the rows are packed (`super::packed_rows`):
+//! `J^T D J` is accumulated per pair of bodies on a 12x12 matrix and
+//! scattered into `H` once per pair (a box face with friction brings 20
+//! rows per pair), and `J v`, `J^T v` read contiguous gradients
+//! ([`InteriorPointSettings::packed_rows`]). Up to
+//! [`InteriorPointSettings::dense_max_dofs`] the factor is a dense
+//! Cholesky written for those sizes (`super::dense_cholesky`), above it
+//! faer's supernodal sparse one.
+//!
 //! **Scale.** Rows are measured in the whitened distance of the most
 //! violated row, `l = max_i max(0, -b_i) / g_i` with `g_i = sqrt(a_i)`,
 //! `a_i = J_i M^-1 J_i^T`: the start is `s_i = g_i l max(1, b_i / (g_i l))`,
