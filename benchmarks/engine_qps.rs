@@ -143,6 +143,12 @@ fn extra_variant(name: &str, s: &mut SolverSettings) -> bool {
         s.interior_point.step_fraction = fraction;
         return true;
     }
+    // `ipc:N`: the interior point with `N` centrality correctors.
+    if let Some(count) = name.strip_prefix("ipc:").and_then(|f| f.parse().ok()) {
+        s.choice = SolverChoice::InteriorPoint;
+        s.interior_point.centrality_correctors = count;
+        return true;
+    }
     // `ip:F`: the interior point stopping at `F` times the tolerance.
     if let Some(fraction) = name.strip_prefix("ip:").and_then(|f| f.parse().ok()) {
         s.choice = SolverChoice::InteriorPoint;

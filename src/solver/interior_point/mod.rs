@@ -69,6 +69,7 @@
 //! solver stops at its iteration limit ([`InteriorPointFailure::NotConverged`])
 //! and the caller's fallback (clarabel) certifies the infeasibility.
 
+mod centrality;
 mod step;
 mod warm;
 
@@ -112,6 +113,10 @@ pub struct InteriorPointSettings {
     /// row has at most two bodies. Default true; false: the general
     /// per-row path (the same matrices up to the order of the sums).
     pub packed_rows: bool,
+    /// Gondzio's centrality correctors per iteration (`centrality.rs`):
+    /// extra solves with the iteration's factor that lengthen the step.
+    /// Default 0 (Mehrotra's predictor-corrector alone).
+    pub centrality_correctors: usize,
 }
 
 impl Default for InteriorPointSettings {
@@ -123,6 +128,7 @@ impl Default for InteriorPointSettings {
             dense_max_dofs: 96,
             supernodal: true,
             packed_rows: true,
+            centrality_correctors: 0,
         }
     }
 }
@@ -232,7 +238,13 @@ pub fn solve(
             a: &a,
             packed: packed.as_ref(),
         };
-        let gap = newton_step(&inputs, &mut newton, &mut it, settings.step_fraction)?;
+        let gap = newton_step(
+            &inputs,
+            &mut newton,
+            &mut it,
+            settings.step_fraction,
+            settings.centrality_correctors,
+        )?;
         factorizations += 1;
         // The acceptance test costs several products with `J`: it is only
         // measured once the complementarity gap, relative to the energy

@@ -70,10 +70,10 @@ impl StepInputs<'_> {
 const CLAMPED_WEIGHT: f64 = 1e12;
 
 /// A direction `(ddq, ds, dlambda)`.
-struct Direction {
-    dq: DVector<f64>,
-    s: DVector<f64>,
-    lambda: DVector<f64>,
+pub(super) struct Direction {
+    pub dq: DVector<f64>,
+    pub s: DVector<f64>,
+    pub lambda: DVector<f64>,
 }
 
 /// Takes one step; `newton` is refactored with the iterate's `D`. Returns
@@ -83,6 +83,7 @@ pub(super) fn newton_step(
     newton: &mut NewtonMatrix,
     it: &mut Iterate,
     step_fraction: f64,
+    correctors: usize,
 ) -> Result<f64, InteriorPointFailure> {
     let (qp, moved) = (inputs.qp, inputs.moved);
     let m = qp.num_rows();
@@ -141,6 +142,11 @@ pub(super) fn newton_step(
         }
     });
     let step = direction(inputs, newton, it, &d, &r_d, &r_p, &r_c)?;
+    let step = if correctors > 0 {
+        super::centrality::correct(inputs, newton, it, &d, step, sigma * mu, correctors)?
+    } else {
+        step
+    };
     let alpha = (step_fraction * max_step(it, &step, moved)).min(1.0);
     log::trace!(
         "interior point: mu {mu:.3e}, affine step {alpha_aff:.3}, sigma {sigma:.2e}, step {alpha:.3}"
@@ -166,7 +172,7 @@ pub(super) fn newton_step(
 
 /// The direction for the complementarity residual `r_c` (module docs of
 /// [`super`]).
-fn direction(
+pub(super) fn direction(
     inputs: &StepInputs<'_>,
     newton: &mut NewtonMatrix,
     it: &Iterate,
@@ -208,7 +214,7 @@ fn direction(
 /// The largest `alpha` with `s + alpha ds >= 0` and
 /// `lambda + alpha dlambda >= 0` on the moved rows (infinite when no
 /// entry decreases).
-fn max_step(it: &Iterate, dir: &Direction, moved: &[bool]) -> f64 {
+pub(super) fn max_step(it: &Iterate, dir: &Direction, moved: &[bool]) -> f64 {
     let mut alpha = f64::INFINITY;
     for i in (0..moved.len()).filter(|&i| moved[i]) {
         if dir.s[i] < 0.0 {
