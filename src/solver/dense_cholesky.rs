@@ -12,21 +12,21 @@
 //! `A_rc -= L_rj L_cj` (`r >= c > j`). A pivot that is not
 //! positive and finite fails the factorization (rounding on a matrix that
 //! is positive definite in exact arithmetic; the caller retries or falls
-//! back).
+//! back). Not part of the stable API (public for the tests).
 
 use nalgebra::{DMatrix, DVector};
 
 /// The factor `L` (lower triangle of a column-major `n x n` matrix; the
 /// upper triangle holds what was there).
 #[derive(Debug, Clone)]
-pub(crate) struct DenseCholesky {
+pub struct DenseCholesky {
     l: DMatrix<f64>,
 }
 
 impl DenseCholesky {
     /// Factors the symmetric `h` (its lower triangle is read), or `None`
     /// when a pivot is not positive and finite.
-    pub(crate) fn new(mut h: DMatrix<f64>) -> Option<Self> {
+    pub fn new(mut h: DMatrix<f64>) -> Option<Self> {
         let n = h.nrows();
         if h.ncols() != n {
             return None;
@@ -60,7 +60,7 @@ impl DenseCholesky {
     }
 
     /// `H^-1 b`.
-    pub(crate) fn solve(&self, b: &DVector<f64>) -> DVector<f64> {
+    pub fn solve(&self, b: &DVector<f64>) -> DVector<f64> {
         let n = self.l.nrows();
         let l = self.l.as_slice();
         let mut x = b.clone();

@@ -35,7 +35,8 @@ pub mod clarabel_qp;
 pub(crate) mod closed_form;
 pub(crate) mod cone_residuals;
 pub(crate) mod cross_check;
-pub(crate) mod dense_cholesky;
+#[doc(hidden)]
+pub mod dense_cholesky;
 mod error;
 pub mod friction_cone;
 pub mod interior_point;

@@ -5,6 +5,7 @@ mod acceptance;
 mod active_set_oracle;
 mod augmented_lagrangian;
 mod deadline;
+mod dense_cholesky;
 mod dense_limit;
 mod equality_rows;
 mod exact_engine_states;
