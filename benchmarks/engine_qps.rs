@@ -14,11 +14,21 @@
 //! `cargo bench --bench engine_qps --features serde -- [--only TEXT]
 //! [--min-rows N] [--rounds N] [--variants a,b,...]`
 //!
+//! With `--rapier SCENE` (built with `--features rapier,serde`) the QPs
+//! are instead those of the `--worst K` slowest calls (default 1) of
+//! `--steps N` steps (default 300) of a `with_and_without` scene
+//! (`pile_200`, `pyramid_55`, `thrown_box`, ...) with the bridge's default
+//! settings, every QP of each call (frictional pyramids and velocity
+//! projections included; `--min-rows` defaults to 2 there), one table row
+//! per call and variant, after a line with the call's stage times.
+//!
 //! Variants: `clarabel` (the reference: the default settings with
 //! `SolverChoice::Clarabel`), `al` (the augmented Lagrangian, named),
 //! `auto` (the default `Auto`), and those listed in [`variants`].
 
 mod common;
+#[cfg(feature = "rapier")]
+mod engine_qps_loop;
 
 use std::time::Instant;
 
@@ -31,7 +41,10 @@ use nalgebra::DVector;
 
 struct Args {
     only: Option<String>,
-    min_rows: usize,
+    min_rows: Option<usize>,
+    rapier: Option<String>,
+    steps: usize,
+    worst: usize,
     rounds: usize,
     variants: Vec<String>,
 }
@@ -39,7 +52,10 @@ struct Args {
 fn parse() -> Args {
     let mut args = Args {
         only: None,
-        min_rows: 161,
+        min_rows: None,
+        rapier: None,
+        steps: 300,
+        worst: 1,
         rounds: 7,
         variants: vec!["clarabel".into(), "al".into()],
     };
@@ -47,7 +63,10 @@ fn parse() -> Args {
     while let Some(a) = it.next() {
         match a.as_str() {
             "--only" => args.only = it.next(),
-            "--min-rows" => args.min_rows = it.next().and_then(|v| v.parse().ok()).unwrap_or(161),
+            "--min-rows" => args.min_rows = it.next().and_then(|v| v.parse().ok()),
+            "--rapier" => args.rapier = it.next(),
+            "--steps" => args.steps = it.next().and_then(|v| v.parse().ok()).unwrap_or(300),
+            "--worst" => args.worst = it.next().and_then(|v| v.parse().ok()).unwrap_or(1),
             "--rounds" => args.rounds = it.next().and_then(|v| v.parse().ok()).unwrap_or(7),
             "--variants" => {
                 args.variants = it
@@ -75,6 +94,14 @@ fn variant(name: &str) -> SolverSettings {
             s.augmented_lagrangian.exact_only = false;
         }
         "ip" => s.choice = SolverChoice::InteriorPoint,
+        "ip_sparse" => {
+            s.choice = SolverChoice::InteriorPoint;
+            s.interior_point.dense_max_dofs = 0;
+        }
+        "ip_unpacked" => {
+            s.choice = SolverChoice::InteriorPoint;
+            s.interior_point.packed_rows = false;
+        }
         "ip_simplicial" => {
             s.choice = SolverChoice::InteriorPoint;
             s.interior_point.supernodal = false;
@@ -116,6 +143,12 @@ fn extra_variant(name: &str, s: &mut SolverSettings) -> bool {
         s.interior_point.step_fraction = fraction;
         return true;
     }
+    // `ipc:N`: the interior point with `N` centrality correctors.
+    if let Some(count) = name.strip_prefix("ipc:").and_then(|f| f.parse().ok()) {
+        s.choice = SolverChoice::InteriorPoint;
+        s.interior_point.centrality_correctors = count;
+        return true;
+    }
     // `ip:F`: the interior point stopping at `F` times the tolerance.
     if let Some(fraction) = name.strip_prefix("ip:").and_then(|f| f.parse().ok()) {
         s.choice = SolverChoice::InteriorPoint;
@@ -152,11 +185,17 @@ fn run(p: &RecordedQp, s: &SolverSettings, warm: bool) -> Outcome {
 }
 
 fn main() {
+    let _ = env_logger::try_init();
     let args = parse();
     println!(
         "| state | QP rows | variant | solve ms (median) | / clarabel | max dq diff (M, rel) | worst acceptance | answered by | iterations | factorizations |"
     );
     println!("|---|---|---|---:|---:|---:|---:|---|---:|---:|");
+    if let Some(scene) = &args.rapier {
+        loop_cases(&args, scene);
+        return;
+    }
+    let min_rows = args.min_rows.unwrap_or(161);
     for (name, scene) in common::engine_states() {
         if args
             .only
@@ -172,71 +211,129 @@ fn main() {
         let _ = stabilizer.stabilize(&mut work);
         let qps: Vec<RecordedQp> = recorder::stop()
             .into_iter()
-            .filter(|p| p.qp.cones.is_empty() && p.qp.num_rows() >= args.min_rows)
+            .filter(|p| p.qp.cones.is_empty() && p.qp.num_rows() >= min_rows)
             .collect();
-        if qps.is_empty() {
-            continue;
-        }
-        // `NAME+warm`: variant NAME warm-started as in the recorded call.
-        let settings: Vec<(SolverSettings, bool)> = args
-            .variants
-            .iter()
-            .map(|v| match v.strip_suffix("+warm") {
-                Some(name) => (variant(name), true),
-                None => (variant(v), false),
-            })
-            .collect();
-        let reference =
-            variant(&std::env::var("ENGINE_QPS_REFERENCE").unwrap_or("clarabel".into()));
-        let reference: Vec<Option<DVector<f64>>> = qps
-            .iter()
-            .map(|p| run(p, &reference, false).solution.map(|s| s.dq))
-            .collect();
-        // times[variant][qp][round]
-        let mut times = vec![vec![Vec::new(); qps.len()]; settings.len()];
-        let mut last: Vec<Vec<Option<ProjectionSolution>>> =
-            vec![vec![None; qps.len()]; settings.len()];
-        for _ in 0..args.rounds {
-            for (q, p) in qps.iter().enumerate() {
-                for (v, (s, warm)) in settings.iter().enumerate() {
-                    let outcome = run(p, s, *warm);
-                    times[v][q].push(outcome.time);
-                    last[v][q] = outcome.solution;
+        compare(&args, &name, &qps);
+    }
+}
+
+/// The slowest calls of a Rapier loop (`--rapier`), each compared.
+#[cfg(feature = "rapier")]
+fn loop_cases(args: &Args, scene: &str) {
+    let min_rows = args.min_rows.unwrap_or(2);
+    for call in engine_qps_loop::worst_calls(scene, args.steps, args.worst, |_| {}) {
+        let in_solver: f64 = call.qps.iter().map(|p| p.seconds).sum();
+        // Per answering solver: QPs, rows and milliseconds.
+        let mut by_solver: Vec<(String, usize, usize, f64)> = Vec::new();
+        for p in &call.qps {
+            let solver = p.solver.map_or("failed".into(), |k| format!("{k:?}"));
+            match by_solver.iter_mut().find(|(s, ..)| *s == solver) {
+                Some(entry) => {
+                    entry.1 += 1;
+                    entry.2 += p.qp.num_rows();
+                    entry.3 += 1e3 * p.seconds;
                 }
+                None => by_solver.push((solver, 1, p.qp.num_rows(), 1e3 * p.seconds)),
             }
         }
-        let rows: String = qps
+        let solved: Vec<String> = by_solver
             .iter()
+            .map(|(s, n, rows, ms)| format!("{s}: {n} QPs, {rows} rows, {ms:.2} ms"))
+            .collect();
+        println!(
+            "\n{scene} step {}: call {:.2} ms, {:.2} ms in the solver ({}); last stabilizer run: {} passes, narrow phase {:.2} ms, solve stage {:.2} ms, line search {:.2} ms, total {:.2} ms\n",
+            call.step,
+            call.call_ms,
+            1e3 * in_solver,
+            solved.join(", "),
+            call.passes,
+            call.narrow_ms,
+            call.solve_ms,
+            call.line_search_ms,
+            call.stabilizer_ms,
+        );
+        let qps: Vec<RecordedQp> = call
+            .qps
+            .into_iter()
+            .filter(|p| p.qp.num_rows() >= min_rows)
+            .collect();
+        compare(args, &format!("{scene}@{}", call.step), &qps);
+    }
+}
+
+#[cfg(not(feature = "rapier"))]
+fn loop_cases(_: &Args, _: &str) {
+    eprintln!("--rapier needs --features rapier,serde");
+}
+
+/// Solves `qps` with every variant, interleaved, and prints a row per
+/// variant.
+fn compare(args: &Args, name: &str, qps: &[RecordedQp]) {
+    if qps.is_empty() {
+        return;
+    }
+    // `NAME+warm`: variant NAME warm-started as in the recorded call.
+    let settings: Vec<(SolverSettings, bool)> = args
+        .variants
+        .iter()
+        .map(|v| match v.strip_suffix("+warm") {
+            Some(name) => (variant(name), true),
+            None => (variant(v), false),
+        })
+        .collect();
+    let reference = variant(&std::env::var("ENGINE_QPS_REFERENCE").unwrap_or("clarabel".into()));
+    let reference: Vec<Option<DVector<f64>>> = qps
+        .iter()
+        .map(|p| run(p, &reference, false).solution.map(|s| s.dq))
+        .collect();
+    // times[variant][qp][round]
+    let mut times = vec![vec![Vec::new(); qps.len()]; settings.len()];
+    let mut last: Vec<Vec<Option<ProjectionSolution>>> =
+        vec![vec![None; qps.len()]; settings.len()];
+    for _ in 0..args.rounds {
+        for (q, p) in qps.iter().enumerate() {
+            for (v, (s, warm)) in settings.iter().enumerate() {
+                let outcome = run(p, s, *warm);
+                times[v][q].push(outcome.time);
+                last[v][q] = outcome.solution;
+            }
+        }
+    }
+    let rows: String = if qps.len() <= 4 {
+        qps.iter()
             .map(|p| p.qp.num_rows().to_string())
             .collect::<Vec<_>>()
-            .join("+");
-        let clarabel_time: f64 = times[0].iter().map(|t| common::median(t)).sum();
-        for (v, vname) in args.variants.iter().enumerate() {
-            let time: f64 = times[v].iter().map(|t| common::median(t)).sum();
-            let mut diff: f64 = 0.0;
-            let mut worst_acceptance: f64 = 0.0;
-            let mut answered = Vec::new();
-            let (mut iterations, mut factorizations) = (0, 0);
-            for (q, p) in qps.iter().enumerate() {
-                match (&last[v][q], &reference[q]) {
-                    (Some(sol), Some(r)) => {
-                        let d =
-                            m_norm(&p.qp, &(&sol.dq - r)) / m_norm(&p.qp, r).max(f64::MIN_POSITIVE);
-                        diff = diff.max(d);
-                        worst_acceptance = worst_acceptance.max(sol.residuals.acceptance());
-                        answered.push(format!("{:?}", sol.solver));
-                        iterations += sol.iterations;
-                        factorizations += sol.factorizations;
-                    }
-                    _ => answered.push("failed".into()),
+            .join("+")
+    } else {
+        let total: usize = qps.iter().map(|p| p.qp.num_rows()).sum();
+        let largest = qps.iter().map(|p| p.qp.num_rows()).max().unwrap_or(0);
+        format!("{} QPs, {total} rows, largest {largest}", qps.len())
+    };
+    let clarabel_time: f64 = times[0].iter().map(|t| common::median(t)).sum();
+    for (v, vname) in args.variants.iter().enumerate() {
+        let time: f64 = times[v].iter().map(|t| common::median(t)).sum();
+        let mut diff: f64 = 0.0;
+        let mut worst_acceptance: f64 = 0.0;
+        let mut answered = Vec::new();
+        let (mut iterations, mut factorizations) = (0, 0);
+        for (q, p) in qps.iter().enumerate() {
+            match (&last[v][q], &reference[q]) {
+                (Some(sol), Some(r)) => {
+                    let d = m_norm(&p.qp, &(&sol.dq - r)) / m_norm(&p.qp, r).max(f64::MIN_POSITIVE);
+                    diff = diff.max(d);
+                    worst_acceptance = worst_acceptance.max(sol.residuals.acceptance());
+                    answered.push(format!("{:?}", sol.solver));
+                    iterations += sol.iterations;
+                    factorizations += sol.factorizations;
                 }
+                _ => answered.push("failed".into()),
             }
-            println!(
-                "| {name} | {rows} | {vname} | {:.2} | {:.2} | {diff:.1e} | {worst_acceptance:.1e} | {} | {iterations} | {factorizations} |",
-                1e3 * time,
-                time / clarabel_time,
-                answered.join(",")
-            );
         }
+        println!(
+            "| {name} | {rows} | {vname} | {:.2} | {:.2} | {diff:.1e} | {worst_acceptance:.1e} | {} | {iterations} | {factorizations} |",
+            1e3 * time,
+            time / clarabel_time,
+            answered.join(",")
+        );
     }
 }

@@ -35,6 +35,8 @@ pub mod clarabel_qp;
 pub(crate) mod closed_form;
 pub(crate) mod cone_residuals;
 pub(crate) mod cross_check;
+#[doc(hidden)]
+pub mod dense_cholesky;
 mod error;
 pub mod friction_cone;
 pub mod interior_point;
@@ -42,6 +44,7 @@ mod lcp;
 pub mod lemke;
 pub(crate) mod metric;
 mod outcome;
+pub(crate) mod packed_rows;
 pub mod pgs;
 mod projection;
 pub(crate) mod projection_lcp;

@@ -8,15 +8,22 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use nalgebra::DVector;
 
+use super::outcome::SolverKind;
 use super::projection::ProjectionQp;
 
-/// One recorded problem: the QP and the warm start it was given.
+/// One recorded problem: the QP, the warm start it was given, and what
+/// its solve cost in the recorded call.
 #[derive(Debug, Clone)]
 pub struct RecordedQp {
     /// The problem.
     pub qp: ProjectionQp,
     /// The multipliers it was warm-started from, if any.
     pub warm: Option<DVector<f64>>,
+    /// Wall time of its `solve_projection_warm` call (s), validation and
+    /// every solver of the fallback chain included.
+    pub seconds: f64,
+    /// The solver that answered (`None`: every solver failed).
+    pub solver: Option<SolverKind>,
 }
 
 static ON: AtomicBool = AtomicBool::new(false);
@@ -39,15 +46,27 @@ pub fn stop() -> Vec<RecordedQp> {
         .unwrap_or_default()
 }
 
-/// Records `qp` when recording is on.
-pub(crate) fn record(qp: &ProjectionQp, warm: Option<&DVector<f64>>) {
-    if !ON.load(Ordering::Relaxed) {
+/// Whether recording is on (the caller then times the solve).
+pub(crate) fn is_on() -> bool {
+    ON.load(Ordering::Relaxed)
+}
+
+/// Records `qp`, solved in `seconds` by `solver`, when recording is on.
+pub(crate) fn record(
+    qp: &ProjectionQp,
+    warm: Option<&DVector<f64>>,
+    seconds: f64,
+    solver: Option<SolverKind>,
+) {
+    if !is_on() {
         return;
     }
     if let Ok(mut recorded) = RECORDED.lock() {
         recorded.push(RecordedQp {
             qp: qp.clone(),
             warm: warm.cloned(),
+            seconds,
+            solver,
         });
     }
 }

@@ -245,7 +245,12 @@ pub struct SolverSettings {
     /// drifted 6.2 mm against 0.6 mm (clarabel at a tighter gap, 1e-10,
     /// did too: 15.9 mm, 33 steps later; the settle moves with any change
     /// of the answers: `benchmarks/results/solvers.md`, "The interior
-    /// point").
+    /// point"). From 41 rows (Lemke below; friction pyramids included) it
+    /// answers the worst calls of the Rapier loop at 0.15-0.39x Lemke's
+    /// time (the thrown box's 120 rows) and 0.16-0.21x clarabel's (the
+    /// pyramid's 2,900), and the pile of 200's settling calls at 0.4x;
+    /// the pile then sleeps 20 steps later (`solvers.md`, "The worst calls
+    /// of the Rapier loop"; `call_cost.md`, last section).
     pub auto_interior_point_min_rows: usize,
     /// Augmented Lagrangian settings.
     pub augmented_lagrangian: AugmentedLagrangianSettings,
@@ -343,9 +348,24 @@ pub fn solve_projection_warm(
     settings: &SolverSettings,
     warm: Option<&DVector<f64>>,
 ) -> Result<ProjectionSolution, SolverError> {
+    if !super::recorder::is_on() {
+        return solve_validated(qp, settings, warm);
+    }
+    let start = Instant::now();
+    let result = solve_validated(qp, settings, warm);
+    let solver = result.as_ref().ok().map(|s| s.solver);
+    super::recorder::record(qp, warm, start.elapsed().as_secs_f64(), solver);
+    result
+}
+
+/// [`solve_projection_warm`] without the recorder.
+fn solve_validated(
+    qp: &ProjectionQp,
+    settings: &SolverSettings,
+    warm: Option<&DVector<f64>>,
+) -> Result<ProjectionSolution, SolverError> {
     let metric = qp.validate()?;
     check_zero_rows(qp, settings.tol_residual)?;
-    super::recorder::record(qp, warm);
     let pyramid_qp = (!qp.cones.is_empty()).then(|| qp.pyramid().0);
     let pyramid = pyramid_qp.as_ref().map(|pyramid_qp| Problem {
         qp: pyramid_qp,

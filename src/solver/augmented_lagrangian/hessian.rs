@@ -22,7 +22,9 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use nalgebra::{DMatrix, DVector, Matrix6};
 
+use super::super::dense_cholesky::DenseCholesky;
 use super::super::metric::BlockMetric;
+use super::super::packed_rows::{Gram, PackedRows};
 use super::super::projection::ProjectionQp;
 
 /// Which 6x6 blocks of `H` can be nonzero, and where each lower-triangle
@@ -130,7 +132,7 @@ struct SparseFactor {
 
 /// A Cholesky factor of `H`.
 enum Factor {
-    Dense(nalgebra::Cholesky<f64, nalgebra::Dyn>),
+    Dense(DenseCholesky),
     Sparse,
 }
 
@@ -143,6 +145,18 @@ pub(crate) struct NewtonMatrix {
     pattern: Option<BlockPattern>,
     sparse: Option<SparseFactor>,
     factor: Option<Factor>,
+    /// Per group of [`PackedRows`], where its blocks sit in the sparse
+    /// value array (resolved on the first packed factorization).
+    group_bases: Option<Vec<GroupBase>>,
+}
+
+/// Where the blocks of one group of packed rows `(k, l)`, `k > l`, sit in
+/// the sparse value array: entry `(6 a + r, 6 b + c)` of block `(a, b)` at
+/// `base[c] + r` (`r >= c` on a diagonal block).
+struct GroupBase {
+    kk: [usize; 6],
+    ll: Option<[usize; 6]>,
+    kl: Option<[usize; 6]>,
 }
 
 /// Why `H` could not be factored (rounding made a pivot non-positive, or
@@ -164,6 +178,7 @@ impl NewtonMatrix {
             pattern: (!dense).then(|| BlockPattern::new(qp)),
             sparse: None,
             factor: None,
+            group_bases: None,
         }
     }
 
@@ -191,13 +206,119 @@ impl NewtonMatrix {
                     mirror += block.transpose();
                 }
             });
-            Factor::Dense(h.cholesky().ok_or(FactorizationFailed)?)
+            Factor::Dense(DenseCholesky::new(h).ok_or(FactorizationFailed)?)
         } else {
             self.sparse_factor(qp, metric, rho, active)?;
             Factor::Sparse
         };
         self.factor = Some(factor);
         Ok(())
+    }
+
+    /// Factors `H = M + J^T D J` from the packed rows (`d[i] = 0`: row
+    /// `i` left out), the rows of each group accumulated on a small dense
+    /// matrix first (`super::super::packed_rows`). The same matrix as
+    /// [`NewtonMatrix::factor`] with `rho = d` and every row active, up to
+    /// the order of the sums.
+    pub(crate) fn factor_packed(
+        &mut self,
+        packed: &PackedRows,
+        metric: &[BlockMetric],
+        d: &[f64],
+    ) -> Result<(), FactorizationFailed> {
+        self.factor = None;
+        let grams = packed.groups.iter().map(|group| packed.gram(group, d));
+        let factor = if self.dense {
+            let mut h = DMatrix::zeros(self.dofs, self.dofs);
+            for (k, b) in metric.iter().enumerate() {
+                let mut view = h.fixed_view_mut::<6, 6>(6 * k, 6 * k);
+                view += b.matrix();
+            }
+            for (group, gram) in packed.groups.iter().zip(grams) {
+                add_gram_dense(&mut h, group.bodies, &gram);
+            }
+            Factor::Dense(DenseCholesky::new(h).ok_or(FactorizationFailed)?)
+        } else {
+            self.prepare_sparse()?;
+            if self.group_bases.is_none() {
+                let pattern = self.pattern.as_ref().ok_or(FactorizationFailed)?;
+                self.group_bases = Some(group_bases(pattern, packed));
+            }
+            let (Some(sparse), Some(bases)) = (self.sparse.as_mut(), self.group_bases.as_ref())
+            else {
+                return Err(FactorizationFailed);
+            };
+            let values = &mut sparse.values;
+            values.fill(0.0);
+            // The diagonal blocks' bases of a body's own `M_k`: those of the
+            // groups' diagonal blocks are the same positions.
+            let pattern = self.pattern.as_ref().ok_or(FactorizationFailed)?;
+            for (k, b) in metric.iter().enumerate() {
+                let block = b.matrix();
+                for c in 0..6 {
+                    for r in c..6 {
+                        values[pattern.position(k, k, r, c)] += block[(r, c)];
+                    }
+                }
+            }
+            for (base, gram) in bases.iter().zip(grams) {
+                scatter_gram(values, base, &gram);
+            }
+            self.factor_sparse_values()?;
+            Factor::Sparse
+        };
+        self.factor = Some(factor);
+        Ok(())
+    }
+
+    /// The symbolic analysis of the sparse pattern, once.
+    fn prepare_sparse(&mut self) -> Result<(), FactorizationFailed> {
+        if self.sparse.is_some() {
+            return Ok(());
+        }
+        let pattern = self.pattern.as_ref().ok_or(FactorizationFailed)?;
+        let symbolic_matrix = SymbolicSparseColMatRef::new_checked(
+            self.dofs,
+            self.dofs,
+            &pattern.col_ptr,
+            None,
+            &pattern.row_idx,
+        );
+        self.sparse = Some(SparseFactor::analyse(
+            symbolic_matrix,
+            pattern.row_idx.len(),
+            self.supernodal,
+        )?);
+        Ok(())
+    }
+
+    /// The numeric factorization of the assembled sparse values.
+    fn factor_sparse_values(&mut self) -> Result<(), FactorizationFailed> {
+        let (Some(pattern), Some(sparse)) = (self.pattern.as_ref(), self.sparse.as_mut()) else {
+            return Err(FactorizationFailed);
+        };
+        let symbolic_matrix = SymbolicSparseColMatRef::new_checked(
+            self.dofs,
+            self.dofs,
+            &pattern.col_ptr,
+            None,
+            &pattern.row_idx,
+        );
+        let matrix = SparseColMatRef::new(symbolic_matrix, &sparse.values);
+        let stack = MemStack::new(&mut sparse.workspace);
+        sparse
+            .symbolic
+            .factorize_numeric_llt(
+                &mut sparse.factor_values,
+                matrix,
+                Side::Lower,
+                LltRegularization::default(),
+                Par::Seq,
+                stack,
+                Default::default(),
+            )
+            .map(|_| ())
+            .map_err(|_| FactorizationFailed)
     }
 
     fn sparse_factor(
@@ -342,6 +463,58 @@ fn for_each_lower_block(
                 } else {
                     add(*l, *k, &(gl * gk.transpose() * r));
                 }
+            }
+        }
+    }
+}
+
+/// Adds a group's Gram matrix to the dense `h` at its blocks (both
+/// triangles).
+fn add_gram_dense(h: &mut DMatrix<f64>, bodies: (usize, Option<usize>), gram: &Gram) {
+    let k = bodies.0;
+    let mut kk = h.fixed_view_mut::<6, 6>(6 * k, 6 * k);
+    kk += gram.fixed_view::<6, 6>(0, 0);
+    if let Some(l) = bodies.1 {
+        let mut ll = h.fixed_view_mut::<6, 6>(6 * l, 6 * l);
+        ll += gram.fixed_view::<6, 6>(6, 6);
+        let mut kl = h.fixed_view_mut::<6, 6>(6 * k, 6 * l);
+        kl += gram.fixed_view::<6, 6>(0, 6);
+        let mut lk = h.fixed_view_mut::<6, 6>(6 * l, 6 * k);
+        lk += gram.fixed_view::<6, 6>(6, 0);
+    }
+}
+
+/// The value-array bases of every group's blocks ([`GroupBase`]).
+fn group_bases(pattern: &BlockPattern, packed: &PackedRows) -> Vec<GroupBase> {
+    let diagonal = |k: usize| std::array::from_fn(|c| pattern.position(k, k, c, c) - c);
+    packed
+        .groups
+        .iter()
+        .map(|group| {
+            let (k, l) = group.bodies;
+            GroupBase {
+                kk: diagonal(k),
+                ll: l.map(diagonal),
+                kl: l.map(|l| std::array::from_fn(|c| pattern.position(k, l, 0, c))),
+            }
+        })
+        .collect()
+}
+
+/// Adds a group's Gram matrix to the sparse lower triangle.
+fn scatter_gram(values: &mut [f64], base: &GroupBase, gram: &Gram) {
+    for c in 0..6 {
+        for r in c..6 {
+            values[base.kk[c] + r] += gram[(r, c)];
+        }
+    }
+    if let (Some(ll), Some(kl)) = (base.ll, base.kl) {
+        for c in 0..6 {
+            for r in c..6 {
+                values[ll[c] + r] += gram[(6 + r, 6 + c)];
+            }
+            for r in 0..6 {
+                values[kl[c] + r] += gram[(r, 6 + c)];
             }
         }
     }

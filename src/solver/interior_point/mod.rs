@@ -28,6 +28,16 @@
 //! ordering and symbolic factorization are done once, each iteration costs
 //! one numeric factorization and two solves.
 //!
+//! **Per-iteration work.** Where every row has at most two bodies (contact
+//! rows, friction facets), the rows are packed (`super::packed_rows`):
+//! `J^T D J` is accumulated per pair of bodies on a 12x12 matrix and
+//! scattered into `H` once per pair (a box face with friction brings 20
+//! rows per pair), and `J v`, `J^T v` read contiguous gradients
+//! ([`InteriorPointSettings::packed_rows`]). Up to
+//! [`InteriorPointSettings::dense_max_dofs`] the factor is a dense
+//! Cholesky written for those sizes (`super::dense_cholesky`), above it
+//! faer's supernodal sparse one.
+//!
 //! **Scale.** Rows are measured in the whitened distance of the most
 //! violated row, `l = max_i max(0, -b_i) / g_i` with `g_i = sqrt(a_i)`,
 //! `a_i = J_i M^-1 J_i^T`: the start is `s_i = g_i l max(1, b_i / (g_i l))`,
@@ -59,6 +69,7 @@
 //! solver stops at its iteration limit ([`InteriorPointFailure::NotConverged`])
 //! and the caller's fallback (clarabel) certifies the infeasibility.
 
+mod centrality;
 mod step;
 mod warm;
 
@@ -70,6 +81,7 @@ use super::augmented_lagrangian::Start;
 use super::augmented_lagrangian::hessian::NewtonMatrix;
 use super::metric::BlockMetric;
 use super::outcome::Candidate;
+use super::packed_rows::PackedRows;
 use super::projection::ProjectionQp;
 use super::projection_lcp::dq_from_lambda;
 use super::residuals::{m_apply, projection_residuals, row_diagonal};
@@ -96,6 +108,15 @@ pub struct InteriorPointSettings {
     /// The sparse factor is supernodal (as the augmented Lagrangian's)
     /// rather than left to faer's flop-ratio choice. Default true.
     pub supernodal: bool,
+    /// `H` is assembled from the rows grouped by body pair and `J v`,
+    /// `J^T v` read packed gradients (`super::packed_rows`), where every
+    /// row has at most two bodies. Default true; false: the general
+    /// per-row path (the same matrices up to the order of the sums).
+    pub packed_rows: bool,
+    /// Gondzio's centrality correctors per iteration (`centrality.rs`):
+    /// extra solves with the iteration's factor that lengthen the step.
+    /// Default 0 (Mehrotra's predictor-corrector alone).
+    pub centrality_correctors: usize,
 }
 
 impl Default for InteriorPointSettings {
@@ -106,6 +127,8 @@ impl Default for InteriorPointSettings {
             step_fraction: 0.99,
             dense_max_dofs: 96,
             supernodal: true,
+            packed_rows: true,
+            centrality_correctors: 0,
         }
     }
 }
@@ -201,6 +224,7 @@ pub fn solve(
             }
         }),
     };
+    let packed = settings.packed_rows.then(|| PackedRows::new(qp)).flatten();
     let mut best: Option<(Candidate, f64)> = None;
     for iteration in 1..=settings.max_iter {
         if start.deadline.is_some_and(|d| Instant::now() >= d) {
@@ -212,8 +236,15 @@ pub fn solve(
             b: &b,
             moved: &moved,
             a: &a,
+            packed: packed.as_ref(),
         };
-        let gap = newton_step(&inputs, &mut newton, &mut it, settings.step_fraction)?;
+        let gap = newton_step(
+            &inputs,
+            &mut newton,
+            &mut it,
+            settings.step_fraction,
+            settings.centrality_correctors,
+        )?;
         factorizations += 1;
         // The acceptance test costs several products with `J`: it is only
         // measured once the complementarity gap, relative to the energy

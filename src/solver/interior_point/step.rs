@@ -9,6 +9,7 @@ use nalgebra::DVector;
 use super::InteriorPointFailure;
 use crate::solver::augmented_lagrangian::hessian::NewtonMatrix;
 use crate::solver::metric::BlockMetric;
+use crate::solver::packed_rows::PackedRows;
 use crate::solver::projection::ProjectionQp;
 use crate::solver::residuals::m_apply;
 
@@ -28,6 +29,36 @@ pub(super) struct StepInputs<'a> {
     pub moved: &'a [bool],
     /// `a_i = J_i M^-1 J_i^T`.
     pub a: &'a [f64],
+    /// The rows packed (`None`: a row over more than two bodies; the
+    /// general path then).
+    pub packed: Option<&'a PackedRows>,
+}
+
+impl StepInputs<'_> {
+    /// `J v`.
+    fn apply_j(&self, v: &DVector<f64>) -> DVector<f64> {
+        match self.packed {
+            Some(packed) => packed.apply_j(v),
+            None => self.qp.apply_j(v),
+        }
+    }
+
+    /// `J^T v`.
+    fn apply_jt(&self, v: &DVector<f64>) -> DVector<f64> {
+        match self.packed {
+            Some(packed) => packed.apply_jt(v),
+            None => self.qp.apply_jt(v),
+        }
+    }
+
+    /// Factors `H = M + J^T D J` (`d` zero on the rows no body moves).
+    fn factor(&self, newton: &mut NewtonMatrix, d: &[f64]) -> Result<(), ()> {
+        match self.packed {
+            Some(packed) => newton.factor_packed(packed, self.metric, d),
+            None => newton.factor(self.qp, self.metric, d, self.moved),
+        }
+        .map_err(|_| ())
+    }
 }
 
 /// When the factorization of `H` fails (rounding: `D` spans more than the
@@ -39,10 +70,10 @@ pub(super) struct StepInputs<'a> {
 const CLAMPED_WEIGHT: f64 = 1e12;
 
 /// A direction `(ddq, ds, dlambda)`.
-struct Direction {
-    dq: DVector<f64>,
-    s: DVector<f64>,
-    lambda: DVector<f64>,
+pub(super) struct Direction {
+    pub dq: DVector<f64>,
+    pub s: DVector<f64>,
+    pub lambda: DVector<f64>,
 }
 
 /// Takes one step; `newton` is refactored with the iterate's `D`. Returns
@@ -52,12 +83,13 @@ pub(super) fn newton_step(
     newton: &mut NewtonMatrix,
     it: &mut Iterate,
     step_fraction: f64,
+    correctors: usize,
 ) -> Result<f64, InteriorPointFailure> {
     let (qp, moved) = (inputs.qp, inputs.moved);
     let m = qp.num_rows();
     let active_rows = moved.iter().filter(|&&x| x).count().max(1);
-    let r_d = m_apply(inputs.metric, &it.dq) - qp.apply_jt(&it.lambda);
-    let r_p = qp.apply_j(&it.dq) + inputs.b - &it.s;
+    let r_d = m_apply(inputs.metric, &it.dq) - inputs.apply_jt(&it.lambda);
+    let r_p = inputs.apply_j(&it.dq) + inputs.b - &it.s;
     let mu = (0..m)
         .filter(|&i| moved[i])
         .map(|i| it.s[i] * it.lambda[i])
@@ -72,7 +104,7 @@ pub(super) fn newton_step(
             }
         })
         .collect();
-    if newton.factor(qp, inputs.metric, &d, moved).is_err() {
+    if inputs.factor(newton, &d).is_err() {
         let clamped: Vec<f64> = d
             .iter()
             .zip(inputs.a)
@@ -85,8 +117,8 @@ pub(super) fn newton_step(
             })
             .collect();
         log::trace!("interior point: factorization failed, retried with clamped weights");
-        newton
-            .factor(qp, inputs.metric, &clamped, moved)
+        inputs
+            .factor(newton, &clamped)
             .map_err(|_| InteriorPointFailure::Factorization)?;
     }
     // Predictor: r_c = S lambda.
@@ -110,7 +142,15 @@ pub(super) fn newton_step(
         }
     });
     let step = direction(inputs, newton, it, &d, &r_d, &r_p, &r_c)?;
+    let step = if correctors > 0 {
+        super::centrality::correct(inputs, newton, it, &d, step, sigma * mu, correctors)?
+    } else {
+        step
+    };
     let alpha = (step_fraction * max_step(it, &step, moved)).min(1.0);
+    log::trace!(
+        "interior point: mu {mu:.3e}, affine step {alpha_aff:.3}, sigma {sigma:.2e}, step {alpha:.3}"
+    );
     it.dq.axpy(alpha, &step.dq, 1.0);
     it.s.axpy(alpha, &step.s, 1.0);
     it.lambda.axpy(alpha, &step.lambda, 1.0);
@@ -132,7 +172,7 @@ pub(super) fn newton_step(
 
 /// The direction for the complementarity residual `r_c` (module docs of
 /// [`super`]).
-fn direction(
+pub(super) fn direction(
     inputs: &StepInputs<'_>,
     newton: &mut NewtonMatrix,
     it: &Iterate,
@@ -152,11 +192,11 @@ fn direction(
             0.0
         }
     });
-    let rhs = -(r_d + qp.apply_jt(&weighted));
+    let rhs = -(r_d + inputs.apply_jt(&weighted));
     let ddq = newton
         .solve(&rhs)
         .ok_or(InteriorPointFailure::Factorization)?;
-    let ds = qp.apply_j(&ddq) + r_p;
+    let ds = inputs.apply_j(&ddq) + r_p;
     let dlambda = DVector::from_fn(m, |i, _| {
         if moved[i] {
             -(r_c[i] + it.lambda[i] * ds[i]) / it.s[i]
@@ -174,7 +214,7 @@ fn direction(
 /// The largest `alpha` with `s + alpha ds >= 0` and
 /// `lambda + alpha dlambda >= 0` on the moved rows (infinite when no
 /// entry decreases).
-fn max_step(it: &Iterate, dir: &Direction, moved: &[bool]) -> f64 {
+pub(super) fn max_step(it: &Iterate, dir: &Direction, moved: &[bool]) -> f64 {
     let mut alpha = f64::INFINITY;
     for i in (0..moved.len()).filter(|&i| moved[i]) {
         if dir.s[i] < 0.0 {

@@ -43,7 +43,7 @@ fn central_row(n: Vector3<f64>) -> JacobianRow {
 /// normal `sin(alpha) u - cos(alpha) z` (`u = (cos beta, sin beta, 0)`)
 /// penetrating by `depth`: the push drives the body into the ground and
 /// sideways, and the ground's cone decides how far it may slide.
-fn pushed_into_the_ground(mu: f64, alpha: f64, beta: f64, depth: f64) -> ProjectionQp {
+pub(super) fn pushed_into_the_ground(mu: f64, alpha: f64, beta: f64, depth: f64) -> ProjectionQp {
     let mass = 2.0;
     let u = Vector3::new(beta.cos(), beta.sin(), 0.0);
     let push = u * alpha.sin() - Vector3::z() * alpha.cos();
@@ -161,7 +161,7 @@ fn with_mu_times(qp: &ProjectionQp, factor: f64) -> ProjectionQp {
 /// a random `mu`, some penetrating, some open within a margin), and each
 /// pushed by a frictionless row of random tilted normal at a random point
 /// of its side, penetrating: every box tends to slide and turn.
-fn pushed_column(boxes: usize, seed: u64) -> ProjectionQp {
+pub(super) fn pushed_column(boxes: usize, seed: u64) -> ProjectionQp {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut qp = ProjectionQp {
         cone_facets: 4,

@@ -1,0 +1,167 @@
+//! The rows of a projection QP packed for the inner loops of the
+//! body-space solvers: each row's one or two bodies and their twelve
+//! gradient entries stored contiguously, and the rows grouped by the pair
+//! of bodies they couple.
+//!
+//! With row `i` over bodies `k > l` written as `g_i = [g_ik; g_il]` (twelve
+//! entries; six and `l` absent for a row of one body), the weighted Gram
+//! matrix of a group `P` of rows with the same bodies is
+//!
+//! ```text
+//! G_P = sum_{i in P} d_i g_i g_i^T          (12 x 12, or 6 x 6)
+//! ```
+//!
+//! and `J^T D J` is the sum of the `G_P` placed at the blocks `(k, k)`,
+//! `(l, l)`, `(k, l)` and `(l, k)`: the accumulation runs on a small
+//! fixed-size matrix (vectorized rank-one updates), and each group is
+//! scattered into `H` once instead of each row (a contact pair of a box
+//! face with friction has 20 rows). `J dq` and `J^T lambda` read the packed
+//! gradients without indexing the rows' block lists.
+//!
+//! Rows over more than two bodies are not packed ([`PackedRows::new`]
+//! returns `None`; the callers keep the general path).
+
+use nalgebra::{DVector, SMatrix, SVector, Vector6};
+
+use super::projection::ProjectionQp;
+
+/// Twelve gradient entries: the first body's six, then the second's.
+pub(crate) type Gradient = SVector<f64, 12>;
+
+/// The weighted Gram matrix of a group of rows.
+pub(crate) type Gram = SMatrix<f64, 12, 12>;
+
+/// The rows of a QP with at most two bodies each, packed (module docs).
+#[derive(Debug, Clone)]
+pub(crate) struct PackedRows {
+    /// Per row: the first body (the larger index) and the second (`None`
+    /// for a row of one body).
+    pub bodies: Vec<(usize, Option<usize>)>,
+    /// Per row: the gradients `[g_k; g_l]` (the second half zero for a
+    /// row of one body).
+    pub gradients: Vec<Gradient>,
+    /// Groups of rows with the same bodies: the bodies and the rows.
+    pub groups: Vec<RowGroup>,
+    dofs: usize,
+}
+
+/// Rows coupling the same bodies.
+#[derive(Debug, Clone)]
+pub(crate) struct RowGroup {
+    /// The first body (larger index) and the second, as in
+    /// [`PackedRows::bodies`].
+    pub bodies: (usize, Option<usize>),
+    /// The rows, ascending.
+    pub rows: Vec<usize>,
+}
+
+impl PackedRows {
+    /// The packed rows of `qp`, or `None` when a row has more than two
+    /// bodies or one body twice.
+    pub(crate) fn new(qp: &ProjectionQp) -> Option<Self> {
+        let m = qp.num_rows();
+        let mut bodies = Vec::with_capacity(m);
+        let mut gradients = Vec::with_capacity(m);
+        for row in &qp.rows {
+            let mut g = Gradient::zeros();
+            let pair = match row.blocks.as_slice() {
+                [] => (0, None),
+                [(k, gk)] => {
+                    g.fixed_rows_mut::<6>(0).copy_from(gk);
+                    (*k, None)
+                }
+                [(a, ga), (b, gb)] if a != b => {
+                    let (k, gk, l, gl) = if a > b {
+                        (*a, ga, *b, gb)
+                    } else {
+                        (*b, gb, *a, ga)
+                    };
+                    g.fixed_rows_mut::<6>(0).copy_from(gk);
+                    g.fixed_rows_mut::<6>(6).copy_from(gl);
+                    (k, Some(l))
+                }
+                _ => return None,
+            };
+            bodies.push(pair);
+            gradients.push(g);
+        }
+        let mut order: Vec<usize> = (0..m).filter(|&i| !qp.rows[i].blocks.is_empty()).collect();
+        order.sort_by_key(|&i| (bodies[i], i));
+        let mut groups: Vec<RowGroup> = Vec::new();
+        for i in order {
+            match groups.last_mut() {
+                Some(group) if group.bodies == bodies[i] => group.rows.push(i),
+                _ => groups.push(RowGroup {
+                    bodies: bodies[i],
+                    rows: vec![i],
+                }),
+            }
+        }
+        Some(Self {
+            bodies,
+            gradients,
+            groups,
+            dofs: qp.num_dofs(),
+        })
+    }
+
+    /// `J dq` into `out` (length the rows).
+    pub(crate) fn apply_j_into(&self, dq: &DVector<f64>, out: &mut DVector<f64>) {
+        for (i, (&(k, l), g)) in self.bodies.iter().zip(&self.gradients).enumerate() {
+            let mut value = g.fixed_rows::<6>(0).dot(&dq.fixed_rows::<6>(6 * k));
+            if let Some(l) = l {
+                value += g.fixed_rows::<6>(6).dot(&dq.fixed_rows::<6>(6 * l));
+            }
+            out[i] = value;
+        }
+    }
+
+    /// `J dq`.
+    pub(crate) fn apply_j(&self, dq: &DVector<f64>) -> DVector<f64> {
+        let mut out = DVector::zeros(self.bodies.len());
+        self.apply_j_into(dq, &mut out);
+        out
+    }
+
+    /// `J^T lambda`.
+    pub(crate) fn apply_jt(&self, lambda: &DVector<f64>) -> DVector<f64> {
+        let mut out = DVector::zeros(self.dofs);
+        for ((&(k, l), g), &x) in self.bodies.iter().zip(&self.gradients).zip(lambda.iter()) {
+            if x == 0.0 {
+                continue;
+            }
+            let mut first = out.fixed_rows_mut::<6>(6 * k);
+            first.axpy(x, &g.fixed_rows::<6>(0), 1.0);
+            if let Some(l) = l {
+                let mut second = out.fixed_rows_mut::<6>(6 * l);
+                second.axpy(x, &g.fixed_rows::<6>(6), 1.0);
+            }
+        }
+        out
+    }
+
+    /// The weighted Gram matrix `sum_i d_i g_i g_i^T` of `group` (module
+    /// docs); only the top-left 6x6 block is meaningful for a group of one
+    /// body.
+    pub(crate) fn gram(&self, group: &RowGroup, d: &[f64]) -> Gram {
+        let mut gram = Gram::zeros();
+        if group.bodies.1.is_some() {
+            for &i in &group.rows {
+                if d[i] != 0.0 {
+                    let g = &self.gradients[i];
+                    gram.ger(d[i], g, g, 1.0);
+                }
+            }
+        } else {
+            let mut small = SMatrix::<f64, 6, 6>::zeros();
+            for &i in &group.rows {
+                if d[i] != 0.0 {
+                    let g: Vector6<f64> = self.gradients[i].fixed_rows::<6>(0).into_owned();
+                    small.ger(d[i], &g, &g, 1.0);
+                }
+            }
+            gram.fixed_view_mut::<6, 6>(0, 0).copy_from(&small);
+        }
+        gram
+    }
+}
