@@ -369,6 +369,11 @@ impl Run {
             settings.stabilizer.solver.clarabel.tol_gap = gap;
             settings.stabilizer.solver.clarabel.tol_feas = gap;
         }
+        // `WITH_AND_WITHOUT_ZERO_HELD_VELOCITIES=1`: the bodies a held
+        // cycle puts back get their velocities zeroed too.
+        if std::env::var("WITH_AND_WITHOUT_ZERO_HELD_VELOCITIES").as_deref() == Ok("1") {
+            settings.zero_held_velocities = true;
+        }
         Some(RapierBridge::with_settings(settings).expect("valid settings"))
     }
 }

@@ -6,7 +6,7 @@
 //! sleep), and which bodies Rapier keeps awake and why.
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example probes -- settle [--plain] [--seed S] [--perturb E] [--steps N] [--from S] [--to T] [--every K] [--ip-min-rows N] [--clarabel-gap G] [--velocity-friction none|change|velocity] [--trace BODY FROM TO]
+//! cargo run --release --features rapier,serde --example probes -- settle [--plain] [--seed S] [--perturb E] [--steps N] [--from S] [--to T] [--every K] [--ip-min-rows N] [--clarabel-gap G] [--velocity-friction none|change|velocity] [--zero-held-velocities] [--trace BODY FROM TO]
 //! ```
 //!
 //! Per printed step: bodies asleep; bodies whose own motion in Rapier's
@@ -22,6 +22,7 @@
 //! in which it moved by more than 0.1 mm. `--ip-min-rows` and
 //! `--clarabel-gap` change the solver's answers within the tolerance (as
 //! `WITH_AND_WITHOUT_IP_MIN_ROWS` and `WITH_AND_WITHOUT_CLARABEL_GAP`);
+//! `--zero-held-velocities` sets `BridgeSettings::zero_held_velocities`;
 //! `--seed` and `--perturb` build another pile (`pile_world_perturbed`);
 //! `--trace BODY FROM TO` prints one body's motion and velocities after
 //! Rapier's step and after the call at each step of the range.
@@ -62,6 +63,7 @@ fn bridge(args: &[String]) -> Result<RapierBridge, Box<dyn std::error::Error>> {
         settings.stabilizer.solver.clarabel.tol_gap = gap;
         settings.stabilizer.solver.clarabel.tol_feas = gap;
     }
+    settings.zero_held_velocities = args.iter().any(|a| a == "--zero-held-velocities");
     match flag_value(args, "--velocity-friction").as_deref() {
         None => {}
         Some("none") => settings.velocity_friction = VelocityFriction::None,

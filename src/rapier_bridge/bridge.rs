@@ -297,12 +297,13 @@ impl RapierBridge {
             }
             report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
         }
+        let mut held = Vec::new();
         if self.settings.hold_cycles
             && !resting
             && self.settings.coupling == CouplingMode::ClosedContacts
         {
             let anchor = std::mem::take(&mut self.hold_anchor);
-            self.hold_cycle(&mut report, &anchor, &before, bodies, parameters)?;
+            held = self.hold_cycle(&mut report, &anchor, &before, bodies, parameters)?;
         }
         let (moved, round_off) = self.write_back(bodies, &before);
         bodies.propagate_modified_body_positions_to_colliders(colliders);
@@ -316,6 +317,9 @@ impl RapierBridge {
             let (velocities, count) = self.project_velocities(bodies, &moved, parameters)?;
             report.velocities = Some(velocities);
             report.velocities_written = count;
+        }
+        if self.settings.zero_held_velocities {
+            report.velocities_zeroed += self.zero_velocities(bodies, &held);
         }
         self.put_to_sleep(bodies, &sleepers);
         self.clock.advance(
@@ -342,7 +346,7 @@ impl RapierBridge {
     /// them) and solves again from there; keeps that answer only
     /// if its depth, rounded to f32, stays within the call's stated
     /// tolerance (`depth_after + 2 delta <= tolerance`), else restores the
-    /// first answer.
+    /// first answer. Returns the scene indices of the bodies held.
     fn hold_cycle(
         &mut self,
         report: &mut BridgeReport,
@@ -350,19 +354,20 @@ impl RapierBridge {
         read: &[UserPose],
         bodies: &RigidBodySet,
         parameters: &IntegrationParameters,
-    ) -> Result<(), BridgeError> {
+    ) -> Result<Vec<usize>, BridgeError> {
         let moved: Vec<usize> = (0..read.len())
             .filter(|&i| user_pose_of(&self.scene.bodies()[i]) != read[i])
             .collect();
         let Some(first_report) = report.stabilizer.as_ref() else {
-            return Ok(());
+            return Ok(Vec::new());
         };
         let held = held_poses(anchor, &self.scene, &self.map, &moved, bodies, parameters);
         // Per island, all or nothing (module docs of `rest`).
         let held = whole_islands(first_report, &moved, held);
         if held.is_empty() {
-            return Ok(());
+            return Ok(Vec::new());
         }
+        let indices: Vec<usize> = held.iter().map(|(i, _)| *i).collect();
         let scene_error = |e: SceneError| BridgeError::Stabilize(e.into());
         let first: Vec<(usize, Isometry3<f64>)> = self
             .scene
@@ -381,6 +386,7 @@ impl RapierBridge {
             );
             report.stabilizer = Some(second);
             report.bodies_held = count;
+            return Ok(indices);
         } else {
             log::debug!(
                 "held cycle rejected: depth after {:.3e} from the anchor, tolerance {:.3e}",
@@ -389,7 +395,7 @@ impl RapierBridge {
             );
             self.scene.set_user_poses(first).map_err(scene_error)?;
         }
-        Ok(())
+        Ok(Vec::new())
     }
 
     /// Puts the Rapier bodies of `sleepers` (scene indices) to sleep

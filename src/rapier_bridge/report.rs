@@ -91,7 +91,9 @@ pub struct BridgeReport {
     /// (`rapier_bridge/limbo.rs`); 0 when none.
     pub bodies_woken_falling: usize,
     /// Awake bodies whose velocities this call zeroed to put them to sleep
-    /// at the next call (`rapier_bridge/sleep.rs`); 0 when none.
+    /// at the next call (`rapier_bridge/sleep.rs`), and with
+    /// [`super::BridgeSettings::zero_held_velocities`] the bodies a held
+    /// cycle put back; 0 when none.
     pub velocities_zeroed: usize,
     /// f32 rounding of the written poses, as measured.
     pub write_back_round_off: WriteBackRoundOff,
