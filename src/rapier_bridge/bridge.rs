@@ -472,6 +472,7 @@ impl RapierBridge {
                 }
             }
         }
+        self.sleep_poses.retain_mapped(&self.map);
         if woken > 0 {
             log::debug!("bodies put to sleep but still falling, woken: {woken}");
         }

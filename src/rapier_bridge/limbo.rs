@@ -33,13 +33,14 @@
 //!
 //! A body found committed (asleep, at rest) or awake leaves the limbo.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use nalgebra::Isometry3;
 use rapier3d::dynamics::RigidBody;
 use rapier3d::geometry::ColliderHandle;
 use rapier3d::math::Vector;
 
+use super::body_map::BodyMap;
 use super::rest::farthest_point_motion;
 
 /// What a call does with a body flagged asleep.
@@ -67,6 +68,15 @@ impl SleepPoses {
     /// Forgets a body that is awake.
     pub(crate) fn forget(&mut self, collider: ColliderHandle) {
         self.0.remove(&collider);
+    }
+
+    /// Keeps only the bodies of `mapped` (colliders still read).
+    pub(crate) fn retain_mapped(&mut self, mapped: &BodyMap) {
+        if self.0.is_empty() {
+            return;
+        }
+        let read: HashSet<ColliderHandle> = mapped.entries().iter().map(|e| e.collider).collect();
+        self.0.retain(|collider, _| read.contains(collider));
     }
 
     /// The limbo rule (module docs) for a Rapier body flagged asleep whose
