@@ -374,6 +374,11 @@ impl Run {
         if let Ok(keep) = std::env::var("WITH_AND_WITHOUT_KEEP_PAIRS") {
             settings.stabilizer.keep_penetrated_pairs = keep != "0";
         }
+        // `WITH_AND_WITHOUT_ZERO_HELD_VELOCITIES=1`: the bodies a held
+        // cycle puts back get their velocities zeroed too.
+        if std::env::var("WITH_AND_WITHOUT_ZERO_HELD_VELOCITIES").as_deref() == Ok("1") {
+            settings.zero_held_velocities = true;
+        }
         Some(RapierBridge::with_settings(settings).expect("valid settings"))
     }
 }

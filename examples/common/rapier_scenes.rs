@@ -129,24 +129,38 @@ fn drop_position(i: usize, bin_half_width: f32) -> Vector {
 /// `count` bodies on a grid above a bin of half width `bin_half_width`,
 /// alternately boxes and hulls, about to drop.
 pub fn pile_world(count: usize, bin_half_width: f32, seed: u64) -> PhysicsWorld {
-    pile_of(count, bin_half_width, seed, |rng, i| {
+    pile_world_perturbed(count, bin_half_width, seed, 0.0)
+}
+
+/// [`pile_world`] with every drop height raised by `lift` (m): the same
+/// bodies, dropped from heights that differ by far less than any length of
+/// the scene (a probe of how chaotic the settle is; `lift = 0` is
+/// [`pile_world`] bit for bit).
+pub fn pile_world_perturbed(
+    count: usize,
+    bin_half_width: f32,
+    seed: u64,
+    lift: f32,
+) -> PhysicsWorld {
+    pile_of(count, bin_half_width, seed, lift, |rng, i| {
         random_collider(rng, i % 2 == 1)
     })
 }
 
-/// `count` bodies dropped into a bin, each at a random rotation with the
-/// collider `collider(rng, i)` (drawn after the rotation).
+/// `count` bodies dropped into a bin, raised by `lift`, each at a random
+/// rotation with the collider `collider(rng, i)` (drawn after the rotation).
 fn pile_of(
     count: usize,
     bin_half_width: f32,
     seed: u64,
+    lift: f32,
     mut collider: impl FnMut(&mut ChaCha8Rng, usize) -> ColliderBuilder,
 ) -> PhysicsWorld {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut world = world();
     ground_and_bin(&mut world, bin_half_width);
     for i in 0..count {
-        let translation = drop_position(i, bin_half_width);
+        let translation = drop_position(i, bin_half_width) + Vector::new(0.0, 0.0, lift);
         let body = RigidBodyBuilder::dynamic().pose(Pose::from_parts(
             translation,
             random_rapier_rotation(&mut rng),
@@ -159,7 +173,7 @@ fn pile_of(
 /// A pile of `count` round and curved bodies (issue 25) dropped into a
 /// bin: balls, capsules, cylinders and rounded cuboids in turn, 3-8 cm.
 pub fn mixed_pile_world(count: usize, bin_half_width: f32, seed: u64) -> PhysicsWorld {
-    pile_of(count, bin_half_width, seed, |rng, i| {
+    pile_of(count, bin_half_width, seed, 0.0, |rng, i| {
         let mut size = || quantize(rng.random_range(0.03..0.08));
         let collider = match i % 4 {
             0 => ColliderBuilder::ball(size()),

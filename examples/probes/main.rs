@@ -9,6 +9,9 @@
 //!   [`slide_probe`];
 //! - `rest`: what keeps a settled pile or pyramid moving under the bridge
 //!   (issue 22), [`rest_probe`];
+//! - `settle`: why the pile of 200 settles later under the bridge than
+//!   under Rapier alone and which box slides late (issue 21),
+//!   [`settle_probe`];
 //! - `thrown`: why the thrown box's stack drifts under the bridge (issue
 //!   22), [`thrown_probe`];
 //! - `polish`: whether clarabel's polish decides any answer, and its time,
@@ -36,11 +39,13 @@ mod friction_probe;
 mod passes_probe;
 mod polish_probe;
 mod rest_probe;
+mod settle_probe;
 mod slide_probe;
 mod thrown_probe;
 
 /// The probes' names, as the first argument.
-const PROBES: &str = "slide | rest | thrown | polish | friction | curved | certificates | passes";
+const PROBES: &str =
+    "slide | rest | settle | thrown | polish | friction | curved | certificates | passes";
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -49,6 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     match probe.as_deref() {
         Some("slide") => slide_probe::run(args),
         Some("rest") => rest_probe::run(args),
+        Some("settle") => settle_probe::run(args),
         Some("thrown") => thrown_probe::run(args),
         Some("polish") => {
             polish_probe::run();

@@ -37,6 +37,7 @@ use super::collider_shape::{
 use super::convert::{pose_from_f64, pose_to_f64, xyzw};
 use super::error::BridgeError;
 use super::joints::{JointReadReport, JointSkipReason, RapierJoint, SkippedJoint, read_joints};
+use super::limbo::{Limbo, SleepPoses};
 use super::report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
 use super::rest::{
     RESTING_STREAK, RestPoses, dynamic_poses, held_poses, is_resting, whole_islands,
@@ -72,6 +73,8 @@ pub struct RapierBridge {
     rest_streak: usize,
     /// Rapier's sleep timers on the poses the calls leave (`super::sleep`).
     clock: SleepClock,
+    /// Where the bridge put bodies to sleep (`super::limbo`).
+    sleep_poses: SleepPoses,
 }
 
 /// A user pose as stored: translation and `[x, y, z, w]`, compared bit for
@@ -97,6 +100,7 @@ impl RapierBridge {
             hold_anchor: RestPoses::default(),
             rest_streak: 0,
             clock: SleepClock::default(),
+            sleep_poses: SleepPoses::default(),
         })
     }
 
@@ -211,7 +215,8 @@ impl RapierBridge {
     ) -> Result<BridgeReport, BridgeError> {
         let sync = self.sync(bodies, colliders)?;
         let joints = self.sync_joints(impulse_joints, multibody_joints)?;
-        let asleep = self.hold_sleeping(bodies);
+        let (asleep, woken) =
+            self.hold_sleeping(bodies, f64::from(parameters.allowed_linear_error()));
         let previous = std::mem::take(&mut self.last_output);
         let sleepers = match self.settings.sleep_held_groups && self.clock.has_pending() {
             true => {
@@ -248,6 +253,7 @@ impl RapierBridge {
             bodies_held: 0,
             bodies_struck_held: struck.len(),
             bodies_put_to_sleep: sleepers.len(),
+            bodies_woken_falling: woken,
             velocities_zeroed: 0,
             write_back_round_off: WriteBackRoundOff::default(),
             round_off_bound,
@@ -291,12 +297,13 @@ impl RapierBridge {
             }
             report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
         }
+        let mut held = Vec::new();
         if self.settings.hold_cycles
             && !resting
             && self.settings.coupling == CouplingMode::ClosedContacts
         {
             let anchor = std::mem::take(&mut self.hold_anchor);
-            self.hold_cycle(&mut report, &anchor, &before, bodies, parameters)?;
+            held = self.hold_cycle(&mut report, &anchor, &before, bodies, parameters)?;
         }
         let (moved, round_off) = self.write_back(bodies, &before);
         bodies.propagate_modified_body_positions_to_colliders(colliders);
@@ -310,6 +317,9 @@ impl RapierBridge {
             let (velocities, count) = self.project_velocities(bodies, &moved, parameters)?;
             report.velocities = Some(velocities);
             report.velocities_written = count;
+        }
+        if self.settings.zero_held_velocities {
+            report.velocities_zeroed += self.zero_velocities(bodies, &held);
         }
         self.put_to_sleep(bodies, &sleepers);
         self.clock.advance(
@@ -336,7 +346,7 @@ impl RapierBridge {
     /// them) and solves again from there; keeps that answer only
     /// if its depth, rounded to f32, stays within the call's stated
     /// tolerance (`depth_after + 2 delta <= tolerance`), else restores the
-    /// first answer.
+    /// first answer. Returns the scene indices of the bodies held.
     fn hold_cycle(
         &mut self,
         report: &mut BridgeReport,
@@ -344,19 +354,20 @@ impl RapierBridge {
         read: &[UserPose],
         bodies: &RigidBodySet,
         parameters: &IntegrationParameters,
-    ) -> Result<(), BridgeError> {
+    ) -> Result<Vec<usize>, BridgeError> {
         let moved: Vec<usize> = (0..read.len())
             .filter(|&i| user_pose_of(&self.scene.bodies()[i]) != read[i])
             .collect();
         let Some(first_report) = report.stabilizer.as_ref() else {
-            return Ok(());
+            return Ok(Vec::new());
         };
         let held = held_poses(anchor, &self.scene, &self.map, &moved, bodies, parameters);
         // Per island, all or nothing (module docs of `rest`).
         let held = whole_islands(first_report, &moved, held);
         if held.is_empty() {
-            return Ok(());
+            return Ok(Vec::new());
         }
+        let indices: Vec<usize> = held.iter().map(|(i, _)| *i).collect();
         let scene_error = |e: SceneError| BridgeError::Stabilize(e.into());
         let first: Vec<(usize, Isometry3<f64>)> = self
             .scene
@@ -375,6 +386,7 @@ impl RapierBridge {
             );
             report.stabilizer = Some(second);
             report.bodies_held = count;
+            return Ok(indices);
         } else {
             log::debug!(
                 "held cycle rejected: depth after {:.3e} from the anchor, tolerance {:.3e}",
@@ -383,14 +395,19 @@ impl RapierBridge {
             );
             self.scene.set_user_poses(first).map_err(scene_error)?;
         }
-        Ok(())
+        Ok(Vec::new())
     }
 
     /// Puts the Rapier bodies of `sleepers` (scene indices) to sleep
     /// (`super::sleep`): velocities zeroed, sleep eligibility pinned, no
     /// pose written.
-    fn put_to_sleep(&self, bodies: &mut RigidBodySet, sleepers: &[usize]) {
+    fn put_to_sleep(&mut self, bodies: &mut RigidBodySet, sleepers: &[usize]) {
         for &i in sleepers {
+            if let (Some(entry), Some(body)) =
+                (self.map.entries().get(i), self.scene.bodies().get(i))
+            {
+                self.sleep_poses.record(entry.collider, body.user_pose());
+            }
             let handle = self.map.entries().get(i).and_then(|e| e.body);
             if let Some(rigid_body) = handle.and_then(|h| bodies.get_mut(h)) {
                 rigid_body.sleep();
@@ -427,23 +444,39 @@ impl RapierBridge {
     /// sleeping body that an awake one touches during its step, so a
     /// sleeping body is touched only by sleeping or fixed ones, unless the
     /// user moved a body into it without waking it.
-    fn hold_sleeping(&mut self, bodies: &RigidBodySet) -> usize {
-        let mut held = 0;
+    fn hold_sleeping(&mut self, bodies: &mut RigidBodySet, allowed: f64) -> (usize, usize) {
+        let (mut held, mut woken) = (0, 0);
         for (entry, body) in self.map.entries().iter().zip(self.scene.bodies_mut()) {
-            let asleep = entry.is_dynamic()
-                && entry
-                    .body
-                    .and_then(|h| bodies.get(h))
-                    .is_some_and(RigidBody::is_sleeping);
-            match asleep {
-                true => {
+            let rigid_body = entry
+                .body
+                .filter(|_| entry.is_dynamic())
+                .and_then(|h| bodies.get_mut(h));
+            let state = match rigid_body {
+                Some(rb) if rb.is_sleeping() => {
+                    self.sleep_poses.check(entry.collider, body, rb, allowed)
+                }
+                _ => {
+                    self.sleep_poses.forget(entry.collider);
+                    body.release();
+                    continue;
+                }
+            };
+            match state {
+                Limbo::Asleep | Limbo::Stopped => {
                     body.hold_fixed();
                     held += 1;
                 }
-                false => body.release(),
+                Limbo::Woken => {
+                    body.release();
+                    woken += 1;
+                }
             }
         }
-        held
+        self.sleep_poses.retain_mapped(&self.map);
+        if woken > 0 {
+            log::debug!("bodies put to sleep but still falling, woken: {woken}");
+        }
+        (held, woken)
     }
 
     /// Struck bodies ([`BridgeSettings::hold_struck_bodies`]): holds still

@@ -143,6 +143,7 @@ mod convert;
 mod engine_mass;
 mod error;
 mod joints;
+mod limbo;
 mod report;
 mod rest;
 mod round_collider;

@@ -85,8 +85,15 @@ pub struct BridgeReport {
     /// [`super::BridgeSettings::sleep_held_groups`]): held still, not
     /// written, and `RigidBody::sleep` called; 0 when none.
     pub bodies_put_to_sleep: usize,
+    /// Bodies the bridge had put to sleep that Rapier still integrated
+    /// without their contacts and that had fallen beyond Rapier's allowed
+    /// linear error: woken and corrected as awake bodies
+    /// (`rapier_bridge/limbo.rs`); 0 when none.
+    pub bodies_woken_falling: usize,
     /// Awake bodies whose velocities this call zeroed to put them to sleep
-    /// at the next call (`rapier_bridge/sleep.rs`); 0 when none.
+    /// at the next call (`rapier_bridge/sleep.rs`), and with
+    /// [`super::BridgeSettings::zero_held_velocities`] the bodies a held
+    /// cycle put back; 0 when none.
     pub velocities_zeroed: usize,
     /// f32 rounding of the written poses, as measured.
     pub write_back_round_off: WriteBackRoundOff,

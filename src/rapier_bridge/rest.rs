@@ -71,6 +71,14 @@
 //! moved by resting calls: on the 1:100 stack a resting call every fourth
 //! step left the sunk pose as the anchor and the ratchet came back (1.8
 //! mm in 300 steps against 0.43 with the anchor kept).
+//!
+//! A held cycle puts the pose back, not the velocity: the velocity Rapier
+//! gave the body in its step stays (less the approach the velocity
+//! projection removes), so a body can gather speed under a pose held
+//! still and move off once released (a tumbling box of the pile of 200:
+//! 3.1 rad/s under its held pose, a 6 mm slide).
+//! [`super::BridgeSettings::zero_held_velocities`] zeroes the velocities
+//! of the bodies put back; off by default (measured: its docs).
 
 use std::collections::{HashMap, HashSet};
 

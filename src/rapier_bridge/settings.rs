@@ -181,6 +181,19 @@ pub struct BridgeSettings {
     /// body and its neighbours at its next step, so without this a scene
     /// the calls hold still never sleeps. Default true.
     pub sleep_held_groups: bool,
+    /// Held velocities zeroed (`rapier_bridge/rest.rs`, "Held cycles"): a
+    /// body a held cycle puts back at its anchor also gets its velocity
+    /// zeroed (written without waking), so the cycle is a fixed point in
+    /// velocity too. Without it the pose is reset at every call while
+    /// Rapier's velocity keeps what each step adds: on the pile of 200 a
+    /// tumbling box held at steps 140 and 144 reached 3.1 rad/s under its
+    /// held pose and slid 6 mm once released (`examples/probes/settle_probe.rs`).
+    /// Default false: measured on the pile of 200 it settles more often
+    /// within issue 22's limits (5 of 11 runs with perturbed drop heights
+    /// or solver tolerances, against 1 of 11) but with heavier tails (up to
+    /// 67 mm of drift, against 54), so not a clear improvement
+    /// (`benchmarks/results/coupling.md`, "The pile of 200's settle").
+    pub zero_held_velocities: bool,
 }
 
 /// A body whose speed times the step's time step exceeds this fraction of
@@ -207,6 +220,7 @@ impl BridgeSettings {
             hold_cycles: true,
             hold_struck_bodies: true,
             sleep_held_groups: true,
+            zero_held_velocities: false,
         }
     }
 

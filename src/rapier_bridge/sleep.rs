@@ -44,8 +44,10 @@
 //! bodies are held still (not solved, not written) and put to sleep with
 //! `RigidBody::sleep` (no pose write, so no wake): Rapier pins their sleep
 //! eligibility and its island manager puts their island to sleep within
-//! its next steps. Two calls, because a call that writes a pose cannot put
-//! that body to sleep (the write wakes it at the next step).
+//! its next steps (until it does, Rapier integrates the bodies without
+//! their contacts: `super::limbo`). Two calls, because a call that writes
+//! a pose cannot put that body to sleep (the write wakes it at the next
+//! step).
 //!
 //! Why the margin: with boxes grown by the prediction distance only, the
 //! pile of 200 was put to sleep at step 161 as a group of 196 and four

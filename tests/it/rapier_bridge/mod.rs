@@ -9,6 +9,7 @@ mod compound;
 mod coupling;
 mod joints;
 mod kept_scene;
+mod limbo;
 mod rest;
 mod round;
 mod round_off;
