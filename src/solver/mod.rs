@@ -64,6 +64,6 @@ pub use projection::{BodyMetric, JacobianRow, ProjectionQp};
 pub use projection_lcp::{dq_from_lambda, lcp_matrix, projection_to_lcp};
 pub use residuals::ProjectionResiduals;
 pub use solve::{
-    ProjectionSolution, SolverChoice, SolverSettings, cross_check_projection, solve_projection,
-    solve_projection_warm,
+    DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS, ProjectionSolution, SolverChoice, SolverSettings,
+    cross_check_projection, solve_projection, solve_projection_warm,
 };

@@ -43,7 +43,8 @@
 //!
 //! **The interior point** ([`SolverKind::InteriorPoint`],
 //! [`super::interior_point`]) runs first when named, or under `Auto` from
-//! [`SolverSettings::auto_interior_point_min_rows`] rows (default never)
+//! [`SolverSettings::auto_interior_point_min_rows`] rows (default
+//! [`DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS`])
 //! for problems without cones and equality rows; clarabel and the others
 //! follow it on failure. It uses the multipliers of
 //! [`solve_projection_warm`] (checked as they are, then its warm finish)
@@ -172,6 +173,10 @@ impl SolverChoice {
     }
 }
 
+/// Default of [`SolverSettings::auto_interior_point_min_rows`]: from this
+/// many rows the interior point answers under `Auto` (Lemke below).
+pub const DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS: usize = 41;
+
 /// Settings of [`solve_projection`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolverSettings {
@@ -236,21 +241,21 @@ pub struct SolverSettings {
     /// Under `Auto`, the interior point on the body-space matrix
     /// ([`super::interior_point`]) for problems without cones and equality
     /// rows of at least this many rows (before Lemke and clarabel; the
-    /// augmented Lagrangian's threshold is checked first). Default never
-    /// (`usize::MAX`). At 161 it answers the large islands of the engine
-    /// states at 0.17-0.47x clarabel's time, closer to the exact minimizer
-    /// than clarabel's default answers, and the pyramid's worst call in
-    /// the Rapier loop fell from 157-162 ms to 39-43 ms; but under the
-    /// Rapier bridge the pile of 200 then settled 25 steps later and
-    /// drifted 6.2 mm against 0.6 mm (clarabel at a tighter gap, 1e-10,
-    /// did too: 15.9 mm, 33 steps later; the settle moves with any change
-    /// of the answers: `benchmarks/results/solvers.md`, "The interior
-    /// point"). From 41 rows (Lemke below; friction pyramids included) it
-    /// answers the worst calls of the Rapier loop at 0.15-0.39x Lemke's
-    /// time (the thrown box's 120 rows) and 0.16-0.21x clarabel's (the
-    /// pyramid's 2,900), and the pile of 200's settling calls at 0.4x;
-    /// the pile then sleeps 20 steps later (`solvers.md`, "The worst calls
-    /// of the Rapier loop"; `call_cost.md`, last section).
+    /// augmented Lagrangian's threshold is checked first). Default
+    /// [`DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS`], by measurement: from 41
+    /// rows (Lemke below; friction pyramids included) it answers the worst
+    /// calls of the Rapier loop at 0.15-0.39x Lemke's time (the thrown
+    /// box's 120 rows) and 0.16-0.21x clarabel's (the pyramid's 2,900), the
+    /// pile of 200's settling calls at 0.4x, and the large islands of the
+    /// engine states at 0.17-0.47x clarabel's time, closer to the exact
+    /// minimizer than clarabel's default answers (`benchmarks/results/
+    /// solvers.md`, "The interior point" and "The worst calls of the
+    /// Rapier loop"). Under the Rapier bridge the settling pile of 200
+    /// follows any change of the answers; over sixteen drops perturbed by
+    /// up to 2e-5 m it met issue 22's limits against Rapier alone on the
+    /// same drop as often as clarabel did (8 and 6 of 16;
+    /// `benchmarks/results/coupling.md`, "The settle over perturbed
+    /// drops"). `usize::MAX`: never.
     pub auto_interior_point_min_rows: usize,
     /// Augmented Lagrangian settings.
     pub augmented_lagrangian: AugmentedLagrangianSettings,
@@ -276,7 +281,7 @@ impl Default for SolverSettings {
             fall_back: true,
             stop_on_infeasible: false,
             deadline: None,
-            auto_interior_point_min_rows: usize::MAX,
+            auto_interior_point_min_rows: DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS,
             augmented_lagrangian: AugmentedLagrangianSettings::default(),
             interior_point: InteriorPointSettings::default(),
             clarabel: ClarabelSettings::default(),

@@ -198,9 +198,9 @@ fn badly_conditioned_stacks_accepted() {
     }
 }
 
-/// Above `auto_lemke_max_rows` rows the fallbacks are size-aware: clarabel
-/// (sparse, `Auto`'s first choice there) first, then PGS (bounded sweeps),
-/// dense Lemke last. A body
+/// Above `auto_lemke_max_rows` rows the fallbacks are size-aware: the
+/// interior point (`Auto`'s first choice from `auto_interior_point_min_rows`
+/// rows), clarabel (sparse), then PGS (bounded sweeps), dense Lemke last. A body
 /// pushed both ways by `dz >= 1` and `-dz >= 1`, plus separated rows up to
 /// the size: infeasible, so every solver is tried and listed in order.
 #[test]
@@ -227,6 +227,11 @@ fn hundreds_of_rows_try_dense_lemke_last() {
     use constraint_stabilization::solver::SolverKind;
     assert_eq!(
         order,
-        [SolverKind::Clarabel, SolverKind::Pgs, SolverKind::Lemke]
+        [
+            SolverKind::InteriorPoint,
+            SolverKind::Clarabel,
+            SolverKind::Pgs,
+            SolverKind::Lemke
+        ]
     );
 }

@@ -25,6 +25,12 @@ const DQ_AGREEMENT_TOL: f64 = 1e-8;
 /// must answer at least this many itself (measured: 8, the other ten stop
 /// at the sweep limit; the test compared clarabel with itself on those).
 const PGS_MIN_ANSWERED: usize = 8;
+/// The interior point's answers (`Auto`'s from
+/// `auto_interior_point_min_rows` rows) are judged to the issue's "same
+/// answers" tolerance instead: it stops once the acceptance measure is 1e-6
+/// of its tolerance, and on these random stacks its `dq` and `lambda` agree
+/// to about 2e-7 in the oracle's stationarity (120 rows, seed 1).
+const INTERIOR_POINT_TOL: f64 = 1e-6;
 /// Agreement with an exact closed form, relative to its size (a few
 /// roundings of the data).
 const CLOSED_FORM_TOL: f64 = 1e-14;
@@ -38,14 +44,21 @@ fn settings(choice: SolverChoice) -> SolverSettings {
 
 /// The solver that must answer `qp` under `choice` when nothing fails: the
 /// named one, or under `Auto` the rule documented in `solver::solve`
-/// (trivial, closed form for one row, Lemke up to `auto_lemke_max_rows`
-/// rows, clarabel above).
+/// (trivial, closed form for one row, the interior point from
+/// `auto_interior_point_min_rows` rows without equalities, Lemke up to
+/// `auto_lemke_max_rows` rows, clarabel above).
 fn first_solver(qp: &ProjectionQp, choice: SolverChoice) -> SolverKind {
     match choice {
         SolverChoice::Auto if qp.phi.iter().zip(&qp.target).all(|(p, t)| p >= t) => {
             SolverKind::Trivial
         }
         SolverChoice::Auto if qp.rows.len() == 1 => SolverKind::ClosedForm,
+        SolverChoice::Auto
+            if qp.rows.len() >= SolverSettings::default().auto_interior_point_min_rows
+                && qp.num_equalities == 0 =>
+        {
+            SolverKind::InteriorPoint
+        }
         SolverChoice::Auto if qp.rows.len() <= SolverSettings::default().auto_lemke_max_rows => {
             SolverKind::Lemke
         }
@@ -67,8 +80,24 @@ fn solve_with(qp: &ProjectionQp, choice: SolverChoice, context: &str) -> Project
         (first_solver(qp, choice), &[][..]),
         "{context} {choice:?}: unexpected solver or fallback"
     );
-    assert_kkt(qp, &sol.dq, &sol.lambda, &format!("{context} {choice:?}"));
+    if sol.solver == SolverKind::InteriorPoint {
+        let kkt = projection_kkt(qp, &sol.dq, &sol.lambda);
+        assert!(
+            kkt.worst() <= INTERIOR_POINT_TOL,
+            "{context} {choice:?}: {kkt:?}"
+        );
+    } else {
+        assert_kkt(qp, &sol.dq, &sol.lambda, &format!("{context} {choice:?}"));
+    }
     sol
+}
+
+/// The agreement `sol` must reach with a reference answer.
+fn agreement_tol(sol: &ProjectionSolution) -> f64 {
+    match sol.solver {
+        SolverKind::InteriorPoint => INTERIOR_POINT_TOL,
+        _ => DQ_AGREEMENT_TOL,
+    }
 }
 
 const ALL: [SolverChoice; 5] = [
@@ -335,7 +364,7 @@ fn all_solvers_agree_on_random_stacks() {
                 pgs_answered += usize::from(sol.solver == SolverKind::Pgs);
                 let diff = relative_metric_distance(&qp, &sol.dq, &reference.dq);
                 assert!(
-                    diff < DQ_AGREEMENT_TOL,
+                    diff < agreement_tol(&sol),
                     "{context}, {choice:?} ({:?}): {diff:e}",
                     sol.solver
                 );
