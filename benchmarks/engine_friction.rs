@@ -128,7 +128,7 @@ fn main() {
     } else {
         "engine_friction.md"
     };
-    std::fs::write(dir.join(name), &md).expect("write md");
+    common::write_keeping_sections(&dir.join(name), &md);
     println!("written to {}", dir.join(name).display());
 }
 
