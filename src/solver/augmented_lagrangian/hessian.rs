@@ -329,22 +329,10 @@ impl NewtonMatrix {
         active: &[bool],
     ) -> Result<(), FactorizationFailed> {
         // `new` builds the pattern whenever the matrix is sparse.
-        let pattern = self.pattern.as_ref().ok_or(FactorizationFailed)?;
-        let symbolic_matrix = SymbolicSparseColMatRef::new_checked(
-            self.dofs,
-            self.dofs,
-            &pattern.col_ptr,
-            None,
-            &pattern.row_idx,
-        );
-        if self.sparse.is_none() {
-            self.sparse = Some(SparseFactor::analyse(
-                symbolic_matrix,
-                pattern.row_idx.len(),
-                self.supernodal,
-            )?);
-        }
-        let sparse = self.sparse.as_mut().ok_or(FactorizationFailed)?;
+        self.prepare_sparse()?;
+        let (Some(pattern), Some(sparse)) = (self.pattern.as_ref(), self.sparse.as_mut()) else {
+            return Err(FactorizationFailed);
+        };
         sparse.values.fill(0.0);
         let values = &mut sparse.values;
         for (k, b) in metric.iter().enumerate() {
@@ -372,21 +360,7 @@ impl NewtonMatrix {
                 }
             }
         }
-        let matrix = SparseColMatRef::new(symbolic_matrix, &sparse.values);
-        let stack = MemStack::new(&mut sparse.workspace);
-        sparse
-            .symbolic
-            .factorize_numeric_llt(
-                &mut sparse.factor_values,
-                matrix,
-                Side::Lower,
-                LltRegularization::default(),
-                Par::Seq,
-                stack,
-                Default::default(),
-            )
-            .map(|_| ())
-            .map_err(|_| FactorizationFailed)
+        self.factor_sparse_values()
     }
 
     /// `H^-1 rhs` with the current factor (`None` before a factorization).
