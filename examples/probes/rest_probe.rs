@@ -27,10 +27,26 @@ use rapier3d::prelude::*;
 
 /// Largest displacement of a point at distance `reach` from the body
 /// origin between two poses: translation plus angle times reach.
-fn point_motion(a: &Pose, b: &Pose, reach: f32) -> f64 {
+pub(crate) fn point_motion(a: &Pose, b: &Pose, reach: f32) -> f64 {
     let translation = (b.translation - a.translation).length();
     let angle = a.rotation.angle_between(b.rotation);
     f64::from(translation + angle * reach)
+}
+
+/// The world's dynamic bodies and the reach of each (the largest extent
+/// of its mass properties).
+pub(crate) fn dynamic_bodies(world: &PhysicsWorld) -> (Vec<RigidBodyHandle>, Vec<f32>) {
+    let handles: Vec<RigidBodyHandle> = world
+        .bodies
+        .iter()
+        .filter(|(_, b)| b.is_dynamic())
+        .map(|(h, _)| h)
+        .collect();
+    let reach = handles
+        .iter()
+        .map(|&h| world.bodies[h].mass_properties().max_extent())
+        .collect();
+    (handles, reach)
 }
 
 /// The word after `flag` on the command line.
@@ -69,16 +85,7 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
         ..BridgeSettings::default()
     })?;
     let mut measure = RapierBridge::with_settings(BridgeSettings::default())?;
-    let handles: Vec<RigidBodyHandle> = world
-        .bodies
-        .iter()
-        .filter(|(_, b)| b.is_dynamic())
-        .map(|(h, _)| h)
-        .collect();
-    let reach: Vec<f32> = handles
-        .iter()
-        .map(|&h| world.bodies[h].mass_properties().max_extent())
-        .collect();
+    let (handles, reach) = dynamic_bodies(&world);
     let n = handles.len();
     let mut creep_step = vec![[0.0f64; 2]; n];
     let mut creep_call = vec![[0.0f64; 2]; n];

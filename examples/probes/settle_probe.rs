@@ -27,6 +27,7 @@
 //! `--trace BODY FROM TO` prints one body's motion and velocities after
 //! Rapier's step and after the call at each step of the range.
 
+use crate::rest_probe::{dynamic_bodies, flag_value, point_motion};
 use crate::scenes;
 
 use constraint_stabilization::rapier_bridge::{BridgeSettings, RapierBridge};
@@ -38,19 +39,6 @@ const DRIFT_FROM: usize = 150;
 /// A body that moved more than this in a step is listed as moving in the
 /// drifting body's story (m).
 const STORY_MOTION: f64 = 1e-4;
-
-/// Largest displacement of a point at distance `reach` from the body
-/// origin between two poses: translation plus angle times reach.
-fn point_motion(a: &Pose, b: &Pose, reach: f32) -> f64 {
-    let translation = (b.translation - a.translation).length();
-    let angle = a.rotation.angle_between(b.rotation);
-    f64::from(translation + angle * reach)
-}
-
-/// The word after `flag` on the command line.
-fn flag_value(args: &[String], flag: &str) -> Option<String> {
-    args.windows(2).find(|w| w[0] == flag).map(|w| w[1].clone())
-}
 
 /// The bridge of the probe: the default, with the solver options.
 fn bridge(args: &[String]) -> Result<RapierBridge, Box<dyn std::error::Error>> {
@@ -93,16 +81,7 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut world = scenes::pile_world_perturbed(200, 1.0, seed, perturb);
     let mut bridge = (!plain).then(|| bridge(&args)).transpose()?;
-    let handles: Vec<RigidBodyHandle> = world
-        .bodies
-        .iter()
-        .filter(|(_, b)| b.is_dynamic())
-        .map(|(h, _)| h)
-        .collect();
-    let reach: Vec<f32> = handles
-        .iter()
-        .map(|&h| world.bodies[h].mass_properties().max_extent())
-        .collect();
+    let (handles, reach) = dynamic_bodies(&world);
     let n = handles.len();
     let dt = world.integration_parameters.dt;
     let threshold = f64::from(2.0 * 0.05 * world.integration_parameters.length_unit * dt);
