@@ -45,6 +45,13 @@ struct BlockPattern {
 }
 
 impl BlockPattern {
+    /// The lower triangle's structure as faer reads it (`H` is square,
+    /// one column per entry of `dq`).
+    fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        let dofs = self.col_ptr.len() - 1;
+        SymbolicSparseColMatRef::new_checked(dofs, dofs, &self.col_ptr, None, &self.row_idx)
+    }
+
     fn new(qp: &ProjectionQp) -> Self {
         let n_bodies = qp.bodies.len();
         let mut neighbours = vec![Vec::new(); n_bodies];
@@ -277,13 +284,7 @@ impl NewtonMatrix {
             return Ok(());
         }
         let pattern = self.pattern.as_ref().ok_or(FactorizationFailed)?;
-        let symbolic_matrix = SymbolicSparseColMatRef::new_checked(
-            self.dofs,
-            self.dofs,
-            &pattern.col_ptr,
-            None,
-            &pattern.row_idx,
-        );
+        let symbolic_matrix = pattern.symbolic();
         self.sparse = Some(SparseFactor::analyse(
             symbolic_matrix,
             pattern.row_idx.len(),
@@ -297,13 +298,7 @@ impl NewtonMatrix {
         let (Some(pattern), Some(sparse)) = (self.pattern.as_ref(), self.sparse.as_mut()) else {
             return Err(FactorizationFailed);
         };
-        let symbolic_matrix = SymbolicSparseColMatRef::new_checked(
-            self.dofs,
-            self.dofs,
-            &pattern.col_ptr,
-            None,
-            &pattern.row_idx,
-        );
+        let symbolic_matrix = pattern.symbolic();
         let matrix = SparseColMatRef::new(symbolic_matrix, &sparse.values);
         let stack = MemStack::new(&mut sparse.workspace);
         sparse
