@@ -20,7 +20,9 @@
 //! (`pile_200`, `pyramid_55`, `thrown_box`, ...) with the bridge's default
 //! settings, every QP of each call (frictional pyramids and velocity
 //! projections included; `--min-rows` defaults to 2 there), one table row
-//! per call and variant, after a line with the call's stage times.
+//! per call and variant, after a line with the call's stage times. With
+//! `ENGINE_QPS_AROUND_MEDIAN=1` the `--worst K` calls are instead the `K`
+//! around the median call (a typical call rather than the slowest).
 //!
 //! Variants: `clarabel` (the reference: the default settings with
 //! `SolverChoice::Clarabel`), `al` (the augmented Lagrangian, named),

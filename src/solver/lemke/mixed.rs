@@ -43,9 +43,10 @@
 //! with `L_11` the leading `r x r` block: `X^- = P^T [(L_11 L_11^T)^-1, 0;
 //! 0, 0] P` is a generalized inverse of `X` when its trailing Schur
 //! complement vanishes (rank `r`), and `D X^- D` one of `A_EE` (`A D X^- D
-//! A = D^-1 X X^- X D^-1 = A`). It costs `O(e^2 r)` where the SVD's
-//! pseudo-inverse cost about twenty times `e^3` (a chain of 21 links, 106
-//! rows: most of the bridge's call, `CHANGELOG.md`).
+//! A = D^-1 X X^- X D^-1 = A`). The factorization costs `O(e^2 r)`;
+//! `G` itself is never formed: `G b_E` and `G A_EI` are two triangular
+//! solves with `L_11` per column (`O(e r)` each), so a problem of equality
+//! rows alone costs one factorization and two solves.
 //!
 //! Inconsistent equalities (`b_E` not in the range: two joint rows asking
 //! for different values of one quantity) are reported as
@@ -59,6 +60,9 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt_pivoting::factor::{cholesky_in_place, cholesky_in_place_scratch};
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
 use faer::{Mat, Par};
 use nalgebra::{DMatrix, DVector};
 
@@ -92,8 +96,13 @@ pub(super) fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution
     let a_ei = m.view((0, e), (e, ni)).into_owned();
     let a_ie = m.view((e, 0), (ni, e)).into_owned();
     let b_e = q.rows(0, e).into_owned();
-    let g = generalized_inverse(&a_ee, &b_e).ok_or_else(|| failure(inaccurate(f64::INFINITY)))?;
-    let g_b = &g * &b_e;
+    let not_finite = || failure(inaccurate(f64::INFINITY));
+    let g = EqualityInverse::new(&a_ee, &b_e).ok_or_else(not_finite)?;
+    let g_b = g
+        .apply(&DMatrix::from_column_slice(e, 1, b_e.as_slice()))
+        .ok_or_else(not_finite)?
+        .column(0)
+        .into_owned();
     let outside = (&b_e - &a_ee * &g_b).amax();
     let scale = q.amax().max(f64::MIN_POSITIVE);
     // Consistent within what the final check accepts: Lemke's own
@@ -105,7 +114,7 @@ pub(super) fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution
         log::debug!("lemke: equality rows inconsistent, {residual:.2e} of b outside the range");
         return Err(failure(LemkeStatus::InconsistentEqualities { residual }));
     }
-    let g_a = &g * &a_ei;
+    let g_a = g.apply(&a_ei).ok_or_else(not_finite)?;
     let s = m.view((e, e), (ni, ni)) - &a_ie * &g_a;
     let q_i = q.rows(e, ni) - &a_ie * &g_b;
     // Non-finite only when G overflowed (a nearly singular A_EE at the
@@ -145,41 +154,73 @@ fn failure(status: LemkeStatus) -> LemkeFailure {
     }
 }
 
-/// `G = D P^T [(L_11 L_11^T)^-1, 0; 0, 0] P D` (module docs), `None` when
-/// the factorization fails or `G` is not finite.
-fn generalized_inverse(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<DMatrix<f64>> {
-    let scaling = LcpScaling::jacobi(a, b);
-    let scaled = scaling.scale_m(a);
-    let n = scaled.nrows();
-    let mut factor = Mat::<f64>::from_fn(n, n, |i, j| scaled[(i, j)]);
-    let (mut perm, mut perm_inv) = (vec![0usize; n], vec![0usize; n]);
-    let params = Default::default();
-    let mut workspace =
-        MemBuffer::try_new(cholesky_in_place_scratch::<usize, f64>(n, Par::Seq, params)).ok()?;
-    cholesky_in_place(
-        factor.as_mut(),
-        &mut perm,
-        &mut perm_inv,
-        Par::Seq,
-        MemStack::new(&mut workspace),
-        params,
-    )
-    .ok()?;
-    // The pivots `L_jj^2` do not increase (each is the largest left); the
-    // rank is where they fall below the tolerance relative to the first.
-    let first = factor[(0, 0)].powi(2);
-    let rank = (0..n)
-        .take_while(|&j| factor[(j, j)].powi(2) > EQUALITY_RANK_TOL_REL * first)
-        .count();
-    let l_11 = DMatrix::from_fn(rank, rank, |i, j| if i >= j { factor[(i, j)] } else { 0.0 });
-    let l_inv = l_11.solve_lower_triangular(&DMatrix::identity(rank, rank))?;
-    let inner = l_inv.transpose() * l_inv;
-    let mut g = DMatrix::zeros(n, n);
-    for i in 0..rank {
-        for j in 0..rank {
-            let (pi, pj) = (perm[i], perm[j]);
-            g[(pi, pj)] = scaling.d[pi] * inner[(i, j)] * scaling.d[pj];
-        }
+/// The generalized inverse `G = D P^T [(L_11 L_11^T)^-1, 0; 0, 0] P D` of
+/// `A_EE` (module docs), kept as its factor: `G` is applied by two
+/// triangular solves with `L_11` (`O(e r)` per column), never formed.
+struct EqualityInverse {
+    /// The pivoted Cholesky factor of `X = D A_EE D`: `L` in the lower
+    /// triangle (the leading `rank` columns are used).
+    factor: Mat<f64>,
+    /// The numerical rank `r`.
+    rank: usize,
+    /// The pivoting: row `i` of `P X P^T` is row `perm[i]` of `X`.
+    perm: Vec<usize>,
+    /// The Jacobi scaling `D`.
+    d: DVector<f64>,
+}
+
+impl EqualityInverse {
+    /// Factors the Jacobi-scaled `A_EE`; `None` when the factorization
+    /// fails.
+    fn new(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<Self> {
+        let scaling = LcpScaling::jacobi(a, b);
+        let scaled = scaling.scale_m(a);
+        let n = scaled.nrows();
+        let mut factor = Mat::<f64>::from_fn(n, n, |i, j| scaled[(i, j)]);
+        let (mut perm, mut perm_inv) = (vec![0usize; n], vec![0usize; n]);
+        let params = Default::default();
+        let mut workspace =
+            MemBuffer::try_new(cholesky_in_place_scratch::<usize, f64>(n, Par::Seq, params))
+                .ok()?;
+        cholesky_in_place(
+            factor.as_mut(),
+            &mut perm,
+            &mut perm_inv,
+            Par::Seq,
+            MemStack::new(&mut workspace),
+            params,
+        )
+        .ok()?;
+        // The pivots `L_jj^2` do not increase (each is the largest left);
+        // the rank is where they fall below the tolerance relative to the
+        // first.
+        let first = if n > 0 { factor[(0, 0)].powi(2) } else { 0.0 };
+        let rank = (0..n)
+            .take_while(|&j| factor[(j, j)].powi(2) > EQUALITY_RANK_TOL_REL * first)
+            .count();
+        Some(Self {
+            factor,
+            rank,
+            perm,
+            d: scaling.d,
+        })
     }
-    g.iter().all(|x| x.is_finite()).then_some(g)
+
+    /// `G x` for every column of `x` (`e` rows); `None` when it is not
+    /// finite (a nearly singular `A_EE` at the edge of the rank tolerance).
+    fn apply(&self, x: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+        let (r, k) = (self.rank, x.ncols());
+        let (perm, d) = (&self.perm, &self.d);
+        let mut y = Mat::<f64>::from_fn(r, k, |i, j| d[perm[i]] * x[(perm[i], j)]);
+        let l_11 = self.factor.as_ref().submatrix(0, 0, r, r);
+        solve_lower_triangular_in_place(l_11, y.as_mut(), Par::Seq);
+        solve_upper_triangular_in_place(l_11.transpose(), y.as_mut(), Par::Seq);
+        let mut g_x = DMatrix::zeros(x.nrows(), k);
+        for i in 0..r {
+            for j in 0..k {
+                g_x[(perm[i], j)] = d[perm[i]] * y[(i, j)];
+            }
+        }
+        g_x.iter().all(|v| v.is_finite()).then_some(g_x)
+    }
 }
