@@ -50,10 +50,13 @@ impl LcpScaling {
             q.len(),
             (0..q.len()).map(|i| {
                 let mii = m[(i, i)];
-                let own = m.row(i).amax().max(m.column(i).amax());
                 if mii > floor {
-                    1.0 / mii.sqrt()
-                } else if own > JACOBI_MIN_ROW_REL * size {
+                    return 1.0 / mii.sqrt();
+                }
+                // Only a row with a (near) zero diagonal reads its row and
+                // column.
+                let own = m.row(i).amax().max(m.column(i).amax());
+                if own > JACOBI_MIN_ROW_REL * size {
                     1.0 / own.sqrt()
                 } else {
                     fallback
