@@ -58,11 +58,15 @@
 //! it); when it passes the stop test (at the looser of the stop fraction
 //! and `1e-3`, the warm finish's rounding floor being near `1e-10`) it is
 //! returned with zero
-//! iterations and no factorization. Else the warm finish (`warm`: the
+//! iterations and no factorization. Else, when it is within
+//! `WARM_FINISH_MAX_ACCEPTANCE` of passing, the warm finish (`warm`: the
 //! method of multipliers on its active set, one factorization and a few
-//! solves) tries to certify it; an interior point cannot start from it
-//! otherwise (its complementarity is exact), so when that fails too the
-//! iteration starts cold.
+//! solves) tries to certify it. Otherwise the iteration starts cold: an
+//! interior point cannot start from a warm start as it is (its
+//! complementarity is exact), and started from one with its
+//! complementarity raised to `1e-4` to `1e-2` of the cold start's it took
+//! 3-21 % more iterations than cold on the loop's problems
+//! (`benchmarks/results/solvers.md`).
 //!
 //! **Not applicable** to equality rows and friction cones (the caller
 //! falls back); **infeasible** problems make the iterates diverge: the
@@ -167,21 +171,31 @@ pub fn solve(
         // near 1e-10 (random stacks): a warm start is accepted at the
         // rounding-floor fraction of the tolerance.
         let warm_target = target.max(ROUNDING_FLOOR_FRACTION * start.tolerance);
-        let (candidate, scaled) = warm_candidate(qp, metric, warm, warm_target);
-        if let Some(candidate) = candidate {
-            log::trace!("interior point: warm start accepted as it is");
-            return Ok(candidate);
-        }
-        if let Some(candidate) = warm::warm_finish(
-            qp,
-            metric,
-            &mut newton,
-            &scaled,
-            warm_target,
-            &mut factorizations,
-        ) {
-            log::trace!("interior point: warm start certified by the warm finish");
-            return Ok(candidate);
+        match warm_candidate(qp, metric, warm, warm_target) {
+            Ok(candidate) => {
+                log::trace!("interior point: warm start accepted as it is");
+                return Ok(candidate);
+            }
+            // The warm finish only where the warm start is nearly the
+            // answer: from a far one it fails and costs a factorization.
+            Err((scaled, acceptance)) if acceptance <= WARM_FINISH_MAX_ACCEPTANCE => {
+                if let Some(candidate) = warm::warm_finish(
+                    qp,
+                    metric,
+                    &mut newton,
+                    &scaled,
+                    warm_target,
+                    &mut factorizations,
+                ) {
+                    log::trace!("interior point: warm start certified by the warm finish");
+                    return Ok(candidate);
+                }
+            }
+            Err((_, acceptance)) => {
+                log::trace!(
+                    "interior point: warm start too far for the warm finish (acceptance {acceptance:.2e})"
+                );
+            }
         }
     }
     let m = qp.num_rows();
@@ -284,6 +298,15 @@ pub fn solve(
 /// most violated row alone; module docs).
 const CHECK_GAP_REL: f64 = 1e-8;
 
+/// The warm finish is tried only from a warm start whose acceptance
+/// measure is at most this. In the Rapier loop of the pile of 200 the
+/// previous call's multipliers measure 4e-6 to 1e6 (median 1): the finish
+/// certified none of 2,866 and cost a factorization and six solves per
+/// island, a fifth of the interior point's time
+/// (`benchmarks/results/solvers.md`, "The interior point's warm start in
+/// the loop"). An unchanged problem's warm start passes as it is.
+const WARM_FINISH_MAX_ACCEPTANCE: f64 = 1e-6;
+
 /// An answer whose acceptance measure is at most this fraction of the
 /// tolerance is returned when the iteration limit stops a smaller
 /// [`InteriorPointSettings::stop_fraction`].
@@ -321,15 +344,16 @@ fn best_candidate(
     )
 }
 
-/// The warm start as it is or scaled (module docs), when it passes the
-/// stop test; and the multipliers the warm finish starts from (scaled when
-/// the scale is defined).
+/// The warm start as it is, then scaled (module docs): the first that
+/// passes the stop test at `target`; else the multipliers the warm finish
+/// would start from (scaled when the scale is defined) with their
+/// acceptance measure (NaN counts as infinite).
 fn warm_candidate(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
     warm: &DVector<f64>,
     target: f64,
-) -> (Option<Candidate>, DVector<f64>) {
+) -> Result<Candidate, (DVector<f64>, f64)> {
     let lambda = DVector::from_fn(qp.num_rows(), |i, _| {
         warm.get(i)
             .copied()
@@ -338,25 +362,31 @@ fn warm_candidate(
             .max(0.0)
     });
     let dq = dq_from_lambda(qp, metric, &lambda);
-    let accept = |dq: &DVector<f64>, lambda: &DVector<f64>| {
+    let measure = |dq: &DVector<f64>, lambda: &DVector<f64>| {
         let a = projection_residuals(qp, metric, dq, lambda).acceptance();
-        (a <= target).then(|| Candidate {
-            dq: dq.clone(),
-            lambda: lambda.clone(),
-            iterations: 0,
-            factorizations: 0,
-        })
+        if a.is_nan() { f64::INFINITY } else { a }
     };
-    if let Some(candidate) = accept(&dq, &lambda) {
-        return (Some(candidate), lambda);
+    let candidate = |dq: DVector<f64>, lambda: DVector<f64>| Candidate {
+        dq,
+        lambda,
+        iterations: 0,
+        factorizations: 0,
+    };
+    let acceptance = measure(&dq, &lambda);
+    if acceptance <= target {
+        return Ok(candidate(dq, lambda));
     }
     // The scale that maximizes the dual along the warm start:
     // s = -b^T lambda / lambda^T J M^-1 J^T lambda.
     let curvature = dq.dot(&m_apply(metric, &dq));
     let scale = -qp.b().dot(&lambda) / curvature;
     if !(scale.is_finite() && scale > 0.0 && curvature > 0.0) {
-        return (None, lambda);
+        return Err((lambda, acceptance));
     }
-    let lambda = lambda * scale;
-    (accept(&(dq * scale), &lambda), lambda)
+    let (dq, lambda) = (dq * scale, lambda * scale);
+    let acceptance = measure(&dq, &lambda);
+    if acceptance <= target {
+        return Ok(candidate(dq, lambda));
+    }
+    Err((lambda, acceptance))
 }
