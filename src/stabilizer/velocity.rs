@@ -23,7 +23,11 @@
 //! with `phi_k = J_k v`, target 0, so it is solved by the same solvers
 //! ([`crate::solver::solve_projection`]). Fixed bodies (kinematic ones
 //! included) are taken at rest. Velocities of bodies in islands that are
-//! not asked for, or that need no change, are left bit for bit.
+//! not asked for, or that need no change, are left bit for bit. Islands
+//! share no dynamic body, so each is projected on its own (on rayon's
+//! threads with the `parallel` feature, as the position passes) and the
+//! answers are merged in island order: the same bits on any number of
+//! threads.
 //!
 //! **Friction** ([`VelocityFriction`], the pair's `mu` as in the position
 //! projection), two formulations:
@@ -101,8 +105,8 @@ use super::Stabilizer;
 use crate::Error;
 use crate::broad_phase::BodyPair;
 use crate::contact::SceneParts;
-use crate::contact::islands_with_joints;
 use crate::contact::{BodyGeometry, ContactFriction, Detection, SceneGeometry, contact_rows};
+use crate::contact::{Island, islands_with_joints};
 use crate::projector::friction::pyramid_rows;
 use crate::projector::projection_qp;
 use crate::rows::{ConstraintRow, RowKind};
@@ -229,15 +233,25 @@ impl Stabilizer {
             poses: &part_poses,
         };
         let joint_pairs = super::joint_state::joint_pairs(scene);
-        for island in islands_with_joints(&fixed, &pairs, &joint_pairs)? {
-            if !island.bodies.iter().any(|b| bodies.contains(b)) {
-                continue;
-            }
-            let island_pairs: Vec<usize> = island.pairs.iter().map(|&i| touching[i]).collect();
+        // The islands asked for, each with its pairs as indices into the
+        // detection's active pairs.
+        let asked: Vec<(Island, Vec<usize>)> = islands_with_joints(&fixed, &pairs, &joint_pairs)?
+            .into_iter()
+            .filter(|island| island.bodies.iter().any(|b| bodies.contains(b)))
+            .map(|island| {
+                let island_pairs = island.pairs.iter().map(|&i| touching[i]).collect();
+                (island, island_pairs)
+            })
+            .collect();
+        // Islands share no dynamic body: each is projected on its own (on
+        // rayon's threads with the `parallel` feature) from the velocities
+        // as given, and the answers are merged in island order.
+        let given: &[BodyVelocity] = velocities;
+        let outcomes = crate::parallel::map(&asked, |(island, island_pairs)| {
             let contacts = IslandContacts {
                 geometry,
                 bodies: &island.bodies,
-                pairs: &island_pairs,
+                pairs: island_pairs,
                 joints: &island.joints,
                 scale: lengths.scale,
                 detection,
@@ -245,30 +259,34 @@ impl Stabilizer {
                 gap_rate,
                 friction,
             };
-            self.project_island(scene, velocities, &contacts, &mut report);
+            self.project_island(scene, given, &contacts)
+        });
+        for outcome in outcomes {
+            outcome.merge_into(&mut report, velocities);
         }
         Ok(report)
     }
 
-    /// One island's velocity projection.
+    /// One island's velocity projection, from `velocities` (one per scene
+    /// body).
     fn project_island(
         &self,
         scene: &Scene,
-        velocities: &mut [BodyVelocity],
+        velocities: &[BodyVelocity],
         contacts: &IslandContacts,
-        report: &mut VelocityReport,
-    ) {
+    ) -> IslandOutcome {
         let settings = &self.settings;
         let bodies = contacts.bodies;
+        let mut outcome = IslandOutcome::default();
         // Islands hold dynamic bodies only, so their states exist; an
         // inconsistency is reported as a failed island, velocities kept.
         let Ok((configuration, inertias)) = super::solve_island::island_state(scene, bodies) else {
-            report.islands_failed += 1;
-            return;
+            outcome.failed = true;
+            return outcome;
         };
         let Ok((mut rows, gaps, counts)) = self.island_rows(scene, contacts, &configuration) else {
-            report.islands_failed += 1;
-            return;
+            outcome.failed = true;
+            return outcome;
         };
         let v = island_velocity(velocities, bodies);
         let rate = |rows: &mut [ConstraintRow], v: &DVector<f64>| {
@@ -282,13 +300,13 @@ impl Stabilizer {
             }
         };
         rate(&mut rows, &v);
-        report.contacts += counts.contacts;
+        outcome.contacts = counts.contacts;
         let before = Violations::of(&rows, counts);
-        report.record_before(before);
+        outcome.before = Some(before);
         // An approach or a joint's relative motion starts a projection, a
         // cone violation alone does not (module docs).
         if before.approach <= 0.0 && before.joint_rate <= 0.0 {
-            return;
+            return outcome;
         }
         let (qp, _) = projection_qp(
             &configuration,
@@ -301,27 +319,33 @@ impl Stabilizer {
         );
         match solve_projection(&qp, &settings.solver) {
             Ok(solution) => {
-                report.islands_solved += 1;
+                outcome.solved = true;
                 let v_new = &v + &solution.dq;
                 rate(&mut rows, &v_new);
-                report.record_after(Violations::of(&rows, counts));
-                for (i, &body) in bodies.iter().enumerate() {
-                    let block: Vector6<f64> = v_new.fixed_rows::<6>(6 * i).into_owned();
-                    velocities[body] = BodyVelocity {
-                        linear: block.fixed_rows::<3>(0).into_owned(),
-                        angular: block.fixed_rows::<3>(3).into_owned(),
-                    };
-                }
+                outcome.after = Some(Violations::of(&rows, counts));
+                outcome.velocities = bodies
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &body)| {
+                        let block: Vector6<f64> = v_new.fixed_rows::<6>(6 * i).into_owned();
+                        let velocity = BodyVelocity {
+                            linear: block.fixed_rows::<3>(0).into_owned(),
+                            angular: block.fixed_rows::<3>(3).into_owned(),
+                        };
+                        (body, velocity)
+                    })
+                    .collect();
             }
             Err(error) => {
                 log::debug!(
                     "velocity projection of the island of body {} failed: {error}",
                     bodies[0]
                 );
-                report.islands_failed += 1;
-                report.record_after(before);
+                outcome.failed = true;
+                outcome.after = Some(before);
             }
         }
+        outcome
     }
 
     /// The rows of an island's projection, each with its gap rate
@@ -400,6 +424,41 @@ impl VelocityReport {
         self.approach_after = self.approach_after.max(violations.approach);
         self.cone_after = self.cone_after.max(violations.cone);
         self.joint_rate_after = self.joint_rate_after.max(violations.joint_rate);
+    }
+}
+
+/// What one island's velocity projection found and did.
+#[derive(Debug, Default)]
+struct IslandOutcome {
+    /// Its contact rows.
+    contacts: usize,
+    /// Its violations before, once its rows were built.
+    before: Option<Violations>,
+    /// Its violations after, when it was projected or failed.
+    after: Option<Violations>,
+    /// Projected.
+    solved: bool,
+    /// Its state, rows or projection failed (velocities kept).
+    failed: bool,
+    /// The projected velocities of its bodies (scene indices).
+    velocities: Vec<(usize, BodyVelocity)>,
+}
+
+impl IslandOutcome {
+    /// Adds this island to the call's report and writes its velocities.
+    fn merge_into(self, report: &mut VelocityReport, velocities: &mut [BodyVelocity]) {
+        report.contacts += self.contacts;
+        report.islands_solved += usize::from(self.solved);
+        report.islands_failed += usize::from(self.failed);
+        if let Some(before) = self.before {
+            report.record_before(before);
+        }
+        if let Some(after) = self.after {
+            report.record_after(after);
+        }
+        for (body, velocity) in self.velocities {
+            velocities[body] = velocity;
+        }
     }
 }
 
