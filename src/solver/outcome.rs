@@ -104,13 +104,15 @@ impl FailureReason {
     /// solution: a violated row with a zero Jacobian, clarabel's primal
     /// infeasibility certificate, Lemke's ray termination (for a
     /// positive semidefinite matrix, copositive-plus, a ray means that the
-    /// LCP is infeasible), or equality rows that Lemke's elimination found
-    /// inconsistent.
+    /// LCP is infeasible), equality rows that Lemke's elimination found
+    /// inconsistent, or the interior point's Farkas certificate
+    /// ([`InteriorPointFailure::Infeasible`]).
     pub fn certifies_infeasibility(&self) -> bool {
         matches!(
             self,
             Self::Infeasible
                 | Self::Clarabel(ClarabelFailure::PrimalInfeasible)
+                | Self::InteriorPoint(InteriorPointFailure::Infeasible)
                 | Self::Lemke(LemkeStatus::Ray)
                 | Self::Lemke(LemkeStatus::InconsistentEqualities { .. })
         )

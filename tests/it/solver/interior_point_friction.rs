@@ -146,8 +146,9 @@ fn auto_takes_the_interior_point_from_its_row_count() {
 }
 
 /// A body wedged by a push that misses its cone's pyramid has no answer:
-/// the interior point stops with a typed failure and clarabel, next in the
-/// chain, certifies the infeasibility.
+/// the interior point certifies the infeasibility itself (its Farkas
+/// certificate), the chain stops there, and clarabel, asked on its own,
+/// certifies it too.
 #[test]
 fn a_wedged_pyramid_fails_typed_and_clarabel_certifies() {
     let qp = pushed_into_the_ground(2.0, 1.0, 0.3, 1e-3).pyramid().0;
@@ -161,10 +162,16 @@ fn a_wedged_pyramid_fails_typed_and_clarabel_certifies() {
     };
     assert_eq!(
         fallbacks[0].reason,
-        FailureReason::InteriorPoint(InteriorPointFailure::NotConverged)
+        FailureReason::InteriorPoint(InteriorPointFailure::Infeasible)
     );
+    assert_eq!(fallbacks.len(), 1, "the chain went on after a certificate");
+    let Err(SolverError::AllSolversFailed(clarabel)) =
+        solve_projection(&qp, &named(SolverChoice::Clarabel))
+    else {
+        panic!("clarabel solved a wedged body");
+    };
     assert_eq!(
-        fallbacks[1].reason,
+        clarabel[0].reason,
         FailureReason::Clarabel(ClarabelFailure::PrimalInfeasible)
     );
 }
