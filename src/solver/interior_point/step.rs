@@ -44,7 +44,7 @@ impl StepInputs<'_> {
     }
 
     /// `J^T v`.
-    fn apply_jt(&self, v: &DVector<f64>) -> DVector<f64> {
+    pub(super) fn apply_jt(&self, v: &DVector<f64>) -> DVector<f64> {
         match self.packed {
             Some(packed) => packed.apply_jt(v),
             None => self.qp.apply_jt(v),
