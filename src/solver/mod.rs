@@ -23,7 +23,8 @@
 //! - [`clarabel_qp::primal`]: clarabel on the primal QP (sparse);
 //! - [`clarabel_qp::dual`]: clarabel on the dual QP `min 1/2 z^T A z + b^T z, z >= 0`;
 //! - [`lemke`]: Lemke's complementary pivoting (also general LCPs, [`Lcp`];
-//!   equality rows eliminated first, [`lemke::mixed`]);
+//!   equality rows eliminated first, through a sparse factor of their
+//!   block, [`equality_elimination`], or a dense pivoted one, [`lemke::mixed`]);
 //! - [`pgs`]: projected Gauss-Seidel, the game-engine baseline.
 //!
 //! [`solve_projection`] validates the problem, picks a solver, falls back
@@ -37,6 +38,7 @@ pub(crate) mod cone_residuals;
 pub(crate) mod cross_check;
 #[doc(hidden)]
 pub mod dense_cholesky;
+pub mod equality_elimination;
 mod error;
 pub mod friction_cone;
 pub mod interior_point;

@@ -23,9 +23,15 @@ use super::residuals::m_inv;
 /// A row touching a body: `(row index, J_ik, M_k^-1 J_ik^T)`.
 type Incidence = (usize, Vector6<f64>, Vector6<f64>);
 
-/// `A = J M^-1 J^T` (dense, symmetric).
-pub fn lcp_matrix(qp: &ProjectionQp, metric: &[BlockMetric]) -> DMatrix<f64> {
-    let n = qp.num_rows();
+/// Calls `add(i, j, v)` for every term `v = J_ik M_k^-1 J_jk^T` of
+/// `A_ij` (module docs), once per unordered pair of rows `{i, j}` (`i ==
+/// j` included) and body `k` they share: `A_ij` is the sum of the terms of
+/// `(i, j)` and `(j, i)`.
+pub(crate) fn for_each_delassus_term(
+    qp: &ProjectionQp,
+    metric: &[BlockMetric],
+    mut add: impl FnMut(usize, usize, f64),
+) {
     // incident[k] = rows touching body k, with J_ik and M_k^-1 J_ik^T.
     let mut incident: Vec<Vec<Incidence>> = vec![Vec::new(); metric.len()];
     for (i, row) in qp.rows.iter().enumerate() {
@@ -33,18 +39,25 @@ pub fn lcp_matrix(qp: &ProjectionQp, metric: &[BlockMetric]) -> DMatrix<f64> {
             incident[*k].push((i, *g, metric[*k].apply_inv(g)));
         }
     }
-    let mut a = DMatrix::zeros(n, n);
     for rows in &incident {
         for (x, (i, _, u_i)) in rows.iter().enumerate() {
             for (j, g_j, _) in &rows[x..] {
-                let v = g_j.dot(u_i);
-                a[(*i, *j)] += v;
-                if i != j {
-                    a[(*j, *i)] += v;
-                }
+                add(*i, *j, g_j.dot(u_i));
             }
         }
     }
+}
+
+/// `A = J M^-1 J^T` (dense, symmetric).
+pub fn lcp_matrix(qp: &ProjectionQp, metric: &[BlockMetric]) -> DMatrix<f64> {
+    let n = qp.num_rows();
+    let mut a = DMatrix::zeros(n, n);
+    for_each_delassus_term(qp, metric, |i, j, v| {
+        a[(i, j)] += v;
+        if i != j {
+            a[(j, i)] += v;
+        }
+    });
     a
 }
 

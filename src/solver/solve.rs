@@ -3,8 +3,8 @@
 //!
 //! Order of solvers tried: under [`SolverChoice::Auto`], nothing when every
 //! row already holds ([`SolverKind::Trivial`]), the closed form for one
-//! row, Lemke up to [`SolverSettings::auto_lemke_max_rows`] rows and
-//! clarabel above, or the augmented Lagrangian from
+//! row, Lemke up to [`SolverSettings::auto_lemke_max_rows`] rows (not
+//! counting equality rows) and clarabel above, or the augmented Lagrangian from
 //! [`SolverSettings::auto_augmented_lagrangian_min_rows`] rows (default
 //! never: faster, but less exact, which keeps settled bridge scenes
 //! awake; `benchmarks/results/solvers.md`, `coupling.md`). A named choice runs that solver
@@ -21,7 +21,9 @@
 //! fallback, not in the cross-check (which then reports
 //! [`FailureReason::AboveDenseLimit`]). The rows counted are those the
 //! solver would solve: for a problem with friction cones, its pyramid's
-//! (`K` facets per cone besides the rows). Above the limit the chain is
+//! (`K` facets per cone besides the rows); for Lemke on a problem with
+//! equality rows, the others (it eliminates the equalities through a
+//! sparse factor, [`super::equality_elimination`]). Above the limit the chain is
 //! clarabel alone (after the augmented Lagrangian when it is chosen).
 //!
 //! **Deadline** ([`SolverSettings::deadline`], the call's time budget):
@@ -104,11 +106,12 @@ use super::augmented_lagrangian::{self, AugmentedLagrangianSettings, Start};
 use super::clarabel_qp::{self, ClarabelSettings};
 use super::closed_form::solve_single_row;
 use super::cross_check::{CrossCheck, CrossCheckOutcome, differences};
+use super::equality_elimination;
 use super::error::SolverError;
 use super::friction_cone::{CONE_DIM, cone_multipliers_of_facets};
 use super::interior_point::{self, InteriorPointSettings};
 use super::lcp::Lcp;
-use super::lemke::{self, LemkeSettings};
+use super::lemke::{self, LemkeSettings, LemkeStatus};
 use super::metric::BlockMetric;
 use super::outcome::{Candidate, FailureReason, Fallback, SolverKind};
 use super::pgs::{self, PgsSettings};
@@ -199,7 +202,10 @@ pub struct SolverSettings {
     /// above. Default 160, chosen by measurement on random stacks
     /// (`benchmarks/solvers.rs`: `benchmarks/results/solvers.md`, where the
     /// crossover lies between 150 and 200 rows). Lemke's dense tableau
-    /// grows as `n^3`, clarabel's sparse factorization about linearly.
+    /// grows as `n^3`, clarabel's sparse factorization about linearly. A
+    /// problem with equality rows counts its inequality rows: Lemke
+    /// eliminates the equalities through a sparse factor
+    /// ([`super::equality_elimination`]) and pivots on the rest.
     pub auto_lemke_max_rows: usize,
     /// Under `Auto`, the augmented Lagrangian for problems without cones
     /// of at least this many rows (before Lemke and clarabel). Default
@@ -512,7 +518,7 @@ fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind>
     let mut order = vec![first];
     order.extend(fallbacks.iter().copied().filter(|&k| k != first));
     if dense_rows(qp) > settings.dense_max_rows {
-        order.retain(|&k| !is_dense(k));
+        order.retain(|&k| !is_dense(k) || dense_rows_of(k, qp) <= settings.dense_max_rows);
         if order.is_empty() {
             order.push(SolverKind::Clarabel);
         }
@@ -533,6 +539,16 @@ fn is_dense(kind: SolverKind) -> bool {
 /// facets when it has cones.
 fn dense_rows(qp: &ProjectionQp) -> usize {
     qp.num_rows() + qp.cones.len() * qp.cone_facets
+}
+
+/// The rows `kind` holds densely: Lemke eliminates equality rows through a
+/// sparse factor (`super::equality_elimination`) and pivots on the rest;
+/// the other dense solvers hold every row.
+fn dense_rows_of(kind: SolverKind, qp: &ProjectionQp) -> usize {
+    match kind {
+        SolverKind::Lemke => dense_rows(qp) - qp.num_equalities,
+        _ => dense_rows(qp),
+    }
 }
 
 /// Why the first solver was chosen, for the log.
@@ -579,7 +595,7 @@ fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
         SolverKind::AugmentedLagrangian
     } else if n >= settings.auto_interior_point_min_rows && qp.num_equalities == 0 {
         SolverKind::InteriorPoint
-    } else if n <= settings.auto_lemke_max_rows {
+    } else if n - qp.num_equalities <= settings.auto_lemke_max_rows {
         SolverKind::Lemke
     } else {
         SolverKind::Clarabel
@@ -677,7 +693,7 @@ impl Problem<'_> {
     /// Runs one solver within the size and time limits (module docs).
     fn run(&self, kind: SolverKind) -> Result<Candidate, FailureReason> {
         let s = self.settings;
-        let rows = dense_rows(self.qp);
+        let rows = dense_rows_of(kind, self.qp);
         if is_dense(kind) && rows > s.dense_max_rows {
             return Err(FailureReason::AboveDenseLimit {
                 rows,
@@ -746,6 +762,7 @@ impl Problem<'_> {
                 let sol = clarabel_qp::dual::solve_lcp_unchecked(self.lcp()?, &clarabel)?;
                 Ok(self.candidate_from_lambda(sol.z, sol.iterations))
             }
+            SolverKind::Lemke if self.qp.num_equalities > 0 => self.lemke_eliminated(),
             SolverKind::Lemke => {
                 let sol = lemke::solve(self.lcp()?, &self.lemke_settings())
                     .map_err(|f| FailureReason::Lemke(f.status))?;
@@ -766,6 +783,32 @@ impl Problem<'_> {
     /// [`LEMKE_RESIDUAL_OF_ACCEPTANCE`] times the acceptance tolerance
     /// (module docs),
     /// and the call's deadline.
+    /// Lemke on a problem with equality rows: the equality block eliminated
+    /// through a sparse factor (`super::equality_elimination`); when that
+    /// answer misses Lemke's test and the whole problem fits
+    /// `auto_lemke_max_rows`, the dense elimination by a pivoted factor
+    /// (rank-revealing in its own order) answers instead.
+    fn lemke_eliminated(&self) -> Result<Candidate, FailureReason> {
+        let settings = self.lemke_settings();
+        match equality_elimination::solve(self.qp, self.metric, &settings) {
+            Ok(sol) => Ok(self.candidate_from_lambda(sol.z, sol.pivots)),
+            Err(failure) => match failure.status {
+                LemkeStatus::Inaccurate { .. }
+                    if dense_rows(self.qp) <= self.settings.auto_lemke_max_rows =>
+                {
+                    log::debug!(
+                        "  lemke: the sparse elimination missed ({:?}), the dense one follows",
+                        failure.status
+                    );
+                    let sol = lemke::solve(self.lcp()?, &settings)
+                        .map_err(|f| FailureReason::Lemke(f.status))?;
+                    Ok(self.candidate_from_lambda(sol.z, sol.pivots))
+                }
+                status => Err(FailureReason::Lemke(status)),
+            },
+        }
+    }
+
     fn lemke_settings(&self) -> LemkeSettings {
         let s = self.settings;
         let loosened = LEMKE_RESIDUAL_OF_ACCEPTANCE * s.tol_residual;

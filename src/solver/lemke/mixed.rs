@@ -142,11 +142,13 @@ pub(super) fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution
     })
 }
 
-fn inaccurate(residual: f64) -> LemkeStatus {
+/// [`LemkeStatus::Inaccurate`] with `residual`.
+pub(crate) fn inaccurate(residual: f64) -> LemkeStatus {
     LemkeStatus::Inaccurate { residual }
 }
 
-fn failure(status: LemkeStatus) -> LemkeFailure {
+/// A failure before any pivot.
+pub(crate) fn failure(status: LemkeStatus) -> LemkeFailure {
     LemkeFailure {
         status,
         attempts: Vec::new(),

@@ -24,7 +24,7 @@ use rand_chacha::ChaCha8Rng;
 /// M-norm. The acceptance check certifies much less (`sqrt(1e-6)`); the
 /// active-set polish and Lemke's basis re-solve reach rounding (measured:
 /// at most 5e-15 over these tests).
-const DQ_TOL: f64 = 1e-10;
+pub(super) const DQ_TOL: f64 = 1e-10;
 /// PGS stops on its natural map (1e-10 scaled), which bounds `dq` only
 /// through the conditioning of the problem (measured: at most 3e-10).
 const PGS_DQ_TOL: f64 = 1e-7;
@@ -155,7 +155,7 @@ fn random_row(rng: &mut ChaCha8Rng, bodies: usize) -> JacobianRow {
 /// `equalities` equality rows (values off their target either way), then
 /// `inequalities` contact-like rows (some penetrating, some open), over
 /// two bodies: independent rows, well conditioned.
-fn random_mixed(seed: u64, equalities: usize, inequalities: usize) -> ProjectionQp {
+pub(super) fn random_mixed(seed: u64, equalities: usize, inequalities: usize) -> ProjectionQp {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let bodies = 2;
     let mut qp = ProjectionQp {
@@ -264,7 +264,7 @@ fn equality_only_problem_is_the_minimum_norm_correction() {
 /// Inserts, right after the equality rows, a copy of equality row `first`
 /// and the sum of equality rows `first + 1` and `first + 2` (values
 /// consistent, scaled by a random factor), and counts them as equalities.
-fn push_redundant_rows(qp: &mut ProjectionQp, rng: &mut ChaCha8Rng, first: usize) {
+pub(super) fn push_redundant_rows(qp: &mut ProjectionQp, rng: &mut ChaCha8Rng, first: usize) {
     let n = qp.num_equalities;
     let c = rng.random_range(0.5..2.0);
     let duplicate = qp.rows[first].clone();

@@ -1,0 +1,317 @@
+//! Lemke's method on a projection with equality rows (joints), the
+//! equality block eliminated through a **sparse** factor of its Delassus
+//! block, without assembling the dense LCP.
+//!
+//! The dual of the projection is the mixed LCP of [`super::lemke::mixed`]
+//! with `A = J M^-1 J^T`, the `e` equality rows `E` first:
+//!
+//! ```text
+//! A_EE z_E + A_EI z_I + b_E = 0                   (z_E free)
+//! w_I = A_IE z_E + A_II z_I + b_I >= 0  _|_  z_I >= 0,
+//! ```
+//!
+//! and with a generalized inverse `G` of `A_EE` the LCP that remains is
+//! `S = A_II - A_IE G A_EI`, `q = b_I - A_IE G b_E`, after which
+//! `z_E = -G (b_E + A_EI z_I)` (the derivation is in
+//! [`super::lemke::mixed`]). There `G` comes from a dense pivoted Cholesky
+//! factor, `O(e^3)`; here from a sparse one. `A_EE` is as sparse as the
+//! joint graph: entry `(i, j)` is nonzero only when rows `i` and `j` share
+//! a body, so a chain's block is banded and a tree's has no fill under a
+//! minimum-degree order. `(A_EE)_ij = sum_k J_ik M_k^-1 J_jk^T` is summed
+//! over the bodies `k` the rows share, `A_EI` and `A_II` likewise (`A_EI`
+//! dense `e x (m - e)`, `A_II` dense; Lemke pivots on `S` alone, whose size
+//! is the inequality rows').
+//!
+//! **The generalized inverse.** With the Jacobi scaling `D` of `A_EE`
+//! (unit diagonal), faer's sparse `L L^T` of `X = D A_EE D` under an AMD
+//! order, every pivot below [`super::lemke::mixed::EQUALITY_RANK_TOL_REL`]
+//! replaced by [`DROPPED_PIVOT`]: a row dependent on the rows eliminated
+//! before it (a closed loop of joints lists more rows than it removes
+//! degrees of freedom) has a vanishing pivot in exact arithmetic, and with
+//! the huge replacement its column of `L` and its entry of every solve
+//! vanish to rounding, which is the truncated factor of the dense
+//! pivoted path (`G = D X^- D` with that row's multiplier set to zero) in
+//! this order. Inconsistent equalities (`b_E` outside the range of
+//! `A_EE`) are reported as
+//! [`LemkeStatus::InconsistentEqualities`] with the part outside,
+//! `|b_E - A_EE G b_E|_inf` relative to `|b|_inf`, as by the dense path.
+//!
+//! **The check.** The answer is checked on the whole mixed problem, its
+//! natural map relative to `max(|b|_inf, max_i A_ii |z|_inf)` (for a
+//! positive semidefinite `A` its largest entry is on the diagonal), with
+//! `w = b + J M^-1 J^T z` computed through `J` (`O(nnz(J))`), against
+//! [`LemkeSettings::tol_residual_unscaled`], the dense path's test.
+//!
+//! Cost: one symbolic analysis and one numeric factorization of an
+//! `e x e` sparse matrix, `1 + (m - e)` solves with it, and Lemke on `m -
+//! e` rows; the dense path's `O(e^3)` factorization and `O(m^2)` matrix are
+//! gone.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymmetricOrdering, factorize_symbolic_cholesky,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, Mat, Par, Side};
+use nalgebra::{DMatrix, DVector};
+
+use super::lcp::Lcp;
+use super::lemke::mixed::{EQUALITY_RANGE_TOL_REL, EQUALITY_RANK_TOL_REL, failure, inaccurate};
+use super::lemke::{self, LemkeFailure, LemkeSettings, LemkeStatus};
+use super::metric::BlockMetric;
+use super::projection::ProjectionQp;
+use super::projection_lcp::{dq_from_lambda, for_each_delassus_term};
+use super::residuals::natural_map_abs;
+
+/// The value that replaces a pivot of the scaled `A_EE` below the rank
+/// tolerance (module docs): `1e20` against a unit diagonal, so that the
+/// dropped row's column of `L` is below `1e-15` of the others' and its
+/// multiplier below `1e-20` of `b`.
+pub const DROPPED_PIVOT: f64 = 1e20;
+
+/// Lemke's answer from the elimination: the multipliers `z` (equality
+/// rows first) and Lemke's pivots on the reduced problem.
+#[derive(Debug, Clone)]
+pub struct EliminatedSolution {
+    /// One multiplier per row of the projection.
+    pub z: DVector<f64>,
+    /// Lemke's pivots on `S` (0 without inequality rows).
+    pub pivots: usize,
+}
+
+/// Solves the dual of `qp` (which has equality rows) by the sparse
+/// elimination of the module docs and Lemke's method on what remains.
+pub fn solve(
+    qp: &ProjectionQp,
+    metric: &[BlockMetric],
+    settings: &LemkeSettings,
+) -> Result<EliminatedSolution, LemkeFailure> {
+    let (e, m) = (qp.num_equalities, qp.num_rows());
+    let ni = m - e;
+    let blocks = DelassusBlocks::new(qp, metric);
+    let b = qp.b();
+    let b_e = b.rows(0, e).into_owned();
+    let b_i = b.rows(e, ni).into_owned();
+    let not_finite = || failure(inaccurate(f64::INFINITY));
+    // Right-hand sides: b_E, then the columns of A_EI.
+    let mut rhs = Mat::<f64>::from_fn(e, 1 + ni, |r, c| match c {
+        0 => b_e[r],
+        _ => blocks.a_ei[(r, c - 1)],
+    });
+    blocks.apply_inverse(&mut rhs).ok_or_else(not_finite)?;
+    let g_b = DVector::from_fn(e, |r, _| rhs[(r, 0)]);
+    let g_a = DMatrix::from_fn(e, ni, |r, c| rhs[(r, c + 1)]);
+    if !g_b.iter().chain(g_a.iter()).all(|v| v.is_finite()) {
+        return Err(not_finite());
+    }
+    let outside = (&b_e - blocks.apply_a_ee(&g_b)).amax();
+    let scale = b.amax().max(f64::MIN_POSITIVE);
+    let range_tolerance = EQUALITY_RANGE_TOL_REL.max(settings.tol_residual);
+    if outside.is_nan() || outside > range_tolerance * scale {
+        let residual = outside / scale;
+        log::debug!("lemke: equality rows inconsistent, {residual:.2e} of b outside the range");
+        return Err(failure(LemkeStatus::InconsistentEqualities { residual }));
+    }
+    let (z_i, pivots) = if ni == 0 {
+        (DVector::zeros(0), 0)
+    } else {
+        let s = &blocks.a_ii - blocks.a_ei.transpose() * &g_a;
+        let q_i = &b_i - blocks.a_ei.transpose() * &g_b;
+        let reduced = Lcp::new(s, q_i).map_err(|_| not_finite())?;
+        let inner = lemke::solve(&reduced, settings)?;
+        (inner.z, inner.pivots)
+    };
+    let z_e = -(g_b + g_a * &z_i);
+    let mut z = DVector::zeros(m);
+    z.rows_mut(0, e).copy_from(&z_e);
+    z.rows_mut(e, ni).copy_from(&z_i);
+    let w = &b + qp.apply_j(&dq_from_lambda(qp, metric, &z));
+    let size = b.amax().max(blocks.max_diagonal * z.amax());
+    let natural = natural_map_abs(&z, &w, e);
+    let relative = if size > 0.0 { natural / size } else { natural };
+    if relative.is_nan() || relative > settings.tol_residual_unscaled {
+        return Err(LemkeFailure {
+            status: inaccurate(relative),
+            attempts: Vec::new(),
+            pivots,
+        });
+    }
+    log::trace!(
+        "lemke: {e} equality rows eliminated by a sparse factor, {ni} rows pivoted ({pivots} pivots)"
+    );
+    Ok(EliminatedSolution { z, pivots })
+}
+
+/// The blocks of `A = J M^-1 J^T`: `A_EE` sparse (its lower triangle,
+/// compressed by columns), `A_EI` and `A_II` dense.
+struct DelassusBlocks {
+    e: usize,
+    /// Column pointers of `A_EE`'s lower triangle.
+    col_ptr: Vec<usize>,
+    /// Row indices, ascending within a column (the diagonal first).
+    row_idx: Vec<usize>,
+    /// Values of `A_EE` (unscaled).
+    values: Vec<f64>,
+    a_ei: DMatrix<f64>,
+    a_ii: DMatrix<f64>,
+    /// `max_i A_ii` over every row.
+    max_diagonal: f64,
+}
+
+impl DelassusBlocks {
+    fn new(qp: &ProjectionQp, metric: &[BlockMetric]) -> Self {
+        let (e, m) = (qp.num_equalities, qp.num_rows());
+        let ni = m - e;
+        let mut lower: Vec<(usize, usize, f64)> = Vec::new();
+        let mut a_ei = DMatrix::zeros(e, ni);
+        let mut a_ii = DMatrix::zeros(ni, ni);
+        let mut diagonal = vec![0.0_f64; m];
+        for_each_delassus_term(qp, metric, |i, j, v| {
+            let (hi, lo) = if i >= j { (i, j) } else { (j, i) };
+            if hi == lo {
+                diagonal[hi] += v;
+            }
+            match (hi < e, lo < e) {
+                (true, _) => lower.push((lo, hi, v)),
+                (false, true) => a_ei[(lo, hi - e)] += v,
+                (false, false) => {
+                    a_ii[(hi - e, lo - e)] += v;
+                    if hi != lo {
+                        a_ii[(lo - e, hi - e)] += v;
+                    }
+                }
+            }
+        });
+        // Every equality row has its diagonal entry (zero when the row is
+        // zero), so that the factorization sees every column.
+        lower.extend((0..e).map(|i| (i, i, 0.0)));
+        lower.sort_unstable_by_key(|&(col, row, _)| (col, row));
+        let mut col_ptr = vec![0; e + 1];
+        let mut row_idx = Vec::with_capacity(lower.len());
+        let mut values: Vec<f64> = Vec::with_capacity(lower.len());
+        let mut last = None;
+        for (col, row, v) in lower {
+            if last == Some((col, row)) {
+                // `values` is nonempty once `last` is set.
+                if let Some(value) = values.last_mut() {
+                    *value += v;
+                }
+                continue;
+            }
+            last = Some((col, row));
+            row_idx.push(row);
+            values.push(v);
+            col_ptr[col + 1] = row_idx.len();
+        }
+        for c in 0..e {
+            col_ptr[c + 1] = col_ptr[c + 1].max(col_ptr[c]);
+        }
+        let max_diagonal = diagonal.iter().copied().fold(0.0, f64::max);
+        Self {
+            e,
+            col_ptr,
+            row_idx,
+            values,
+            a_ei,
+            a_ii,
+            max_diagonal,
+        }
+    }
+
+    /// The Jacobi scaling `d_i = A_ii^-1/2` of `A_EE` (1 for a zero row).
+    fn jacobi(&self) -> Vec<f64> {
+        (0..self.e)
+            .map(|c| {
+                let diagonal = self.values[self.col_ptr[c]];
+                if diagonal > 0.0 {
+                    diagonal.sqrt().recip()
+                } else {
+                    1.0
+                }
+            })
+            .collect()
+    }
+
+    /// `rhs <- G rhs` column by column (module docs); `None` when faer
+    /// fails (out of memory).
+    fn apply_inverse(&self, rhs: &mut Mat<f64>) -> Option<()> {
+        let e = self.e;
+        if e == 0 {
+            return Some(());
+        }
+        let d = self.jacobi();
+        let scaled: Vec<f64> = (0..e)
+            .flat_map(|c| (self.col_ptr[c]..self.col_ptr[c + 1]).map(move |p| (c, p)))
+            .map(|(c, p)| d[c] * self.values[p] * d[self.row_idx[p]])
+            .collect();
+        let symbolic_matrix =
+            SymbolicSparseColMatRef::new_checked(e, e, &self.col_ptr, None, &self.row_idx);
+        let matrix = SparseColMatRef::new(symbolic_matrix, &scaled);
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+            ..Default::default()
+        };
+        let symbolic = factorize_symbolic_cholesky(
+            symbolic_matrix,
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            params,
+        )
+        .ok()?;
+        let k = rhs.ncols();
+        let scratch = symbolic
+            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(k, Par::Seq));
+        let mut workspace = MemBuffer::try_new(scratch).ok()?;
+        let mut l_values = vec![0.0; symbolic.len_val()];
+        let regularization = LltRegularization {
+            dynamic_regularization_delta: DROPPED_PIVOT,
+            dynamic_regularization_epsilon: EQUALITY_RANK_TOL_REL,
+        };
+        let llt = symbolic
+            .factorize_numeric_llt(
+                &mut l_values,
+                matrix,
+                Side::Lower,
+                regularization,
+                Par::Seq,
+                MemStack::new(&mut workspace),
+                Default::default(),
+            )
+            .ok()?;
+        for c in 0..k {
+            for r in 0..e {
+                rhs[(r, c)] *= d[r];
+            }
+        }
+        llt.solve_in_place_with_conj(
+            Conj::No,
+            rhs.as_mut(),
+            Par::Seq,
+            MemStack::new(&mut workspace),
+        );
+        for c in 0..k {
+            for r in 0..e {
+                rhs[(r, c)] *= d[r];
+            }
+        }
+        Some(())
+    }
+
+    /// `A_EE x` from the stored lower triangle.
+    fn apply_a_ee(&self, x: &DVector<f64>) -> DVector<f64> {
+        let mut y = DVector::zeros(self.e);
+        for c in 0..self.e {
+            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                let (r, v) = (self.row_idx[p], self.values[p]);
+                y[r] += v * x[c];
+                if r != c {
+                    y[c] += v * x[r];
+                }
+            }
+        }
+        y
+    }
+}
