@@ -42,16 +42,20 @@
 //! `w = b + J M^-1 J^T z` computed through `J` (`O(nnz(J))`), against
 //! [`LemkeSettings::tol_residual_unscaled`], the dense path's test.
 //!
-//! Cost: one symbolic analysis and one numeric factorization of an
-//! `e x e` sparse matrix, `1 + (m - e)` solves with it, and Lemke on `m -
+//! Cost: one symbolic analysis (the last one is kept per thread with its
+//! pattern, and reused while the pattern holds: a scene's joints repeat it
+//! in every pass and call) and one numeric factorization of an `e x e`
+//! sparse matrix, `1 + (m - e)` solves with it, and Lemke on `m -
 //! e` rows; the dense path's `O(e^3)` factorization and `O(m^2)` matrix are
 //! gone.
+
+use std::cell::RefCell;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymmetricOrdering, factorize_symbolic_cholesky,
+    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, Par, Side};
@@ -142,6 +146,44 @@ pub fn solve(
         "lemke: {e} equality rows eliminated by a sparse factor, {ni} rows pivoted ({pivots} pivots)"
     );
     Ok(EliminatedSolution { z, pivots })
+}
+
+thread_local! {
+    /// The last symbolic analysis made on this thread, with its pattern
+    /// (module docs, "Cost"): the passes and calls of one scene's joints
+    /// repeat the pattern of `A_EE`, and the analysis (the AMD order and
+    /// the elimination tree) depends on nothing else. One per thread,
+    /// replaced whenever the pattern differs.
+    static KEPT_ANALYSIS: RefCell<Option<KeptAnalysis>> = const { RefCell::new(None) };
+}
+
+/// A symbolic analysis of `A_EE`'s lower triangle and the pattern it was
+/// made for.
+struct KeptAnalysis {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    symbolic: SymbolicCholesky<usize>,
+}
+
+impl KeptAnalysis {
+    /// The simplicial analysis under an AMD order; `None` when faer fails
+    /// (out of memory).
+    fn new(col_ptr: &[usize], row_idx: &[usize]) -> Option<Self> {
+        let e = col_ptr.len() - 1;
+        let pattern = SymbolicSparseColMatRef::new_checked(e, e, col_ptr, None, row_idx);
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+            ..Default::default()
+        };
+        let symbolic =
+            factorize_symbolic_cholesky(pattern, Side::Lower, SymmetricOrdering::Amd, params)
+                .ok()?;
+        Some(Self {
+            col_ptr: col_ptr.to_vec(),
+            row_idx: row_idx.to_vec(),
+            symbolic,
+        })
+    }
 }
 
 /// The blocks of `A = J M^-1 J^T`: `A_EE` sparse (its lower triangle,
@@ -249,17 +291,12 @@ impl DelassusBlocks {
         let symbolic_matrix =
             SymbolicSparseColMatRef::new_checked(e, e, &self.col_ptr, None, &self.row_idx);
         let matrix = SparseColMatRef::new(symbolic_matrix, &scaled);
-        let params = CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
-            ..Default::default()
+        let kept = KEPT_ANALYSIS.with(|cell| cell.borrow_mut().take());
+        let analysis = match kept {
+            Some(kept) if kept.col_ptr == self.col_ptr && kept.row_idx == self.row_idx => kept,
+            _ => KeptAnalysis::new(&self.col_ptr, &self.row_idx)?,
         };
-        let symbolic = factorize_symbolic_cholesky(
-            symbolic_matrix,
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            params,
-        )
-        .ok()?;
+        let symbolic = &analysis.symbolic;
         let k = rhs.ncols();
         let scratch = symbolic
             .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
@@ -297,6 +334,7 @@ impl DelassusBlocks {
                 rhs[(r, c)] *= d[r];
             }
         }
+        KEPT_ANALYSIS.with(|cell| *cell.borrow_mut() = Some(analysis));
         Some(())
     }
 

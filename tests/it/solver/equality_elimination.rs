@@ -155,7 +155,9 @@ fn chain(seed: u64, links: usize, contacts: usize) -> ProjectionQp {
 
 /// Chains of 20 and 80 links (95 and 395 equality rows, a banded block)
 /// with contacts: the equality rows hold and `dq` is clarabel's at a tight
-/// gap.
+/// gap. The seeds of one chain share the pattern of `A_EE`, so all but the
+/// first solve on this thread reuse the kept symbolic analysis with new
+/// values.
 #[test]
 fn chains_with_contacts_match_clarabel() {
     let reference_settings = SolverSettings {
