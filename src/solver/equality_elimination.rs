@@ -202,6 +202,46 @@ struct DelassusBlocks {
     max_diagonal: f64,
 }
 
+/// The compressed columns of the `(col, row, value)` terms of an `e x e`
+/// lower triangle, rows ascending within a column and repeated entries
+/// summed: a counting sort by column, then each (short) column sorted by
+/// row.
+fn compress_columns(e: usize, terms: &[(usize, usize, f64)]) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    let mut start = vec![0; e + 1];
+    for &(col, _, _) in terms {
+        start[col + 1] += 1;
+    }
+    for c in 0..e {
+        start[c + 1] += start[c];
+    }
+    let mut next = start.clone();
+    let mut by_column = vec![(0, 0.0); terms.len()];
+    for &(col, row, v) in terms {
+        by_column[next[col]] = (row, v);
+        next[col] += 1;
+    }
+    let mut col_ptr = Vec::with_capacity(e + 1);
+    let mut row_idx = Vec::with_capacity(terms.len());
+    let mut values: Vec<f64> = Vec::with_capacity(terms.len());
+    col_ptr.push(0);
+    for c in 0..e {
+        let column = &mut by_column[start[c]..start[c + 1]];
+        column.sort_unstable_by_key(|&(row, _)| row);
+        let first = row_idx.len();
+        for &(row, v) in column.iter() {
+            match values.last_mut() {
+                Some(value) if row_idx.len() > first && row_idx.last() == Some(&row) => *value += v,
+                _ => {
+                    row_idx.push(row);
+                    values.push(v);
+                }
+            }
+        }
+        col_ptr.push(row_idx.len());
+    }
+    (col_ptr, row_idx, values)
+}
+
 impl DelassusBlocks {
     fn new(qp: &ProjectionQp, metric: &[BlockMetric]) -> Self {
         let (e, m) = (qp.num_equalities, qp.num_rows());
@@ -229,27 +269,7 @@ impl DelassusBlocks {
         // Every equality row has its diagonal entry (zero when the row is
         // zero), so that the factorization sees every column.
         lower.extend((0..e).map(|i| (i, i, 0.0)));
-        lower.sort_unstable_by_key(|&(col, row, _)| (col, row));
-        let mut col_ptr = vec![0; e + 1];
-        let mut row_idx = Vec::with_capacity(lower.len());
-        let mut values: Vec<f64> = Vec::with_capacity(lower.len());
-        let mut last = None;
-        for (col, row, v) in lower {
-            if last == Some((col, row)) {
-                // `values` is nonempty once `last` is set.
-                if let Some(value) = values.last_mut() {
-                    *value += v;
-                }
-                continue;
-            }
-            last = Some((col, row));
-            row_idx.push(row);
-            values.push(v);
-            col_ptr[col + 1] = row_idx.len();
-        }
-        for c in 0..e {
-            col_ptr[c + 1] = col_ptr[c + 1].max(col_ptr[c]);
-        }
+        let (col_ptr, row_idx, values) = compress_columns(e, &lower);
         let max_diagonal = diagonal.iter().copied().fold(0.0, f64::max);
         Self {
             e,
