@@ -88,6 +88,8 @@ impl SettingsBuilder {
         friction_rows: FrictionRows,
         /// [`Settings::friction_max_iterations`].
         friction_max_iterations: usize,
+        /// [`Settings::friction_max_correction`].
+        friction_max_correction: f64,
         /// [`Settings::solve_whole_islands`].
         solve_whole_islands: bool,
         /// [`Settings::keep_penetrated_pairs`].

@@ -197,6 +197,21 @@ pub struct Settings {
     /// without an answer, about a second on 3,625 rows, before the island
     /// was solved without friction (`benchmarks/results/engine_friction.md`).
     pub friction_max_iterations: usize,
+    /// Friction is given up on an island (which is then solved without
+    /// it, the report counting the island as dropped) when the interior
+    /// point proves that every correction honouring it is longer, in the
+    /// mass metric, than this many times the island's largest violation
+    /// (the Farkas radius of its multipliers,
+    /// [`crate::solver::interior_point::InteriorPointSettings::infeasible_radius`]).
+    /// Such a correction could not be taken anyway: the trust region holds
+    /// a pass to about a body's size. Default
+    /// [`DEFAULT_FRICTION_MAX_CORRECTION`]: over 5,036 frictional solves
+    /// that converged in the Rapier loop the radius never passed 191; the
+    /// MuJoCo bin of 160 boxes with `mu = 1` (wedged) reaches 1e4 at its
+    /// 32nd iteration, where the certificate at 1e6 needed more than 60
+    /// and then clarabel on 3,860 rows (206 -> 95 ms,
+    /// `benchmarks/results/engine_friction.md`).
+    pub friction_max_correction: f64,
     /// Solve every body of a penetrating island in every pass. Default
     /// false: a pass solves the bodies of the pairs that still penetrate,
     /// grown while the answer pushes bodies held still (see
@@ -293,6 +308,7 @@ impl Default for Settings {
             friction_model: FrictionModel::default(),
             friction_rows: FrictionRows::default(),
             friction_max_iterations: DEFAULT_FRICTION_MAX_ITERATIONS,
+            friction_max_correction: DEFAULT_FRICTION_MAX_CORRECTION,
             solve_whole_islands: false,
             joint_rotation_weight: DEFAULT_JOINT_ROTATION_WEIGHT,
             step_max_rotation: DEFAULT_STEP_MAX_ROTATION,
@@ -307,6 +323,10 @@ impl Default for Settings {
 /// Default [`Settings::friction_max_iterations`]: about twice the most
 /// iterations a solved frictional problem of the engine states took (28).
 pub const DEFAULT_FRICTION_MAX_ITERATIONS: usize = 60;
+
+/// Default [`Settings::friction_max_correction`]: fifty times the largest
+/// Farkas radius of a converged frictional solve in the Rapier loop (191).
+pub const DEFAULT_FRICTION_MAX_CORRECTION: f64 = 1e4;
 
 /// The fewest directions of a friction pyramid (a triangle).
 pub const MIN_FRICTION_DIRECTIONS: usize = 3;
@@ -348,6 +368,7 @@ impl Settings {
             MIN_FRICTION_DIRECTIONS,
         )?;
         at_least("friction_max_iterations", self.friction_max_iterations, 1)?;
+        positive("friction_max_correction", self.friction_max_correction)?;
         // The solvers' residual check `residual > tol` never fails for a
         // NaN tolerance: any candidate would be accepted.
         positive("solver.tol_residual", self.solver.tol_residual)?;

@@ -258,6 +258,8 @@ fn plan_region<'a>(
         if has_friction {
             let limit = u32::try_from(input.settings.friction_max_iterations).unwrap_or(u32::MAX);
             solver.clarabel.max_iter = solver.clarabel.max_iter.min(limit);
+            let radius = &mut solver.interior_point.infeasible_radius;
+            *radius = radius.min(input.settings.friction_max_correction);
         }
         trial_settings = Settings {
             solver,

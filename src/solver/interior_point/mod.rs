@@ -74,7 +74,7 @@
 //! with `b^T lambda < 0` and `J^T lambda` small. After every iteration
 //! its radius `R = -b^T lambda / ||J^T lambda||_{M^-1}` (no correction
 //! shorter than `R` in the `M`-norm satisfies the rows) is measured, and
-//! from `INFEASIBLE_RADIUS_REL` (1e6) times `l` the solver stops with
+//! from [`InteriorPointSettings::infeasible_radius`] (1e6) times `l` the solver stops with
 //! [`InteriorPointFailure::Infeasible`], which certifies the
 //! infeasibility as clarabel's certificate does (a caller that stops on
 //! certified infeasibility, as the stabilizer does for friction
@@ -127,6 +127,15 @@ pub struct InteriorPointSettings {
     /// row has at most two bodies. Default true; false: the general
     /// per-row path (the same matrices up to the order of the sums).
     pub packed_rows: bool,
+    /// The Farkas radius, in units of `l` (module docs), from which the
+    /// solver stops with [`InteriorPointFailure::Infeasible`]: no
+    /// correction shorter than this many `l` in the `M`-norm satisfies the
+    /// rows. Default [`INFEASIBLE_RADIUS_REL`] (1e6), a certificate of
+    /// infeasibility in all but name; the stabilizer lowers it for friction
+    /// pyramids to [`crate::Settings::friction_max_correction`] (friction
+    /// that needs a correction that long cannot be honoured by any step
+    /// it would take).
+    pub infeasible_radius: f64,
     /// Gondzio's centrality correctors per iteration (`centrality.rs`):
     /// extra solves with the iteration's factor that lengthen the step.
     /// Default 0 (Mehrotra's predictor-corrector alone).
@@ -142,6 +151,7 @@ impl Default for InteriorPointSettings {
             dense_max_dofs: 96,
             supernodal: true,
             packed_rows: true,
+            infeasible_radius: INFEASIBLE_RADIUS_REL,
             centrality_correctors: 0,
         }
     }
@@ -280,7 +290,7 @@ pub fn solve(
             "interior point: iteration {iteration}, gap {:.2e} l^2, Farkas radius {radius:.2e} l",
             gap / (l * l)
         );
-        if radius >= INFEASIBLE_RADIUS_REL {
+        if radius >= settings.infeasible_radius {
             log::trace!("interior point: infeasibility certified at iteration {iteration}");
             return Err(InteriorPointFailure::Infeasible);
         }
@@ -334,11 +344,13 @@ const CHECK_GAP_REL: f64 = 1e-8;
 /// rows) likewise, each confirmed by clarabel. Over 5,036 solves that
 /// converged in the loop the largest radius was 191 `l`. A certificate
 /// that grows slowly (the MuJoCo bin of 160 boxes with its friction: 15 %
-/// per iteration, 2.5e5 `l` at the limit) is still left to clarabel.
+/// per iteration, 2.5e5 `l` at the limit) is left to clarabel at this
+/// radius, and stops at the stabilizer's radius for friction, 1e4 `l`
+/// (`crate::Settings::friction_max_correction`), after about 32.
 /// The measurement (one product with `J^T` per iteration) costs about 2 %
 /// of the interior point's time on the engine states' QPs of 41 rows and
 /// more (120.4 against 122.7 ms summed, medians of four interleaved runs).
-const INFEASIBLE_RADIUS_REL: f64 = 1e6;
+pub const INFEASIBLE_RADIUS_REL: f64 = 1e6;
 
 /// The radius of the Farkas certificate of `lambda >= 0` (negative parts
 /// ignored) for the rows `J dq + b >= 0`:

@@ -10,6 +10,7 @@
 
 use super::friction_cone::{pushed_column, pushed_into_the_ground};
 use crate::support::solver_oracle::{assert_kkt, relative_metric_distance};
+use constraint_stabilization::settings::DEFAULT_FRICTION_MAX_CORRECTION;
 use constraint_stabilization::solver::clarabel_qp::ClarabelFailure;
 use constraint_stabilization::solver::interior_point::InteriorPointFailure;
 use constraint_stabilization::solver::{
@@ -192,4 +193,47 @@ fn duplicated_facets_leave_dq_unchanged() {
         let distance = relative_metric_distance(&qp, &once.dq, &twice.dq);
         assert!(distance <= DQ_AGREEMENT_TOL, "{boxes} boxes: {distance:e}");
     }
+}
+
+/// The stabilizer's radius for friction
+/// (`Settings::friction_max_correction`, 1e4 `l`) gives up no feasible
+/// pyramid: on every pushed column the interior point at that radius,
+/// stopping on certificates as the stabilizer does, either answers (as
+/// clarabel does) or leaves the problem to the chain for another reason
+/// than infeasibility; the wedged body still stops at the certificate.
+#[test]
+fn the_friction_radius_gives_up_no_feasible_pyramid() {
+    let mut settings = SolverSettings {
+        choice: SolverChoice::InteriorPoint,
+        stop_on_infeasible: true,
+        ..SolverSettings::default()
+    };
+    settings.interior_point.infeasible_radius = DEFAULT_FRICTION_MAX_CORRECTION;
+    for boxes in [2, 6, 16, 40] {
+        for seed in 0..3 {
+            let qp = pyramid(boxes, seed);
+            let context = format!("{boxes} boxes, seed {seed}");
+            let answer = solve_projection(&qp, &settings)
+                .unwrap_or_else(|e| panic!("{context}: given up: {e}"));
+            assert!(
+                answer
+                    .fallbacks
+                    .iter()
+                    .all(|f| !f.reason.certifies_infeasibility()),
+                "{context}: {:?}",
+                answer.fallbacks
+            );
+            let reference = solve_with(&qp, &tight_clarabel());
+            let distance = relative_metric_distance(&qp, &answer.dq, &reference.dq);
+            assert!(distance <= DQ_AGREEMENT_TOL, "{context}: {distance:e}");
+        }
+    }
+    let wedged = pushed_into_the_ground(2.0, 1.0, 0.3, 1e-3).pyramid().0;
+    let Err(SolverError::AllSolversFailed(fallbacks)) = solve_projection(&wedged, &settings) else {
+        panic!("a wedged body was solved");
+    };
+    assert_eq!(
+        fallbacks[0].reason,
+        FailureReason::InteriorPoint(InteriorPointFailure::Infeasible)
+    );
 }
