@@ -209,8 +209,8 @@ pub struct Settings {
     /// that converged in the Rapier loop the radius never passed 191; the
     /// MuJoCo bin of 160 boxes with `mu = 1` (wedged) reaches 1e4 at its
     /// 32nd iteration, where the certificate at 1e6 needed more than 60
-    /// and then clarabel on 3,860 rows (206 -> 95 ms,
-    /// `benchmarks/results/engine_friction.md`).
+    /// and then clarabel on 3,860 rows (206 -> 92-110 ms over three
+    /// runs, `benchmarks/results/engine_friction.md`).
     pub friction_max_correction: f64,
     /// Solve every body of a penetrating island in every pass. Default
     /// false: a pass solves the bodies of the pairs that still penetrate,
@@ -372,6 +372,12 @@ impl Settings {
         // The solvers' residual check `residual > tol` never fails for a
         // NaN tolerance: any candidate would be accepted.
         positive("solver.tol_residual", self.solver.tol_residual)?;
+        // A radius of zero or NaN would stop the interior point at once or
+        // never.
+        positive(
+            "solver.interior_point.infeasible_radius",
+            self.solver.interior_point.infeasible_radius,
+        )?;
         self.line_search.validate()
     }
 }

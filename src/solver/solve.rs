@@ -779,10 +779,6 @@ impl Problem<'_> {
         }
     }
 
-    /// Lemke's settings for this problem: its own residual test loosened to
-    /// [`LEMKE_RESIDUAL_OF_ACCEPTANCE`] times the acceptance tolerance
-    /// (module docs),
-    /// and the call's deadline.
     /// Lemke on a problem with equality rows: the equality block eliminated
     /// through a sparse factor (`super::equality_elimination`); when that
     /// answer misses Lemke's test and the whole problem fits
@@ -809,6 +805,10 @@ impl Problem<'_> {
         }
     }
 
+    /// Lemke's settings for this problem: its own residual test loosened to
+    /// [`LEMKE_RESIDUAL_OF_ACCEPTANCE`] times the acceptance tolerance
+    /// (module docs),
+    /// and the call's deadline.
     fn lemke_settings(&self) -> LemkeSettings {
         let s = self.settings;
         let loosened = LEMKE_RESIDUAL_OF_ACCEPTANCE * s.tol_residual;

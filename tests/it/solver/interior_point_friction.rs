@@ -17,6 +17,7 @@ use constraint_stabilization::solver::{
     FailureReason, ProjectionQp, ProjectionSolution, SolverChoice, SolverError, SolverKind,
     SolverSettings, solve_projection,
 };
+use constraint_stabilization::{Error, Settings, SettingsError, Stabilizer};
 
 /// Agreement in `dq` (relative, M-norm) of the interior point with Lemke
 /// and with clarabel at gap and feasibility tolerances 1e-12: each is
@@ -236,4 +237,28 @@ fn the_friction_radius_gives_up_no_feasible_pyramid() {
         fallbacks[0].reason,
         FailureReason::InteriorPoint(InteriorPointFailure::Infeasible)
     );
+}
+
+/// Both radii are checked where the settings enter: zero, negative, NaN
+/// or infinite is a typed error naming the field, never a solver that
+/// stops at once or never.
+#[test]
+fn the_radii_must_be_finite_and_positive() {
+    for value in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let mut friction = Settings::default();
+        friction.friction_max_correction = value;
+        let mut interior_point = Settings::default();
+        interior_point.solver.interior_point.infeasible_radius = value;
+        for (settings, field) in [
+            (friction, "friction_max_correction"),
+            (interior_point, "solver.interior_point.infeasible_radius"),
+        ] {
+            match Stabilizer::new(settings) {
+                Err(Error::Settings(SettingsError::OutOfRange { field: f, .. })) => {
+                    assert_eq!(f, field, "{value}")
+                }
+                other => panic!("{field} = {value}: {:?}", other.err()),
+            }
+        }
+    }
 }
