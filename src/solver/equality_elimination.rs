@@ -33,7 +33,7 @@
 //! pivoted path (`G = D X^- D` with that row's multiplier set to zero) in
 //! this order. Inconsistent equalities (`b_E` outside the range of
 //! `A_EE`) are reported as
-//! [`LemkeStatus::InconsistentEqualities`] with the part outside,
+//! [`super::lemke::LemkeStatus::InconsistentEqualities`] with the part outside,
 //! `|b_E - A_EE G b_E|_inf` relative to `|b|_inf`, as by the dense path.
 //!
 //! **The check.** The answer is checked on the whole mixed problem, its
@@ -62,8 +62,8 @@ use faer::{Conj, Mat, Par, Side};
 use nalgebra::{DMatrix, DVector};
 
 use super::lcp::Lcp;
-use super::lemke::mixed::{EQUALITY_RANGE_TOL_REL, EQUALITY_RANK_TOL_REL, failure, inaccurate};
-use super::lemke::{self, LemkeFailure, LemkeSettings, LemkeStatus};
+use super::lemke::mixed::{EQUALITY_RANK_TOL_REL, check_range, failure, inaccurate};
+use super::lemke::{self, LemkeFailure, LemkeSettings};
 use super::metric::BlockMetric;
 use super::projection::ProjectionQp;
 use super::projection_lcp::{dq_from_lambda, for_each_delassus_term};
@@ -110,14 +110,7 @@ pub fn solve(
     if !g_b.iter().chain(g_a.iter()).all(|v| v.is_finite()) {
         return Err(not_finite());
     }
-    let outside = (&b_e - blocks.apply_a_ee(&g_b)).amax();
-    let scale = b.amax().max(f64::MIN_POSITIVE);
-    let range_tolerance = EQUALITY_RANGE_TOL_REL.max(settings.tol_residual);
-    if outside.is_nan() || outside > range_tolerance * scale {
-        let residual = outside / scale;
-        log::debug!("lemke: equality rows inconsistent, {residual:.2e} of b outside the range");
-        return Err(failure(LemkeStatus::InconsistentEqualities { residual }));
-    }
+    check_range(&(&b_e - blocks.apply_a_ee(&g_b)), &b, settings)?;
     let (z_i, pivots) = if ni == 0 {
         (DVector::zeros(0), 0)
     } else {

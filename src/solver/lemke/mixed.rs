@@ -103,17 +103,7 @@ pub(super) fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution
         .ok_or_else(not_finite)?
         .column(0)
         .into_owned();
-    let outside = (&b_e - &a_ee * &g_b).amax();
-    let scale = q.amax().max(f64::MIN_POSITIVE);
-    // Consistent within what the final check accepts: Lemke's own
-    // residual tolerance (the acceptance's, inside the projection), at
-    // least `EQUALITY_RANGE_TOL_REL`.
-    let range_tolerance = EQUALITY_RANGE_TOL_REL.max(settings.tol_residual);
-    if outside.is_nan() || outside > range_tolerance * scale {
-        let residual = outside / scale;
-        log::debug!("lemke: equality rows inconsistent, {residual:.2e} of b outside the range");
-        return Err(failure(LemkeStatus::InconsistentEqualities { residual }));
-    }
+    check_range(&(&b_e - &a_ee * &g_b), q, settings)?;
     let g_a = g.apply(&a_ei).ok_or_else(not_finite)?;
     let s = m.view((e, e), (ni, ni)) - &a_ie * &g_a;
     let q_i = q.rows(e, ni) - &a_ie * &g_b;
@@ -140,6 +130,28 @@ pub(super) fn solve(lcp: &Lcp, settings: &LemkeSettings) -> Result<LemkeSolution
         w,
         ..inner
     })
+}
+
+/// The range test of the module docs: `Err` with
+/// [`LemkeStatus::InconsistentEqualities`] when the part of `b_E` outside
+/// the range of `A_EE`, `outside = b_E - A_EE G b_E`, exceeds what the
+/// final check accepts (Lemke's own residual tolerance, the acceptance's
+/// inside the projection, at least [`EQUALITY_RANGE_TOL_REL`]) relative
+/// to `|b|_inf`.
+pub(crate) fn check_range(
+    outside: &DVector<f64>,
+    b: &DVector<f64>,
+    settings: &LemkeSettings,
+) -> Result<(), LemkeFailure> {
+    let outside = outside.amax();
+    let scale = b.amax().max(f64::MIN_POSITIVE);
+    let range_tolerance = EQUALITY_RANGE_TOL_REL.max(settings.tol_residual);
+    if outside.is_nan() || outside > range_tolerance * scale {
+        let residual = outside / scale;
+        log::debug!("lemke: equality rows inconsistent, {residual:.2e} of b outside the range");
+        return Err(failure(LemkeStatus::InconsistentEqualities { residual }));
+    }
+    Ok(())
 }
 
 /// [`LemkeStatus::Inaccurate`] with `residual`.
