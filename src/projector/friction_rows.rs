@@ -50,8 +50,8 @@ use crate::settings::FrictionModel;
 use crate::solver::friction_cone::{CONE_DIM, cone_violation, facet_values};
 use crate::solver::residuals::{acceptance_length, projection_residuals};
 use crate::solver::{
-    FrictionCone, ProjectionQp, ProjectionSolution, SolverError, SolverSettings,
-    solve_projection_warm,
+    FrictionCone, KeptAnalyses, ProjectionQp, ProjectionSolution, SolverError, SolverSettings,
+    solve_projection_kept,
 };
 
 /// A left-out row's friction counts as violated when it is more than this
@@ -143,12 +143,14 @@ pub fn seed(
 /// from the working set `working` (one flag per cone), with the
 /// multipliers in `problem.full`'s layout. `warm` (that layout too) is
 /// passed on to the solver, restricted to each round's problem, when that
-/// problem has linear rows only.
+/// problem has linear rows only; every round's solve uses the sparse
+/// analyses kept in `kept`.
 pub fn solve_generating_rows(
     problem: &FrictionalQp<'_>,
     settings: &SolverSettings,
     warm: Option<&DVector<f64>>,
     mut working: Vec<bool>,
+    kept: Option<&KeptAnalyses>,
 ) -> Result<(ProjectionSolution, Generation), SolverError> {
     let cones = problem.with_cones.cones.len();
     // A working set of another problem's length: no row's friction first.
@@ -173,7 +175,7 @@ pub fn solve_generating_rows(
         generation.generated = cones;
         generation.rounds += 1;
         let warm = start(problem.full, None);
-        solve_projection_warm(problem.full, settings, warm.as_ref()).map(|s| (s, generation))
+        solve_projection_kept(problem.full, settings, warm.as_ref(), kept).map(|s| (s, generation))
     };
     if cones == 0 || settings.cross_check {
         return full_solve(generation);
@@ -189,7 +191,7 @@ pub fn solve_generating_rows(
         let relaxed_warm = start(&relaxed.qp, Some(&relaxed.origin));
         generation.rounds += 1;
         generation.generated = working.iter().filter(|&&w| w).count();
-        let solution = solve_projection_warm(&relaxed.qp, settings, relaxed_warm.as_ref())?;
+        let solution = solve_projection_kept(&relaxed.qp, settings, relaxed_warm.as_ref(), kept)?;
         iterations += solution.iterations;
         fallbacks.extend(solution.fallbacks.iter().cloned());
         let violated = violated_cones(problem, &working, &solution.dq, slack);

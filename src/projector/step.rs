@@ -26,7 +26,8 @@ use crate::rows::{
 };
 use crate::solver::friction_cone::CONE_DIM;
 use crate::solver::{
-    BodyMetric, JacobianRow, ProjectionQp, ProjectionSolution, SolverError, solve_projection_warm,
+    BodyMetric, JacobianRow, KeptAnalyses, ProjectionQp, ProjectionSolution, SolverError,
+    solve_projection_kept,
 };
 
 /// What a step did.
@@ -150,6 +151,7 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
         lengths,
         hold_rows,
         &|_, _, _| None,
+        None,
     )
 }
 
@@ -159,7 +161,9 @@ pub fn plan_step<P: ConstraintProvider + ?Sized>(
 pub type WarmStartOf<'a, P> = dyn Fn(&P, &ProjectionQp, &[usize]) -> Option<DVector<f64>> + 'a;
 
 /// [`plan_step`] with the solver started from the multipliers `warm`
-/// gives for the problem (`crate::solver::solve_projection_warm`).
+/// gives for the problem, and the sparse analyses kept in `kept`
+/// (`crate::solver::solve_projection_kept`).
+#[allow(clippy::too_many_arguments)]
 pub fn plan_step_warm<P: ConstraintProvider + ?Sized>(
     provider: &mut P,
     configuration: &[BodyState],
@@ -168,6 +172,7 @@ pub fn plan_step_warm<P: ConstraintProvider + ?Sized>(
     lengths: &ResolvedLengths,
     hold_rows: bool,
     warm: &WarmStartOf<'_, P>,
+    kept: Option<&KeptAnalyses>,
 ) -> Result<Plan, SolverError> {
     let before = provider.measure(configuration);
     let worst_before = before.worst_violation();
@@ -224,7 +229,7 @@ pub fn plan_step_warm<P: ConstraintProvider + ?Sized>(
         full: &qp,
         model,
     };
-    let solution = solve_or_make_consistent(&problem, settings, warm.as_ref())?;
+    let solution = solve_or_make_consistent(&problem, settings, warm.as_ref(), kept)?;
     let qp = match solution.1 {
         Some(consistent) => consistent,
         None => qp,
@@ -252,8 +257,9 @@ fn solve_or_make_consistent(
     problem: &FrictionalQp<'_>,
     settings: &Settings,
     warm: Option<&DVector<f64>>,
+    kept: Option<&KeptAnalyses>,
 ) -> Result<(ProjectionSolution, Option<ProjectionQp>), SolverError> {
-    match solve_frictional(problem, settings, warm) {
+    match solve_frictional(problem, settings, warm, kept) {
         Ok(solution) => Ok((solution, None)),
         Err(error) => match consistent_equalities(problem.with_cones)? {
             Some((consistent, removed)) => {
@@ -267,7 +273,7 @@ fn solve_or_make_consistent(
                     full: &full,
                     ..*problem
                 };
-                let solution = solve_frictional(&retry, settings, None)?;
+                let solution = solve_frictional(&retry, settings, None, kept)?;
                 Ok((solution, Some(full)))
             }
             None => Err(error),
@@ -284,13 +290,14 @@ fn solve_frictional(
     problem: &FrictionalQp<'_>,
     settings: &Settings,
     warm: Option<&DVector<f64>>,
+    kept: Option<&KeptAnalyses>,
 ) -> Result<ProjectionSolution, SolverError> {
     match settings.friction_rows {
         FrictionRows::All => {
             // Multipliers of linear rows only start a solver (module docs of
             // `super::friction_rows`).
             let warm = warm.filter(|_| problem.full.cones.is_empty());
-            solve_projection_warm(problem.full, &settings.solver, warm)
+            solve_projection_kept(problem.full, &settings.solver, warm, kept)
         }
         FrictionRows::Implied | FrictionRows::Generated => {
             let working = match settings.friction_rows {
@@ -298,7 +305,7 @@ fn solve_frictional(
                 _ => seed(problem, warm, settings.solver.auto_lemke_max_rows),
             };
             let (solution, generation) =
-                solve_generating_rows(problem, &settings.solver, warm, working)?;
+                solve_generating_rows(problem, &settings.solver, warm, working, kept)?;
             if generation.cones > 0 {
                 log::debug!(
                     "  friction rows generated: {} of {} rows with friction in {} rounds{}",

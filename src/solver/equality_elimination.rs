@@ -42,25 +42,23 @@
 //! `w = b + J M^-1 J^T z` computed through `J` (`O(nnz(J))`), against
 //! [`LemkeSettings::tol_residual_unscaled`], the dense path's test.
 //!
-//! Cost: one symbolic analysis (the last one is kept per thread with its
-//! pattern, and reused while the pattern holds: a scene's joints repeat it
-//! in every pass and call) and one numeric factorization of an `e x e`
+//! Cost: one symbolic analysis (kept by the caller's
+//! [`super::kept_analyses::KeptAnalyses`] with its pattern and reused while
+//! the pattern holds: a scene's joints repeat it in every pass and call)
+//! and one numeric factorization of an `e x e`
 //! sparse matrix, `1 + (m - e)` solves with it, and Lemke on `m -
 //! e` rows; the dense path's `O(e^3)` factorization and `O(m^2)` matrix are
 //! gone.
 
-use std::cell::RefCell;
+use std::sync::Arc;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
-};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, Par, Side};
 use nalgebra::{DMatrix, DVector};
 
+use super::kept_analyses::{KeptAnalyses, KeptAnalysis};
 use super::lcp::Lcp;
 use super::lemke::mixed::{EQUALITY_RANK_TOL_REL, check_range, failure, inaccurate};
 use super::lemke::{self, LemkeFailure, LemkeSettings};
@@ -91,6 +89,7 @@ pub fn solve(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
     settings: &LemkeSettings,
+    kept: Option<&KeptAnalyses>,
 ) -> Result<EliminatedSolution, LemkeFailure> {
     let (e, m) = (qp.num_equalities, qp.num_rows());
     let ni = m - e;
@@ -104,7 +103,9 @@ pub fn solve(
         0 => b_e[r],
         _ => blocks.a_ei[(r, c - 1)],
     });
-    blocks.apply_inverse(&mut rhs).ok_or_else(not_finite)?;
+    blocks
+        .apply_inverse(&mut rhs, kept)
+        .ok_or_else(not_finite)?;
     let g_b = DVector::from_fn(e, |r, _| rhs[(r, 0)]);
     let g_a = DMatrix::from_fn(e, ni, |r, c| rhs[(r, c + 1)]);
     if !g_b.iter().chain(g_a.iter()).all(|v| v.is_finite()) {
@@ -139,44 +140,6 @@ pub fn solve(
         "lemke: {e} equality rows eliminated by a sparse factor, {ni} rows pivoted ({pivots} pivots)"
     );
     Ok(EliminatedSolution { z, pivots })
-}
-
-thread_local! {
-    /// The last symbolic analysis made on this thread, with its pattern
-    /// (module docs, "Cost"): the passes and calls of one scene's joints
-    /// repeat the pattern of `A_EE`, and the analysis (the AMD order and
-    /// the elimination tree) depends on nothing else. One per thread,
-    /// replaced whenever the pattern differs.
-    static KEPT_ANALYSIS: RefCell<Option<KeptAnalysis>> = const { RefCell::new(None) };
-}
-
-/// A symbolic analysis of `A_EE`'s lower triangle and the pattern it was
-/// made for.
-struct KeptAnalysis {
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
-    symbolic: SymbolicCholesky<usize>,
-}
-
-impl KeptAnalysis {
-    /// The simplicial analysis under an AMD order; `None` when faer fails
-    /// (out of memory).
-    fn new(col_ptr: &[usize], row_idx: &[usize]) -> Option<Self> {
-        let e = col_ptr.len() - 1;
-        let pattern = SymbolicSparseColMatRef::new_checked(e, e, col_ptr, None, row_idx);
-        let params = CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
-            ..Default::default()
-        };
-        let symbolic =
-            factorize_symbolic_cholesky(pattern, Side::Lower, SymmetricOrdering::Amd, params)
-                .ok()?;
-        Some(Self {
-            col_ptr: col_ptr.to_vec(),
-            row_idx: row_idx.to_vec(),
-            symbolic,
-        })
-    }
 }
 
 /// The blocks of `A = J M^-1 J^T`: `A_EE` sparse (its lower triangle,
@@ -289,9 +252,11 @@ impl DelassusBlocks {
             .collect()
     }
 
-    /// `rhs <- G rhs` column by column (module docs); `None` when faer
-    /// fails (out of memory).
-    fn apply_inverse(&self, rhs: &mut Mat<f64>) -> Option<()> {
+    /// `rhs <- G rhs` column by column (module docs), with the symbolic
+    /// analysis kept in `kept` for this pattern (made and kept there when
+    /// missing; made and dropped without a store); `None` when faer fails
+    /// (out of memory).
+    fn apply_inverse(&self, rhs: &mut Mat<f64>, kept: Option<&KeptAnalyses>) -> Option<()> {
         let e = self.e;
         if e == 0 {
             return Some(());
@@ -304,12 +269,11 @@ impl DelassusBlocks {
         let symbolic_matrix =
             SymbolicSparseColMatRef::new_checked(e, e, &self.col_ptr, None, &self.row_idx);
         let matrix = SparseColMatRef::new(symbolic_matrix, &scaled);
-        let kept = KEPT_ANALYSIS.with(|cell| cell.borrow_mut().take());
         let analysis = match kept {
-            Some(kept) if kept.col_ptr == self.col_ptr && kept.row_idx == self.row_idx => kept,
-            _ => KeptAnalysis::new(&self.col_ptr, &self.row_idx)?,
+            Some(kept) => kept.analysis(&self.col_ptr, &self.row_idx)?,
+            None => Arc::new(KeptAnalysis::new(&self.col_ptr, &self.row_idx)?),
         };
-        let symbolic = &analysis.symbolic;
+        let symbolic = analysis.symbolic();
         let k = rhs.ncols();
         let scratch = symbolic
             .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
@@ -347,7 +311,6 @@ impl DelassusBlocks {
                 rhs[(r, c)] *= d[r];
             }
         }
-        KEPT_ANALYSIS.with(|cell| *cell.borrow_mut() = Some(analysis));
         Some(())
     }
 

@@ -42,6 +42,7 @@ pub mod equality_elimination;
 mod error;
 pub mod friction_cone;
 pub mod interior_point;
+pub mod kept_analyses;
 mod lcp;
 pub mod lemke;
 pub(crate) mod metric;
@@ -59,6 +60,7 @@ mod solve;
 pub use cross_check::{CrossCheck, CrossCheckOutcome, Differences};
 pub use error::SolverError;
 pub use friction_cone::FrictionCone;
+pub use kept_analyses::KeptAnalyses;
 pub use lcp::Lcp;
 pub use metric::BlockMetric;
 pub use outcome::{Candidate, FailureReason, Fallback, SolverKind};
@@ -67,5 +69,5 @@ pub use projection_lcp::{dq_from_lambda, lcp_matrix, projection_to_lcp};
 pub use residuals::ProjectionResiduals;
 pub use solve::{
     DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS, ProjectionSolution, SolverChoice, SolverSettings,
-    cross_check_projection, solve_projection, solve_projection_warm,
+    cross_check_projection, solve_projection, solve_projection_kept, solve_projection_warm,
 };

@@ -110,6 +110,7 @@ use super::equality_elimination;
 use super::error::SolverError;
 use super::friction_cone::{CONE_DIM, cone_multipliers_of_facets};
 use super::interior_point::{self, InteriorPointSettings};
+use super::kept_analyses::KeptAnalyses;
 use super::lcp::Lcp;
 use super::lemke::{self, LemkeSettings, LemkeStatus};
 use super::metric::BlockMetric;
@@ -359,11 +360,24 @@ pub fn solve_projection_warm(
     settings: &SolverSettings,
     warm: Option<&DVector<f64>>,
 ) -> Result<ProjectionSolution, SolverError> {
+    solve_projection_kept(qp, settings, warm, None)
+}
+
+/// [`solve_projection_warm`] with a store of sparse symbolic analyses
+/// (`kept`, [`KeptAnalyses`]): a solve whose sparse pattern is kept there
+/// skips its analysis, and a new pattern's analysis is kept for the next
+/// solves. The answer is the same with or without a store.
+pub fn solve_projection_kept(
+    qp: &ProjectionQp,
+    settings: &SolverSettings,
+    warm: Option<&DVector<f64>>,
+    kept: Option<&KeptAnalyses>,
+) -> Result<ProjectionSolution, SolverError> {
     if !super::recorder::is_on() {
-        return solve_validated(qp, settings, warm);
+        return solve_validated(qp, settings, warm, kept);
     }
     let start = Instant::now();
-    let result = solve_validated(qp, settings, warm);
+    let result = solve_validated(qp, settings, warm, kept);
     let solver = result.as_ref().ok().map(|s| s.solver);
     super::recorder::record(qp, warm, start.elapsed().as_secs_f64(), solver);
     result
@@ -374,6 +388,7 @@ fn solve_validated(
     qp: &ProjectionQp,
     settings: &SolverSettings,
     warm: Option<&DVector<f64>>,
+    kept: Option<&KeptAnalyses>,
 ) -> Result<ProjectionSolution, SolverError> {
     let metric = qp.validate()?;
     check_zero_rows(qp, settings.tol_residual)?;
@@ -385,6 +400,7 @@ fn solve_validated(
         settings,
         pyramid: None,
         warm,
+        kept,
     });
     let problem = Problem {
         qp,
@@ -393,6 +409,7 @@ fn solve_validated(
         settings,
         pyramid: pyramid.as_ref(),
         warm,
+        kept,
     };
     let mut fallbacks = Vec::new();
     let order = solver_order(qp, settings);
@@ -612,6 +629,8 @@ struct Problem<'a> {
     pyramid: Option<&'a Problem<'a>>,
     /// Multipliers to start from (rows of the original problem first).
     warm: Option<&'a DVector<f64>>,
+    /// The caller's kept sparse analyses.
+    kept: Option<&'a KeptAnalyses>,
 }
 
 impl Problem<'_> {
@@ -786,7 +805,7 @@ impl Problem<'_> {
     /// (rank-revealing in its own order) answers instead.
     fn lemke_eliminated(&self) -> Result<Candidate, FailureReason> {
         let settings = self.lemke_settings();
-        match equality_elimination::solve(self.qp, self.metric, &settings) {
+        match equality_elimination::solve(self.qp, self.metric, &settings, self.kept) {
             Ok(sol) => Ok(self.candidate_from_lambda(sol.z, sol.pivots)),
             Err(failure) => match failure.status {
                 LemkeStatus::Inaccurate { .. }

@@ -80,6 +80,7 @@ use crate::joints::JointErrors;
 use crate::parallel;
 use crate::scene::Scene;
 use crate::settings::{Method, ResolvedLengths, Settings};
+use crate::solver::KeptAnalyses;
 use crate::vclip::VClip;
 use joint_state::{
     joint_errors, joint_merit, joint_reports, largest_joint_error, violated_islands,
@@ -102,6 +103,9 @@ pub struct Stabilizer {
     /// The solver's warm starts for the next call: the multipliers of the
     /// last call's first pass (`solver_warm`).
     solver_warm: SolverWarmCache,
+    /// The sparse symbolic analyses of the solvers, kept while their
+    /// pattern holds (`crate::solver::kept_analyses`).
+    kept_analyses: KeptAnalyses,
     /// The last detection of the last call, with the poses it was made at
     /// (for [`Stabilizer::project_velocities`] at those poses).
     last_detection: Option<(Vec<Isometry3<f64>>, Detection)>,
@@ -117,6 +121,7 @@ impl Stabilizer {
             cache: WarmStartCache::default(),
             certificates: SeparationCertificates::default(),
             solver_warm: SolverWarmCache::default(),
+            kept_analyses: KeptAnalyses::default(),
             last_detection: None,
         })
     }
@@ -173,6 +178,14 @@ impl Stabilizer {
     /// call ([`Report::solver_warm_multipliers`]).
     pub fn solver_warm_multipliers(&self) -> usize {
         self.solver_warm.multipliers()
+    }
+
+    /// The sparse symbolic analyses kept for the next solves: their number
+    /// and the bytes they hold ([`Report::kept_analyses`]; at most
+    /// [`crate::solver::kept_analyses::KEPT_ANALYSES_CAPACITY`], freed when
+    /// bodies are removed through the stabilizer).
+    pub fn kept_analyses(&self) -> (usize, usize) {
+        (self.kept_analyses.len(), self.kept_analyses.bytes())
     }
 
     /// Replaces the settings (validated first; on error they are kept),
@@ -400,6 +413,7 @@ impl Stabilizer {
                 report.pass_reports.push(pass);
                 report.status = status;
                 report.solver_warm_multipliers = self.solver_warm.multipliers();
+                report.kept_analyses = self.kept_analyses();
                 self.last_detection = Some((poses, detection));
                 return Ok(report);
             }
@@ -545,6 +559,7 @@ impl Stabilizer {
             frictional: true,
             without_friction,
             solver_warm,
+            kept_analyses: &self.kept_analyses,
         };
         Ok(parallel::map(&penetrating, |island| {
             solve_island(input, island)

@@ -51,6 +51,9 @@ impl Stabilizer {
         // Certificates are keyed by part pair: dropped likewise (a pair's
         // next detection queries it once and records it again).
         self.certificates.clear();
+        // The kept sparse analyses belong to the islands of the bodies
+        // before the removal: freed with them.
+        self.kept_analyses.clear();
         Ok(map)
     }
 }

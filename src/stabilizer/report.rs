@@ -334,6 +334,11 @@ pub struct Report {
     /// starts of the next calls (one per contact row and friction row of
     /// the pairs last solved; freed when their bodies go).
     pub solver_warm_multipliers: usize,
+    /// The sparse symbolic analyses the stabilizer keeps after the call for
+    /// the next solves of the same patterns (the equality blocks of
+    /// joints, `crate::solver::kept_analyses`): their number and the bytes
+    /// they hold (freed when bodies are removed through the stabilizer).
+    pub kept_analyses: (usize, usize),
     /// Wall time per stage.
     pub times: StageTimes,
 }
@@ -363,6 +368,7 @@ impl Report {
             certified_pairs: 0,
             reused_pairs: 0,
             solver_warm_multipliers: 0,
+            kept_analyses: (0, 0),
             times: StageTimes::default(),
         }
     }

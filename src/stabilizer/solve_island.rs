@@ -31,7 +31,7 @@ use crate::geometry::ConvexPolyhedron;
 use crate::projector::{Plan, PlannedStep, StepReport, plan_step_warm, take_step};
 use crate::rows::{BodyInertia, BodyState};
 use crate::scene::Scene;
-use crate::solver::{ProjectionQp, SolverSettings};
+use crate::solver::{KeptAnalyses, ProjectionQp, SolverSettings};
 
 use super::island_constraints::IslandConstraints;
 use super::joint_state::island_joints;
@@ -106,6 +106,8 @@ pub struct PassInput<'a> {
     /// The solver's warm starts (the multipliers of the last pass, or of
     /// the last call's first pass).
     pub solver_warm: &'a SolverWarmCache,
+    /// The stabilizer's kept sparse analyses.
+    pub kept_analyses: &'a KeptAnalyses,
 }
 
 /// One projection step on `island`; a failure moves nothing and is
@@ -280,6 +282,7 @@ fn plan_region<'a>(
         input.lengths,
         input.hold_rows,
         &warm,
+        Some(input.kept_analyses),
     )
     .map_err(Error::from);
     Ok(Round {

@@ -112,7 +112,7 @@ use crate::projector::projection_qp;
 use crate::rows::{ConstraintRow, RowKind};
 use crate::scene::Scene;
 use crate::settings::FrictionModel;
-use crate::solver::solve_projection;
+use crate::solver::solve_projection_kept;
 
 /// A body's velocity: of its centre of mass, and its angular velocity,
 /// both in the world frame.
@@ -317,7 +317,7 @@ impl Stabilizer {
             // The velocity projection keeps the pyramid (module docs).
             FrictionModel::Pyramid,
         );
-        match solve_projection(&qp, &settings.solver) {
+        match solve_projection_kept(&qp, &settings.solver, None, Some(&self.kept_analyses)) {
             Ok(solution) => {
                 outcome.solved = true;
                 let v_new = &v + &solution.dq;

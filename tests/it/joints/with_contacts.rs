@@ -60,13 +60,7 @@ fn a_chain_on_a_table_with_a_sunk_link_is_lifted_with_every_joint_kept() {
 
 #[test]
 fn a_chain_of_fifty_links_stretched_by_one_percent_converges_in_five_passes() {
-    let mut scene = revolute_chain(50, 0.1, 1.0, [0.0, 0.0, 0.0]);
-    for body in 1..scene.len() {
-        let t = *scene.bodies()[body].translation_user();
-        scene.bodies_mut()[body]
-            .set_user_pose(Vector3::new(t.x * 1.01, t.y, t.z), IDENTITY_XYZW)
-            .unwrap();
-    }
+    let mut scene = stretched_chain(50);
     let (stretch, _) = worst_joint_errors(&scene);
     assert!(stretch > 1e-3, "{stretch}");
     let report = run(&mut scene, Settings::default());
@@ -167,4 +161,42 @@ fn a_four_bar_linkage_converges_and_clarabel_and_lemke_agree_on_the_correction()
         }
         assert!(compared >= 1);
     }
+}
+
+/// A stretched chain of `links` links (every link moved out by 1 %).
+fn stretched_chain(links: usize) -> Scene {
+    let mut scene = revolute_chain(links, 0.1, 1.0, [0.0, 0.0, 0.0]);
+    for body in 1..scene.len() {
+        let t = *scene.bodies()[body].translation_user();
+        scene.bodies_mut()[body]
+            .set_user_pose(Vector3::new(t.x * 1.01, t.y, t.z), IDENTITY_XYZW)
+            .unwrap();
+    }
+    scene
+}
+
+/// The stabilizer keeps the joints' sparse analysis for its next calls
+/// (in the report, with its size); a call that reuses it moves every body
+/// to the bits of a fresh stabilizer's call, and removing bodies frees it.
+#[test]
+fn the_kept_analysis_is_reported_changes_no_pose_and_goes_with_bodies() {
+    let input = stretched_chain(20);
+    let mut stabilizer = Stabilizer::new(Settings::default()).expect("valid settings");
+    let mut first = input.clone();
+    let report = stabilizer.stabilize(&mut first).expect("valid scene");
+    assert_eq!(report.status, Status::Converged);
+    let (count, bytes) = report.kept_analyses;
+    assert!(count >= 1 && bytes > 0, "{:?}", report.kept_analyses);
+    assert_eq!(stabilizer.kept_analyses(), report.kept_analyses);
+    // The same input again: the kept analysis is used, the poses are a
+    // fresh stabilizer's to the bit.
+    let mut again = input.clone();
+    let report = stabilizer.stabilize(&mut again).expect("valid scene");
+    assert_eq!(report.status, Status::Converged);
+    assert_eq!(report.kept_analyses.0, count, "no new pattern");
+    assert_eq!(pose_bits(&again), pose_bits(&first));
+    stabilizer
+        .remove_bodies(&mut again, &[5])
+        .expect("an index in range");
+    assert_eq!(stabilizer.kept_analyses(), (0, 0));
 }

@@ -10,6 +10,7 @@ use super::equality_rows::{DQ_TOL, push_redundant_rows, random_mixed};
 use crate::support::solver_oracle::{constraint_values, relative_metric_distance};
 use constraint_stabilization::solver::clarabel_qp::ClarabelSettings;
 use constraint_stabilization::solver::equality_elimination;
+use constraint_stabilization::solver::kept_analyses::{KEPT_ANALYSES_CAPACITY, KeptAnalyses};
 use constraint_stabilization::solver::lemke::{LemkeSettings, LemkeStatus};
 use constraint_stabilization::solver::{
     BodyMetric, JacobianRow, ProjectionQp, SolverChoice, SolverKind, SolverSettings,
@@ -30,8 +31,15 @@ const CHAIN_DQ_TOL: f64 = 1e-10;
 const EQUALITY_HOLDS_TOL: f64 = 1e-9;
 
 fn eliminated_dq(qp: &ProjectionQp) -> Result<DVector<f64>, LemkeStatus> {
+    eliminated_dq_kept(qp, None)
+}
+
+fn eliminated_dq_kept(
+    qp: &ProjectionQp,
+    kept: Option<&KeptAnalyses>,
+) -> Result<DVector<f64>, LemkeStatus> {
     let metric = qp.validate().expect("valid problem");
-    equality_elimination::solve(qp, &metric, &LemkeSettings::default())
+    equality_elimination::solve(qp, &metric, &LemkeSettings::default(), kept)
         .map(|sol| dq_from_lambda(qp, &metric, &sol.z))
         .map_err(|failure| failure.status)
 }
@@ -156,8 +164,8 @@ fn chain(seed: u64, links: usize, contacts: usize) -> ProjectionQp {
 /// Chains of 20 and 80 links (95 and 395 equality rows, a banded block)
 /// with contacts: the equality rows hold and `dq` is clarabel's at a tight
 /// gap. The seeds of one chain share the pattern of `A_EE`, so all but the
-/// first solve on this thread reuse the kept symbolic analysis with new
-/// values.
+/// first solve of each chain reuse the symbolic analysis kept in one store
+/// with new values.
 #[test]
 fn chains_with_contacts_match_clarabel() {
     let reference_settings = SolverSettings {
@@ -170,11 +178,13 @@ fn chains_with_contacts_match_clarabel() {
         },
         ..SolverSettings::default()
     };
+    let kept = KeptAnalyses::default();
     for (links, contacts) in [(20, 6), (80, 12), (80, 0)] {
         for seed in 0..3 {
             let qp = chain(seed, links, contacts);
             let context = format!("{links} links, {contacts} contacts, seed {seed}");
-            let dq = eliminated_dq(&qp).unwrap_or_else(|s| panic!("{context}: {s:?}"));
+            let dq =
+                eliminated_dq_kept(&qp, Some(&kept)).unwrap_or_else(|s| panic!("{context}: {s:?}"));
             let w = constraint_values(&qp, &dq);
             let length = constraint_values(&qp, &DVector::zeros(dq.len())).amax();
             for i in 0..qp.num_equalities {
@@ -204,4 +214,59 @@ fn chains_with_contacts_match_clarabel() {
             );
         }
     }
+}
+
+/// A kept analysis skips work, never changes an answer: the multipliers
+/// from a store that already holds the pattern are bit for bit those of a
+/// solve that makes its own analysis, and the store keeps one analysis per
+/// pattern (the equality block's pattern follows the joints, not the
+/// contacts or the values).
+#[test]
+fn a_kept_analysis_changes_no_answer() {
+    let kept = KeptAnalyses::default();
+    for (links, contacts, patterns) in [(20, 6, 1), (20, 0, 1), (80, 12, 2)] {
+        for seed in 0..3 {
+            let qp = chain(seed, links, contacts);
+            let alone = eliminated_dq(&qp).expect("solved");
+            let with_store = eliminated_dq_kept(&qp, Some(&kept)).expect("solved");
+            assert_eq!(
+                alone.as_slice(),
+                with_store.as_slice(),
+                "{links} links, seed {seed}"
+            );
+            assert_eq!(kept.len(), patterns, "{links} links, seed {seed}");
+        }
+    }
+    assert!(kept.bytes() > 0);
+    kept.clear();
+    assert!(kept.is_empty());
+    assert_eq!(kept.bytes(), 0);
+}
+
+/// The store is bounded: past [`KEPT_ANALYSES_CAPACITY`] patterns the least
+/// recently used goes, and a pattern asked for again is moved to the front
+/// (it survives the next insertions).
+#[test]
+fn the_kept_analyses_are_bounded_least_recently_used_first() {
+    // The diagonal pattern of an n x n matrix.
+    let diagonal = |n: usize| ((0..=n).collect::<Vec<_>>(), (0..n).collect::<Vec<_>>());
+    let kept = KeptAnalyses::default();
+    let (first_ptr, first_idx) = diagonal(1);
+    kept.analysis(&first_ptr, &first_idx).expect("analysed");
+    for n in 2..=KEPT_ANALYSES_CAPACITY + 3 {
+        let (col_ptr, row_idx) = diagonal(n);
+        let analysis = kept.analysis(&col_ptr, &row_idx).expect("analysed");
+        assert!(analysis.fits(&col_ptr, &row_idx));
+        assert!(!analysis.fits(&first_ptr, &first_idx));
+        // The first pattern, used again after every insertion, stays.
+        let again = kept.analysis(&first_ptr, &first_idx).expect("analysed");
+        assert!(again.fits(&first_ptr, &first_idx));
+        assert_eq!(kept.len(), n.min(KEPT_ANALYSES_CAPACITY));
+    }
+    // Invalid patterns are refused, not kept: a row index out of range,
+    // pointers that decrease, rows out of order.
+    assert!(kept.analysis(&[0, 1], &[3]).is_none());
+    assert!(kept.analysis(&[0, 5, 1], &[0]).is_none());
+    assert!(kept.analysis(&[0, 2, 2], &[1, 0]).is_none());
+    assert_eq!(kept.len(), KEPT_ANALYSES_CAPACITY);
 }

@@ -187,7 +187,7 @@ fn generated_rows_give_the_full_problems_minimizer() {
             let expected = reference(&full);
             for start_with_all in [false, true] {
                 let working = vec![start_with_all; with_cones.cones.len()];
-                let ours = solve_generating_rows(&problem, &settings, None, working);
+                let ours = solve_generating_rows(&problem, &settings, None, working, None);
                 let label =
                     format!("{model:?} problem {problem_index} (all first: {start_with_all})");
                 let (solution, generation) = match (&expected, ours) {
@@ -323,7 +323,7 @@ fn a_violated_facet_is_never_left_out() {
             .dq;
         assert!(largest_friction_violation(&with_cones, model, &sliding) > 1e-3);
         let (solution, generation) =
-            solve_generating_rows(&problem, &settings, None, working).expect("solved");
+            solve_generating_rows(&problem, &settings, None, working, None).expect("solved");
         assert_eq!(
             (generation.rounds, generation.generated),
             (2, 1),
@@ -384,7 +384,7 @@ fn a_wedged_box_is_certified_infeasible_as_the_full_problem_is() {
             model,
         };
         for first in [false, true] {
-            let result = solve_generating_rows(&problem, &settings, None, vec![first; 2]);
+            let result = solve_generating_rows(&problem, &settings, None, vec![first; 2], None);
             let Err(SolverError::AllSolversFailed(fallbacks)) = result else {
                 panic!("{model:?}: {:?}", result.map(|(_, g)| g));
             };
