@@ -81,6 +81,8 @@ pub struct EliminatedSolution {
     pub z: DVector<f64>,
     /// Lemke's pivots on `S` (0 without inequality rows).
     pub pivots: usize,
+    /// Numeric factorizations of `A_EE` (one; none without equality rows).
+    pub factorizations: usize,
 }
 
 /// Solves the dual of `qp` (which has equality rows) by the sparse
@@ -139,7 +141,11 @@ pub fn solve(
     log::trace!(
         "lemke: {e} equality rows eliminated by a sparse factor, {ni} rows pivoted ({pivots} pivots)"
     );
-    Ok(EliminatedSolution { z, pivots })
+    Ok(EliminatedSolution {
+        z,
+        pivots,
+        factorizations: usize::from(e > 0),
+    })
 }
 
 /// The blocks of `A = J M^-1 J^T`: `A_EE` sparse (its lower triangle,

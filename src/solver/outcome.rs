@@ -46,9 +46,8 @@ pub struct Candidate {
     pub lambda: DVector<f64>,
     /// Interior-point iterations, pivots, sweeps or Newton steps.
     pub iterations: usize,
-    /// Numeric factorizations of a Newton matrix (the augmented
-    /// Lagrangian's; 0 for the other solvers, whose factorizations are
-    /// internal to them).
+    /// Numeric factorizations made by the library's own Cholesky (as
+    /// `ProjectionSolution::factorizations`).
     pub factorizations: usize,
 }
 

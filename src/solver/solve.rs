@@ -317,8 +317,11 @@ pub struct ProjectionSolution {
     /// Interior-point iterations, pivots, sweeps or Newton steps of the
     /// solver that succeeded.
     pub iterations: usize,
-    /// Numeric factorizations of the augmented Lagrangian's Newton matrix
-    /// (0 for the other solvers).
+    /// Numeric factorizations made by the library's own sparse or dense
+    /// Cholesky: of the body-space matrix `H` (interior point, augmented
+    /// Lagrangian) or of the equality block (Lemke's sparse elimination,
+    /// one); 0 for clarabel (its factorizations are its own), PGS and the
+    /// dense Lemke path.
     pub factorizations: usize,
     /// The solver that answered started from given multipliers
     /// ([`solve_projection_warm`]).
@@ -806,7 +809,10 @@ impl Problem<'_> {
     fn lemke_eliminated(&self) -> Result<Candidate, FailureReason> {
         let settings = self.lemke_settings();
         match equality_elimination::solve(self.qp, self.metric, &settings, self.kept) {
-            Ok(sol) => Ok(self.candidate_from_lambda(sol.z, sol.pivots)),
+            Ok(sol) => Ok(Candidate {
+                factorizations: sol.factorizations,
+                ..self.candidate_from_lambda(sol.z, sol.pivots)
+            }),
             Err(failure) => match failure.status {
                 LemkeStatus::Inaccurate { .. }
                     if dense_rows(self.qp) <= self.settings.auto_lemke_max_rows =>

@@ -188,8 +188,11 @@ pub struct IslandReport {
     /// Iterations (interior-point iterations, pivots, sweeps or Newton
     /// steps) of the solver that answered.
     pub solver_iterations: usize,
-    /// Numeric factorizations of the augmented Lagrangian's Newton matrix
-    /// (0 for the other solvers).
+    /// Numeric factorizations made by the library's own Cholesky: of the
+    /// body-space matrix (interior point, augmented Lagrangian) or of the
+    /// joints' equality block (Lemke's sparse elimination); 0 for clarabel,
+    /// PGS and dense Lemke
+    /// ([`crate::solver::ProjectionSolution::factorizations`]).
     pub factorizations: usize,
     /// The solver that answered started from given multipliers.
     pub warm_started: bool,

@@ -206,6 +206,8 @@ fn chains_with_contacts_match_clarabel() {
             let auto = solve_projection(&qp, &SolverSettings::default())
                 .unwrap_or_else(|e| panic!("{context}: auto: {e}"));
             assert_eq!(auto.solver, SolverKind::Lemke, "{context}");
+            // One numeric factorization of the equality block, reported.
+            assert_eq!(auto.factorizations, 1, "{context}");
             assert!(auto.fallbacks.is_empty(), "{context}: {:?}", auto.fallbacks);
             let distance = relative_metric_distance(&qp, &auto.dq, &reference.dq);
             assert!(
