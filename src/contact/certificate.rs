@@ -64,15 +64,12 @@
 //! **Size.** Entries not used (looked up or recorded) during a call, and
 //! those of dropped shapes, are removed when the next call begins.
 
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
-
 use nalgebra::Isometry3;
 
 use super::island_contacts::shape_pair;
 use super::scene_parts::SceneParts;
 use super::{PairQuery, ShapeIdentity};
-use crate::broad_phase::BodyPair;
+use crate::broad_phase::{BodyPair, PairMap};
 use crate::geometry::curved::CurvedSolid;
 use crate::geometry::{ConvexPolyhedron, Rounding};
 use crate::vclip::VClipSettings;
@@ -108,38 +105,11 @@ struct Certificate {
     used: bool,
 }
 
-/// A multiplicative hash of the two indices of a pair: a certificate is
-/// looked up for every candidate pair of every pass, where the default
-/// hasher's cost was a measurable part of what a skip saves.
-#[derive(Debug, Clone, Copy, Default)]
-struct PairHasher(u64);
-
-/// Odd multiplier of [`PairHasher`] (the golden ratio in 64 bits).
-const PAIR_HASH_MULTIPLIER: u64 = 0x9e37_79b9_7f4a_7c15;
-
-impl Hasher for PairHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    fn write(&mut self, bytes: &[u8]) {
-        bytes.iter().for_each(|&b| self.write_u64(u64::from(b)));
-    }
-
-    fn write_u64(&mut self, value: u64) {
-        self.0 = (self.0.rotate_left(26) ^ value).wrapping_mul(PAIR_HASH_MULTIPLIER);
-    }
-
-    fn write_usize(&mut self, value: usize) {
-        self.write_u64(value as u64);
-    }
-}
-
 /// The last exact answer of every part pair that can certify it later
 /// (module docs).
 #[derive(Debug, Clone, Default)]
 pub struct SeparationCertificates {
-    entries: HashMap<BodyPair, Certificate, BuildHasherDefault<PairHasher>>,
+    entries: PairMap<Certificate>,
     /// The narrow phase's settings the entries were recorded under.
     settings: Option<VClipSettings>,
 }

@@ -199,6 +199,7 @@ pub fn detect(
     let to_query: Vec<usize> = (0..candidates.len())
         .filter(|&i| answers[i].is_none() && !certified[i])
         .collect();
+    memo.reserve(to_query.len());
     let queried = parallel::map(&to_query, |&i| {
         let pair = candidates[i];
         let start = cache.get(pair, shape_pair(geometry.shapes(), pair));

@@ -12,12 +12,10 @@
 //! The memo lives for one call: body indices name the same bodies, with the
 //! same shapes, only within a call.
 
-use std::collections::HashMap;
-
 use nalgebra::Isometry3;
 
 use super::PairQuery;
-use crate::broad_phase::BodyPair;
+use crate::broad_phase::{BodyPair, PairMap};
 
 /// A pair's answer and the poses of its two bodies when it was computed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,7 +29,7 @@ pub struct PosedQuery {
 /// The answers of one call, by body pair.
 #[derive(Debug, Clone, Default)]
 pub struct QueryMemo {
-    entries: HashMap<BodyPair, PosedQuery>,
+    entries: PairMap<PosedQuery>,
 }
 
 impl QueryMemo {
@@ -41,6 +39,13 @@ impl QueryMemo {
             .get(&pair)
             .filter(|entry| entry.poses[0] == *poses[0] && entry.poses[1] == *poses[1])
             .map(|entry| &entry.query)
+    }
+
+    /// Makes room for `additional` more pairs at once (detection knows how
+    /// many it will record), so that the map is not grown and rehashed
+    /// step by step.
+    pub fn reserve(&mut self, additional: usize) {
+        self.entries.reserve(additional);
     }
 
     /// Records an answer (replacing the pair's earlier one).

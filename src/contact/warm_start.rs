@@ -15,17 +15,16 @@
 //! [`WarmStartCache::forget_dropped_shapes`], called once per stabilization
 //! call, so the cache does not grow with bodies removed from a scene.
 
-use std::collections::HashMap;
 use std::sync::{Arc, Weak};
 
-use crate::broad_phase::BodyPair;
+use crate::broad_phase::{BodyPair, PairMap};
 use crate::geometry::ConvexPolyhedron;
 use crate::vclip::FeaturePair;
 
 /// Warm starts of V-Clip per body pair.
 #[derive(Debug, Clone, Default)]
 pub struct WarmStartCache {
-    entries: HashMap<BodyPair, CachedPair>,
+    entries: PairMap<CachedPair>,
 }
 
 #[derive(Debug, Clone)]

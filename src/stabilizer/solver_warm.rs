@@ -26,19 +26,18 @@
 //! cleared when bodies are removed from a scene through the stabilizer;
 //! [`SolverWarmCache::multipliers`] counts what is kept (in the report).
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
 use nalgebra::DVector;
 
-use crate::broad_phase::BodyPair;
+use crate::broad_phase::{BodyPair, PairMap};
 use crate::contact::ShapeIdentity;
 use crate::geometry::ConvexPolyhedron;
 
 /// Multipliers of earlier answers per part pair (module docs).
 #[derive(Debug, Clone, Default)]
 pub struct SolverWarmCache {
-    entries: HashMap<BodyPair, PairMultipliers>,
+    entries: PairMap<PairMultipliers>,
 }
 
 #[derive(Debug, Clone)]
@@ -58,8 +57,8 @@ pub struct MultiplierPairs<'a> {
 
 impl MultiplierPairs<'_> {
     /// The multipliers of each pair, by position in the problem, in order.
-    fn positions(&self) -> HashMap<BodyPair, Vec<usize>> {
-        let mut positions: HashMap<BodyPair, Vec<usize>> = HashMap::new();
+    fn positions(&self) -> PairMap<Vec<usize>> {
+        let mut positions: PairMap<Vec<usize>> = PairMap::default();
         for (i, pair) in self.pairs.iter().enumerate() {
             if let Some(pair) = pair {
                 positions.entry(*pair).or_default().push(i);
