@@ -157,8 +157,16 @@ pub fn natural_map_certified(
     z: &DVector<f64>,
     free: usize,
 ) -> f64 {
-    let w = m * z + q;
-    let abs_w = m.abs() * z.abs() + q.abs();
+    // `w` and `|M| |z| + |q|` in one sweep over the columns of the nonzero
+    // `z_j` (an LCP answer is mostly zeros).
+    let mut w = q.clone();
+    let mut abs_w = q.abs();
+    for (j, &zj) in z.iter().enumerate().filter(|(_, zj)| **zj != 0.0) {
+        for (i, &mij) in m.column(j).iter().enumerate() {
+            w[i] += mij * zj;
+            abs_w[i] += mij.abs() * zj.abs();
+        }
+    }
     let gamma = (q.len() as f64).sqrt().max(1.0) * f64::EPSILON;
     (0..z.len())
         .map(|i| natural_map_entry(z[i], w[i], i < free) + gamma * abs_w[i])

@@ -14,7 +14,7 @@ use std::time::Instant;
 use nalgebra::{DMatrix, DVector};
 
 use super::ratio::{RatioTolerances, leaving_row};
-use super::tableau::{Tableau, original_columns};
+use super::tableau::Tableau;
 
 /// How a path ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -127,26 +127,45 @@ pub fn z_from_tableau(tableau: &Tableau) -> DVector<f64> {
 /// original `[I | -M]` (no `z0`): removes the rounding that the pivots
 /// accumulated, and, after a regularized run, re-solves the unregularized
 /// problem in the same basis. `None` if `z0` is basic or `B` is singular.
+///
+/// With `S` the rows whose `w_i` is basic and `T` the indices of the basic
+/// `z_j`, `B` is, up to the order of its columns and rows, the block
+/// triangle `[I_S, -M_ST; 0, -M_RT]` (`R` the rows outside `S`, as many as
+/// `T` has entries), so `B x = q` is `M_RT z_T = -q_R` and then
+/// `w_S = q_S + M_ST z_T`: one LU of the `|T| x |T|` block instead of the
+/// `n x n` basis, singular exactly when `B` is.
 pub fn z_from_basis(basis: &[usize], m: &DMatrix<f64>, q: &DVector<f64>) -> Option<DVector<f64>> {
     let n = q.len();
-    if n == 0 {
-        // nalgebra's LU solve does not accept an empty system.
-        return Some(DVector::zeros(0));
-    }
     if basis.contains(&(2 * n)) {
         return None;
     }
-    let full = original_columns(m, &DVector::zeros(n), q);
-    let b = DMatrix::from_fn(n, n, |i, r| full[(i, basis[r])]);
-    let x = b.lu().solve(q)?;
-    if !x.iter().all(|v| v.is_finite()) {
+    let mut w_basic = vec![false; n];
+    let mut z_basic = Vec::new();
+    for &v in basis {
+        if v < n {
+            w_basic[v] = true;
+        } else if v < 2 * n {
+            z_basic.push(v - n);
+        }
+    }
+    let rows: Vec<usize> = (0..n).filter(|&i| !w_basic[i]).collect();
+    if rows.len() != z_basic.len() {
+        // Not a basis of n distinct columns of [I | -M].
         return None;
     }
     let mut z = DVector::zeros(n);
-    for (r, &v) in basis.iter().enumerate() {
-        if (n..2 * n).contains(&v) {
-            z[v - n] = x[r];
-        }
+    if z_basic.is_empty() {
+        return Some(z);
+    }
+    let k = z_basic.len();
+    let block = DMatrix::from_fn(k, k, |r, c| m[(rows[r], z_basic[c])]);
+    let rhs = DVector::from_fn(k, |r, _| -q[rows[r]]);
+    let x = block.lu().solve(&rhs)?;
+    if !x.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    for (c, &j) in z_basic.iter().enumerate() {
+        z[j] = x[c];
     }
     Some(z)
 }
