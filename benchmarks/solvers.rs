@@ -142,6 +142,7 @@ fn augmented_lagrangian(
         warm,
         tolerance: ACCEPTANCE_TOL,
         deadline: None,
+        kept: None,
     };
     augmented_lagrangian::solve(&p.qp, &p.metric, &settings, &start)
         .map_err(|e| (format!("{e:?}"), None))
@@ -153,6 +154,7 @@ fn interior_point(p: &Problem, warm: Option<&DVector<f64>>) -> Result<Candidate,
         warm,
         tolerance: ACCEPTANCE_TOL,
         deadline: None,
+        kept: None,
     };
     interior_point::solve(&p.qp, &p.metric, &InteriorPointSettings::default(), &start)
         .map_err(|e| (format!("{e:?}"), None))

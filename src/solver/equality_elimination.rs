@@ -58,7 +58,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, Par, Side};
 use nalgebra::{DMatrix, DVector};
 
-use super::kept_analyses::{KeptAnalyses, KeptAnalysis};
+use super::kept_analyses::{AnalysisKind, KeptAnalyses, KeptAnalysis};
 use super::lcp::Lcp;
 use super::lemke::mixed::{EQUALITY_RANK_TOL_REL, check_range, failure, inaccurate};
 use super::lemke::{self, LemkeFailure, LemkeSettings};
@@ -275,9 +275,10 @@ impl DelassusBlocks {
         let symbolic_matrix =
             SymbolicSparseColMatRef::new_checked(e, e, &self.col_ptr, None, &self.row_idx);
         let matrix = SparseColMatRef::new(symbolic_matrix, &scaled);
+        let kind = AnalysisKind::Simplicial;
         let analysis = match kept {
-            Some(kept) => kept.analysis(&self.col_ptr, &self.row_idx)?,
-            None => Arc::new(KeptAnalysis::new(&self.col_ptr, &self.row_idx)?),
+            Some(kept) => kept.analysis(kind, &self.col_ptr, &self.row_idx)?,
+            None => Arc::new(KeptAnalysis::new(kind, &self.col_ptr, &self.row_idx)?),
         };
         let symbolic = analysis.symbolic();
         let k = rhs.ncols();

@@ -759,6 +759,7 @@ impl Problem<'_> {
             warm: self.warm,
             tolerance: s.tol_residual,
             deadline: s.deadline,
+            kept: self.kept,
         };
         match kind {
             SolverKind::Trivial => Ok(Candidate {

@@ -11,18 +11,17 @@
 //! and a change of the active set costs one numeric factorization. An
 //! inactive row's blocks are stored as exact zeros.
 
+use std::sync::Arc;
+
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
-    factorize_symbolic_cholesky,
-};
+use faer::sparse::linalg::cholesky::LltRef;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use nalgebra::{DMatrix, DVector, Matrix6};
 
 use super::super::dense_cholesky::DenseCholesky;
+use super::super::kept_analyses::{AnalysisKind, KeptAnalyses, KeptAnalysis};
 use super::super::metric::BlockMetric;
 use super::super::packed_rows::{Gram, PackedRows};
 use super::super::projection::ProjectionQp;
@@ -128,7 +127,9 @@ impl BlockPattern {
 /// The sparse symbolic analysis and the buffers that every numeric
 /// factorization and solve of one problem reuses.
 struct SparseFactor {
-    symbolic: SymbolicCholesky<usize>,
+    /// The symbolic analysis, kept by the caller's store or made for this
+    /// problem alone.
+    analysis: Arc<KeptAnalysis>,
     /// Values of `H`'s lower triangle in the pattern's order.
     values: Vec<f64>,
     /// Values of the factor `L` (empty before the first factorization).
@@ -145,11 +146,15 @@ enum Factor {
 
 /// Assembles and factors `H` for one problem; keeps the sparse symbolic
 /// analysis and the value buffers across factorizations.
-pub(crate) struct NewtonMatrix {
+pub(crate) struct NewtonMatrix<'a> {
     dofs: usize,
     dense: bool,
     supernodal: bool,
     pattern: Option<BlockPattern>,
+    /// The caller's store of analyses, asked on the first sparse
+    /// factorization (a solve that needs none, a warm start accepted as
+    /// it is, asks nothing).
+    store: Option<&'a KeptAnalyses>,
     sparse: Option<SparseFactor>,
     factor: Option<Factor>,
     /// Per group of [`PackedRows`], where its blocks sit in the sparse
@@ -171,11 +176,20 @@ struct GroupBase {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct FactorizationFailed;
 
-impl NewtonMatrix {
+impl<'a> NewtonMatrix<'a> {
     /// The matrix of `qp`, dense when `6 n_bodies <= dense_max_dofs`; the
     /// sparse factor supernodal when `supernodal` (dense 6x6 kernels on
     /// the blocks of a body), else left to faer's flop-ratio choice.
-    pub(crate) fn new(qp: &ProjectionQp, dense_max_dofs: usize, supernodal: bool) -> Self {
+    ///
+    /// With a store `kept`, the sparse pattern's symbolic analysis is taken
+    /// from it on the first factorization, or made then and kept there for
+    /// the next problems of the same pattern (`super::super::kept_analyses`).
+    pub(crate) fn new(
+        qp: &ProjectionQp,
+        dense_max_dofs: usize,
+        supernodal: bool,
+        kept: Option<&'a KeptAnalyses>,
+    ) -> Self {
         let dofs = qp.num_dofs();
         let dense = dofs <= dense_max_dofs;
         Self {
@@ -183,6 +197,7 @@ impl NewtonMatrix {
             dense,
             supernodal,
             pattern: (!dense).then(|| BlockPattern::new(qp)),
+            store: kept,
             sparse: None,
             factor: None,
             group_bases: None,
@@ -284,12 +299,13 @@ impl NewtonMatrix {
             return Ok(());
         }
         let pattern = self.pattern.as_ref().ok_or(FactorizationFailed)?;
-        let symbolic_matrix = pattern.symbolic();
-        self.sparse = Some(SparseFactor::analyse(
-            symbolic_matrix,
-            pattern.row_idx.len(),
-            self.supernodal,
-        )?);
+        let kind = analysis_kind(self.supernodal);
+        let analysis = match self.store {
+            Some(store) => store.analysis(kind, &pattern.col_ptr, &pattern.row_idx),
+            None => KeptAnalysis::new(kind, &pattern.col_ptr, &pattern.row_idx).map(Arc::new),
+        }
+        .ok_or(FactorizationFailed)?;
+        self.sparse = Some(SparseFactor::buffers(analysis, pattern.row_idx.len())?);
         Ok(())
     }
 
@@ -302,7 +318,8 @@ impl NewtonMatrix {
         let matrix = SparseColMatRef::new(symbolic_matrix, &sparse.values);
         let stack = MemStack::new(&mut sparse.workspace);
         sparse
-            .symbolic
+            .analysis
+            .symbolic()
             .factorize_numeric_llt(
                 &mut sparse.factor_values,
                 matrix,
@@ -366,7 +383,7 @@ impl NewtonMatrix {
                 let sparse = self.sparse.as_mut()?;
                 let mut x = rhs.clone();
                 let n = x.len();
-                let llt = LltRef::new(&sparse.symbolic, &sparse.factor_values);
+                let llt = LltRef::new(sparse.analysis.symbolic(), &sparse.factor_values);
                 llt.solve_in_place_with_conj(
                     Conj::No,
                     MatMut::from_column_major_slice_mut(x.as_mut_slice(), n, 1),
@@ -380,24 +397,10 @@ impl NewtonMatrix {
 }
 
 impl SparseFactor {
-    /// The symbolic analysis (AMD ordering, elimination tree, supernodes)
-    /// of the pattern and the buffers sized for it.
-    fn analyse(
-        pattern: SymbolicSparseColMatRef<'_, usize>,
-        nonzeros: usize,
-        supernodal: bool,
-    ) -> Result<Self, FactorizationFailed> {
-        let params = CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: if supernodal {
-                SupernodalThreshold::FORCE_SUPERNODAL
-            } else {
-                SupernodalThreshold::AUTO
-            },
-            ..Default::default()
-        };
-        let symbolic =
-            factorize_symbolic_cholesky(pattern, Side::Lower, SymmetricOrdering::Amd, params)
-                .map_err(|_| FactorizationFailed)?;
+    /// The buffers of the numeric factorizations and solves for the
+    /// symbolic analysis `analysis` of a pattern of `nonzeros` entries.
+    fn buffers(analysis: Arc<KeptAnalysis>, nonzeros: usize) -> Result<Self, FactorizationFailed> {
+        let symbolic = analysis.symbolic();
         let workspace_size = symbolic
             .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
             .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
@@ -405,9 +408,19 @@ impl SparseFactor {
         Ok(Self {
             factor_values: vec![0.0; symbolic.len_val()],
             values: vec![0.0; nonzeros],
-            symbolic,
+            analysis,
             workspace,
         })
+    }
+}
+
+/// The layout of the sparse factor: supernodal (dense 6x6 kernels on the
+/// blocks of a body) or left to faer's flop-ratio choice.
+fn analysis_kind(supernodal: bool) -> AnalysisKind {
+    if supernodal {
+        AnalysisKind::Supernodal
+    } else {
+        AnalysisKind::Auto
     }
 }
 

@@ -86,6 +86,7 @@ use std::time::Instant;
 
 use nalgebra::DVector;
 
+use super::kept_analyses::KeptAnalyses;
 use super::metric::BlockMetric;
 use super::outcome::Candidate;
 use super::projection::ProjectionQp;
@@ -182,6 +183,11 @@ pub struct Start<'a> {
     pub tolerance: f64,
     /// Give up at this instant.
     pub deadline: Option<Instant>,
+    /// The caller's store of sparse symbolic analyses
+    /// ([`crate::solver::KeptAnalyses`]): the body-space matrix's analysis
+    /// is taken from it, or made and kept there. `None`: made for this
+    /// solve alone.
+    pub kept: Option<&'a KeptAnalyses>,
 }
 
 /// Solves `qp` (linear rows only; the caller passes the pyramid of a
@@ -210,7 +216,8 @@ pub fn solve(
         }
         previous = acceptance;
     }
-    let mut newton = NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal);
+    let mut newton =
+        NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal, start.kept);
     let mut tried = None;
     if warm_given
         && let Some(answer) =

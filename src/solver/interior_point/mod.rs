@@ -189,7 +189,8 @@ pub fn solve(
         return Err(InteriorPointFailure::NotApplicable);
     }
     let target = settings.stop_fraction * start.tolerance;
-    let mut newton = NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal);
+    let mut newton =
+        NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal, start.kept);
     let mut factorizations = 0;
     if let Some(warm) = start.warm {
         // The method of multipliers of the warm finish has a rounding floor

@@ -10,7 +10,7 @@ use super::equality_rows::{DQ_TOL, push_redundant_rows, random_mixed};
 use crate::support::solver_oracle::{constraint_values, relative_metric_distance};
 use constraint_stabilization::solver::clarabel_qp::ClarabelSettings;
 use constraint_stabilization::solver::equality_elimination;
-use constraint_stabilization::solver::kept_analyses::{KEPT_ANALYSES_CAPACITY, KeptAnalyses};
+use constraint_stabilization::solver::kept_analyses::KeptAnalyses;
 use constraint_stabilization::solver::lemke::{LemkeSettings, LemkeStatus};
 use constraint_stabilization::solver::{
     BodyMetric, JacobianRow, ProjectionQp, SolverChoice, SolverKind, SolverSettings,
@@ -243,32 +243,4 @@ fn a_kept_analysis_changes_no_answer() {
     kept.clear();
     assert!(kept.is_empty());
     assert_eq!(kept.bytes(), 0);
-}
-
-/// The store is bounded: past [`KEPT_ANALYSES_CAPACITY`] patterns the least
-/// recently used goes, and a pattern asked for again is moved to the front
-/// (it survives the next insertions).
-#[test]
-fn the_kept_analyses_are_bounded_least_recently_used_first() {
-    // The diagonal pattern of an n x n matrix.
-    let diagonal = |n: usize| ((0..=n).collect::<Vec<_>>(), (0..n).collect::<Vec<_>>());
-    let kept = KeptAnalyses::default();
-    let (first_ptr, first_idx) = diagonal(1);
-    kept.analysis(&first_ptr, &first_idx).expect("analysed");
-    for n in 2..=KEPT_ANALYSES_CAPACITY + 3 {
-        let (col_ptr, row_idx) = diagonal(n);
-        let analysis = kept.analysis(&col_ptr, &row_idx).expect("analysed");
-        assert!(analysis.fits(&col_ptr, &row_idx));
-        assert!(!analysis.fits(&first_ptr, &first_idx));
-        // The first pattern, used again after every insertion, stays.
-        let again = kept.analysis(&first_ptr, &first_idx).expect("analysed");
-        assert!(again.fits(&first_ptr, &first_idx));
-        assert_eq!(kept.len(), n.min(KEPT_ANALYSES_CAPACITY));
-    }
-    // Invalid patterns are refused, not kept: a row index out of range,
-    // pointers that decrease, rows out of order.
-    assert!(kept.analysis(&[0, 1], &[3]).is_none());
-    assert!(kept.analysis(&[0, 5, 1], &[0]).is_none());
-    assert!(kept.analysis(&[0, 2, 2], &[1, 0]).is_none());
-    assert_eq!(kept.len(), KEPT_ANALYSES_CAPACITY);
 }

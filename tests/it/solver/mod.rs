@@ -16,6 +16,7 @@ mod friction_cone_unit;
 mod friction_finishes;
 mod friction_rows;
 mod interior_point_friction;
+mod kept_analyses;
 mod lcp_siconos;
 mod lemke;
 mod pgs;
