@@ -338,9 +338,11 @@ pub struct Report {
     /// the pairs last solved; freed when their bodies go).
     pub solver_warm_multipliers: usize,
     /// The sparse symbolic analyses the stabilizer keeps after the call for
-    /// the next solves of the same patterns (the equality blocks of
-    /// joints, `crate::solver::kept_analyses`): their number and the bytes
-    /// they hold (freed when bodies are removed through the stabilizer).
+    /// the next solves of the same patterns (the equality blocks of joints
+    /// and the body-space matrices of the interior point,
+    /// `crate::solver::kept_analyses`): their number and the bytes they
+    /// hold (at most 16 patterns; freed when bodies are removed through
+    /// the stabilizer).
     pub kept_analyses: (usize, usize),
     /// Wall time per stage.
     pub times: StageTimes,
