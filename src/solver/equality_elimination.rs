@@ -79,6 +79,8 @@ pub const DROPPED_PIVOT: f64 = 1e20;
 pub struct EliminatedSolution {
     /// One multiplier per row of the projection.
     pub z: DVector<f64>,
+    /// The correction `dq = M^-1 J^T z` (computed for the final check).
+    pub dq: DVector<f64>,
     /// Lemke's pivots on `S` (0 without inequality rows).
     pub pivots: usize,
     /// Numeric factorizations of `A_EE` (one; none without equality rows).
@@ -127,7 +129,8 @@ pub fn solve(
     let mut z = DVector::zeros(m);
     z.rows_mut(0, e).copy_from(&z_e);
     z.rows_mut(e, ni).copy_from(&z_i);
-    let w = &b + qp.apply_j(&dq_from_lambda(qp, metric, &z));
+    let dq = dq_from_lambda(qp, metric, &z);
+    let w = &b + qp.apply_j(&dq);
     let size = b.amax().max(blocks.max_diagonal * z.amax());
     let natural = natural_map_abs(&z, &w, e);
     let relative = if size > 0.0 { natural / size } else { natural };
@@ -143,6 +146,7 @@ pub fn solve(
     );
     Ok(EliminatedSolution {
         z,
+        dq,
         pivots,
         factorizations: usize::from(e > 0),
     })

@@ -810,9 +810,12 @@ impl Problem<'_> {
     fn lemke_eliminated(&self) -> Result<Candidate, FailureReason> {
         let settings = self.lemke_settings();
         match equality_elimination::solve(self.qp, self.metric, &settings, self.kept) {
+            // The correction the elimination computed for its own check.
             Ok(sol) => Ok(Candidate {
+                dq: sol.dq,
+                lambda: sol.z,
+                iterations: sol.pivots,
                 factorizations: sol.factorizations,
-                ..self.candidate_from_lambda(sol.z, sol.pivots)
             }),
             Err(failure) => match failure.status {
                 LemkeStatus::Inaccurate { .. }
