@@ -886,6 +886,15 @@ fn summary(scene: &str, run: Run, records: &[StepRecord]) -> String {
     let beyond = records
         .iter()
         .filter(|r| r.awake_depth > r.call_tolerance)
+        .inspect(|r| {
+            eprintln!(
+                "{scene}, {}: step {}: exact depth {:.4e} over the call's tolerance {:.4e}",
+                run.name(),
+                r.step,
+                r.awake_depth,
+                r.call_tolerance
+            )
+        })
         .count();
     let drift = records.last().map_or(0.0, |r| r.drift);
     let sleep = Sleep::of(records);

@@ -9,7 +9,8 @@
 //!    starts of the others to their new indices), append the new ones; then
 //!    set every scene body's user pose to its collider's world pose
 //!    `U = B P`, in one batch;
-//! 3. hold the bodies Rapier put to sleep still (obstacles, never written);
+//! 3. hold the bodies Rapier put to sleep still (obstacles, not written
+//!    unless they wedge an awake body the call cannot solve, `super::wedged`);
 //!    choose the call's lengths ([`super::round_off`], and the allowed
 //!    penetration of the coupling mode, [`super::settings`], Rapier's
 //!    allowed linear error in a resting call, `super::rest`) and stabilize
@@ -43,15 +44,17 @@ use super::rest::{
     RESTING_STREAK, RestPoses, dynamic_poses, held_poses, is_resting, whole_islands,
 };
 use super::round_off::{
-    lowered_for_round_off, own_lengths, raised_lengths, write_back_round_off_bound,
+    ROUNDING_DEPTH_FACTOR, lowered_for_round_off, own_lengths, raised_lengths,
+    write_back_round_off_bound,
 };
 use super::settings::{
     BridgeSettings, CouplingMode, FAST_BODY_REACH_FRACTION, closed_contact_allowance,
 };
 use super::sleep::{SleepClock, overlap_groups};
+use super::wedged::{RELEASE_ROUNDS, held_near_left_islands};
 use crate::body::{BodyDesc, MassSpec};
 use crate::scene::{Scene, SceneError};
-use crate::settings::Settings;
+use crate::settings::{ResolvedLengths, Settings};
 use crate::stabilizer::{BodyVelocity, Stabilizer, VelocityReport};
 
 /// Stabilizes a Rapier world after each step; keeps the scene, the handle
@@ -252,6 +255,7 @@ impl RapierBridge {
             resting: false,
             bodies_held: 0,
             bodies_struck_held: struck.len(),
+            bodies_released: 0,
             bodies_put_to_sleep: sleepers.len(),
             bodies_woken_falling: woken,
             velocities_zeroed: 0,
@@ -296,6 +300,11 @@ impl RapierBridge {
                 }
             }
             report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
+        }
+        report.bodies_released =
+            self.released_near_left_islands(&mut report, stated.contact_margin)?;
+        if self.settings.coupling == CouplingMode::ClosedContacts {
+            self.checked_after_rounding(&mut report, &before, stated)?;
         }
         let mut held = Vec::new();
         if self.settings.hold_cycles
@@ -396,6 +405,94 @@ impl RapierBridge {
             self.scene.set_user_poses(first).map_err(scene_error)?;
         }
         Ok(Vec::new())
+    }
+
+    /// Releases the held bodies that wedge an island the call could not
+    /// solve and solves again (`super::wedged`); returns how many were
+    /// released.
+    fn released_near_left_islands(
+        &mut self,
+        report: &mut BridgeReport,
+        margin: f64,
+    ) -> Result<usize, BridgeError> {
+        let mut released = 0;
+        for _ in 0..RELEASE_ROUNDS {
+            let Some(last) = report.stabilizer.as_ref() else {
+                break;
+            };
+            let near = held_near_left_islands(&self.scene, last, margin);
+            if near.is_empty() {
+                break;
+            }
+            log::debug!(
+                "{} islands left unsolved: {} held bodies near them released",
+                last.islands_left.len(),
+                near.len()
+            );
+            for &i in &near {
+                if let Some(body) = self.scene.bodies_mut().get_mut(i) {
+                    body.release();
+                }
+            }
+            released += near.len();
+            report.stabilizer = Some(self.stabilizer.stabilize(&mut self.scene)?);
+        }
+        Ok(released)
+    }
+
+    /// In closed contacts the call is solved to its stated lengths, and
+    /// rounding the written poses to f32 can add up to `2 delta` to a depth
+    /// (`super::round_off`). When the call resolved with its exact depth
+    /// after within `2 delta` of the stated tolerance, a copy of the scene
+    /// with the moved bodies at their poses as written (rounded to f32 and
+    /// read back) is measured by a copy of the stabilizer, so that neither
+    /// the scene nor the stabilizer's warm state changes; only if the
+    /// rounding took a pair beyond the stated tolerance is the call solved
+    /// again, from its answer, to the tolerance lowered by `2 delta`. The
+    /// stabilizer is left at `stated`.
+    fn checked_after_rounding(
+        &mut self,
+        report: &mut BridgeReport,
+        read: &[UserPose],
+        stated: ResolvedLengths,
+    ) -> Result<(), BridgeError> {
+        let Some(first) = report.stabilizer.as_ref() else {
+            return Ok(());
+        };
+        let bound = ROUNDING_DEPTH_FACTOR * report.round_off_bound;
+        if !first.status.is_resolved() || first.depth_after + bound <= stated.tolerance {
+            return Ok(());
+        }
+        let first_depth = first.depth_after;
+        let rounded: Vec<(usize, Isometry3<f64>)> = self
+            .map
+            .entries()
+            .iter()
+            .zip(self.scene.bodies())
+            .zip(read)
+            .enumerate()
+            .filter(|(_, ((entry, body), old))| entry.is_dynamic() && user_pose_of(body) != **old)
+            .map(|(i, ((entry, body), _))| (i, as_written(entry, &body.user_pose())))
+            .collect();
+        let mut written = self.scene.clone();
+        written
+            .set_user_poses(rounded)
+            .map_err(|e| BridgeError::Stabilize(e.into()))?;
+        let over = self.stabilizer.clone().penetrations(&written)?;
+        log::debug!(
+            "depth after {first_depth:.4e} within 2 delta ({bound:.3e}) of the tolerance {:.4e}: as written, {} pairs beyond it",
+            stated.tolerance,
+            over.len()
+        );
+        if over.is_empty() {
+            return Ok(());
+        }
+        let lowered = lowered_for_round_off(stated, report.round_off_bound);
+        self.stabilizer.set_call_lengths(Some(lowered));
+        let again = self.stabilizer.stabilize(&mut self.scene);
+        self.stabilizer.set_call_lengths(Some(stated));
+        report.stabilizer = Some(again?);
+        Ok(())
     }
 
     /// Puts the Rapier bodies of `sleepers` (scene indices) to sleep
@@ -754,6 +851,12 @@ fn collider_world_pose(
         Some(body) => Some(pose_to_f64(bodies.get(body)?.position()) * entry.collider_in_body),
         None => Some(pose_to_f64(colliders.get(entry.collider)?.position())),
     }
+}
+
+/// The user pose `U'` as Rapier will hold it once written: the body pose
+/// `U' P^-1` rounded to f32, read back as the bridge reads it.
+fn as_written(entry: &MappedCollider, user_pose: &Isometry3<f64>) -> Isometry3<f64> {
+    pose_to_f64(&pose_from_f64(&body_pose_of(entry, user_pose))) * entry.collider_in_body
 }
 
 /// `B' = U' P^-1`: the Rapier body pose that puts the collider at `U'`.

@@ -150,6 +150,7 @@ mod round_collider;
 pub mod round_off;
 mod settings;
 mod sleep;
+mod wedged;
 pub(crate) mod world;
 
 pub use body_map::{BodyMap, MappedCollider};

@@ -68,7 +68,8 @@ pub struct BridgeReport {
     /// moved; none when nothing awake penetrates beyond the tolerance).
     pub bodies_written: usize,
     /// Dynamic bodies Rapier had put to sleep: held still as obstacles,
-    /// neither solved nor written, and left asleep.
+    /// neither solved nor written (unless released,
+    /// [`BridgeReport::bodies_released`]), and left asleep.
     pub bodies_left_asleep: usize,
     /// Whether the call was a resting one (`rapier_bridge/rest.rs`): every
     /// awake body passed Rapier's sleep test in Rapier's last three steps,
@@ -81,6 +82,11 @@ pub struct BridgeReport {
     /// Bodies struck by a fast body and held still for the call's first
     /// solve ([`super::BridgeSettings::hold_struck_bodies`]); 0 when none.
     pub bodies_struck_held: usize,
+    /// Bodies held still (asleep, or put to sleep) that the call released
+    /// because an island next to them could not be solved with them held
+    /// (`rapier_bridge/wedged.rs`); solved, and written if moved; 0 when
+    /// none.
+    pub bodies_released: usize,
     /// Awake bodies this call put to sleep (`rapier_bridge/sleep.rs`,
     /// [`super::BridgeSettings::sleep_held_groups`]): held still, not
     /// written, and `RigidBody::sleep` called; 0 when none.
@@ -106,10 +112,12 @@ pub struct BridgeReport {
     /// The tolerance this call states for the world as written (f32
     /// poses); `None` when the stabilizer was not called. Outside
     /// [`super::CouplingMode::ClosedContacts`] the stabilizer solves to it
-    /// lowered by `2 delta`, so a resolved call leaves the f32 world within
-    /// it; in closed contacts it is the stabilizer's own tolerance, and the
-    /// f32 world is within [`BridgeReport::written_depth_bound`] (module
-    /// docs of `rapier_bridge/round_off.rs`).
+    /// lowered by `2 delta`; in closed contacts to it, and when the
+    /// answer's depth is within `2 delta` of it, the answer is checked as
+    /// written in f32 and solved again to it lowered by `2 delta` if the
+    /// rounding took a pair beyond it (module docs of
+    /// `rapier_bridge/round_off.rs`): a resolved call leaves the f32 world
+    /// within it.
     pub stated_tolerance: Option<f64>,
     /// The velocity projection of [`super::CouplingMode::VelocityConsistency`]
     /// and [`super::CouplingMode::ClosedContacts`]

@@ -111,7 +111,7 @@ fn held_boxes_leave_the_call_without_velocity_when_asked() {
         }
         if handles.iter().any(|&h| !world.bodies[h].is_sleeping()) {
             let depth = super::f32_awake_depth(&world);
-            let bound = super::stated_tolerance(&report) + 2.0 * report.round_off_bound;
+            let bound = super::stated_tolerance(&report);
             assert!(
                 depth <= bound,
                 "step {step}: depth {depth:e} over {bound:e}"

@@ -16,6 +16,7 @@ mod round_off;
 mod round_off_bound;
 mod stack;
 mod struck;
+mod wedged;
 mod world_from_scene;
 mod worlds;
 

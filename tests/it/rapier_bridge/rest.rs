@@ -112,7 +112,7 @@ fn a_body_woken_by_a_penetrating_newcomer_is_corrected() {
     assert_eq!(report.bodies_left_asleep, 0);
     assert!(report.bodies_written >= 1);
     let depth = f32_world_depth(&world);
-    assert!(depth <= stated_tolerance(&report) + 2.0 * report.round_off_bound);
+    assert!(depth <= stated_tolerance(&report));
     assert_ne!(*world.bodies[light].position(), light_before);
 }
 
@@ -187,5 +187,5 @@ fn a_compound_of_two_densities_is_corrected_about_rapiers_centre_of_mass() {
     let report = bridge.stabilize_world(&mut world).expect("succeeds");
     assert_eq!(report.bodies_written, 1);
     let depth = f32_world_depth(&world);
-    assert!(depth <= stated_tolerance(&report) + 2.0 * report.round_off_bound);
+    assert!(depth <= stated_tolerance(&report));
 }

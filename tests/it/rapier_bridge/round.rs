@@ -8,6 +8,8 @@
 use rapier3d::parry::query;
 use rapier3d::prelude::*;
 
+use constraint_stabilization::rapier_bridge::{BridgeSettings, CouplingMode, RapierBridge};
+
 use super::{bridge, f32_world_depth, ground, run, stated_tolerance};
 
 /// Depth parry (f32) may still see after a call: the tolerance plus f32
@@ -162,6 +164,26 @@ const ROUND_PILE_STEPS: usize = 90;
 /// the stated tolerance is the round-off rule's.
 #[test]
 fn outside_closed_contacts_the_written_round_pile_is_within_the_stated_tolerance() {
+    let calls = round_pile_within_stated_tolerance(bridge());
+    println!("calls ending with a contact left penetrating: {calls} of {ROUND_PILE_STEPS}");
+}
+
+/// In closed contacts (the bridge's default) the call is solved to the
+/// stated tolerance itself and solved again to it lowered by `2 delta`
+/// only when its depth after is within `2 delta` of it: the same pile's
+/// f32 world is within the stated tolerance after every call.
+#[test]
+fn in_closed_contacts_the_written_round_pile_is_within_the_stated_tolerance() {
+    let default = RapierBridge::with_settings(BridgeSettings::default()).expect("valid defaults");
+    let calls = round_pile_within_stated_tolerance(default);
+    println!("calls ending with a contact left penetrating: {calls} of {ROUND_PILE_STEPS}");
+}
+
+/// The pile of the two tests above under `bridge`; every call resolved,
+/// its written-depth bound (outside closed contacts) and the f32 world's
+/// exact depth within its stated tolerance. Returns how many calls ended
+/// with a contact left penetrating.
+fn round_pile_within_stated_tolerance(mut bridge: RapierBridge) -> usize {
     let mut world = PhysicsWorld::default();
     let origin = Vector::new(40.0, 0.0, 30.0);
     world.insert(
@@ -178,7 +200,7 @@ fn outside_closed_contacts_the_written_round_pile_is_within_the_stated_tolerance
         };
         dynamic(&mut world, at, collider);
     }
-    let mut bridge = bridge();
+    let closed = bridge.settings().coupling == CouplingMode::ClosedContacts;
     let mut bounded_calls = 0;
     for step in 0..ROUND_PILE_STEPS {
         world.step();
@@ -190,11 +212,13 @@ fn outside_closed_contacts_the_written_round_pile_is_within_the_stated_tolerance
             stabilizer.status
         );
         let stated = stated_tolerance(&report);
-        let bound = report.written_depth_bound().expect("dynamic bodies");
-        assert!(bound <= stated, "step {step}: bound {bound:e} > {stated:e}");
+        if !closed {
+            let bound = report.written_depth_bound().expect("dynamic bodies");
+            assert!(bound <= stated, "step {step}: bound {bound:e} > {stated:e}");
+        }
         let depth = f32_world_depth(&world);
         assert!(depth <= stated, "step {step}: depth {depth:e} > {stated:e}");
         bounded_calls += usize::from(stabilizer.depth_after > 0.0);
     }
-    println!("calls ending with a contact left penetrating: {bounded_calls} of {ROUND_PILE_STEPS}");
+    bounded_calls
 }

@@ -73,7 +73,7 @@ fn the_1_to_1000_stack_drifts_under_1_mm_and_sleeps() {
         }
         match report.stabilizer {
             Some(_) => {
-                let bound = stated_tolerance(&report) + 2.0 * report.round_off_bound;
+                let bound = stated_tolerance(&report);
                 assert!(
                     depth <= bound,
                     "step {step}: depth {depth:e} beyond the call's {bound:e}"
@@ -150,7 +150,7 @@ fn a_stack_put_to_sleep_is_woken_and_corrected_by_a_newcomer() {
         .expect("the call succeeds");
     assert!(report.bodies_written >= 1);
     let depth = f32_awake_depth(&world);
-    let bound = stated_tolerance(&report) + 2.0 * report.round_off_bound;
+    let bound = stated_tolerance(&report);
     assert!(
         depth <= bound,
         "depth {depth:e} beyond the call's {bound:e}"
