@@ -11,7 +11,13 @@
 //! (a clear constraint is not pushed in by more than a fraction `rho` of the
 //! worst violation `d` before the step, the deepest penetration or the
 //! largest equality error: no overshoot into neighbours; an equality within
-//! the tolerance is not pushed off by more either)
+//! the tolerance is not pushed off by more either). With an allowed
+//! penetration `p` (included in `tol`), which shifts every depth and the
+//! tolerance alike, the same test is measured from `p`:
+//! `-(p + max(tol - p, rho (d - p)))`. Measured from zero, a contact at the
+//! edge of a 5 mm allowance could not move at all while a neighbour 0.3 mm
+//! beyond it was being removed, and the island stalled (the pile of 200 of
+//! `examples/with_and_without.rs` under `RespectAllowedPenetration`).
 //!
 //! where `merit = sum_k min(0, phi_k + tol)^2 + sum_j max(0, |e_j| - tol)^2`
 //! (`e_j` the equality constraints, [`crate::rows::Measurement::merit`]). For the linearization,
@@ -49,18 +55,22 @@ pub enum LineSearchOutcome {
 }
 
 /// Backtracks along `dq` from `configuration`, whose constraints measured
-/// `before`.
+/// `before`; `tolerance` includes `allowed_penetration`, from which the
+/// push test is measured (module docs).
 pub fn line_search<P: ConstraintProvider + ?Sized>(
     provider: &mut P,
     configuration: &[BodyState],
     dq: &DVector<f64>,
     before: &Measurement,
     tolerance: f64,
+    allowed_penetration: f64,
     settings: &LineSearchSettings,
 ) -> LineSearchOutcome {
     let merit_before = before.merit(tolerance);
-    let allowed_new_depth =
-        tolerance.max(settings.new_penetration_fraction * before.worst_violation());
+    let allowed_new_depth = allowed_penetration
+        + (tolerance - allowed_penetration).max(
+            settings.new_penetration_fraction * (before.worst_violation() - allowed_penetration),
+        );
     let mut alpha = 1.0;
     let mut trials = 0;
     while alpha >= settings.min_step {

@@ -380,6 +380,7 @@ pub fn take_step<P: ConstraintProvider + ?Sized>(
         &dq,
         &before,
         lengths.tolerance,
+        lengths.allowed_penetration,
         &settings.line_search,
     );
     match search {

@@ -22,7 +22,8 @@ pub struct LineSearchSettings {
     /// at its place only to first order: a rotation by `theta` moves it by
     /// about `theta^2 r / 2`, which a strict tolerance would turn into a
     /// stall. Default 0.1: a neighbour is never pushed in by more than a
-    /// tenth of the depth being removed.
+    /// tenth of the depth being removed. With an allowed penetration the
+    /// test is measured from it (`crate::projector`'s line search).
     pub new_penetration_fraction: f64,
 }
 

@@ -19,6 +19,7 @@ mod friction_pyramid_rows;
 mod infeasible;
 #[cfg(feature = "serde")]
 mod kept_pairs;
+mod line_search_allowance;
 mod minimal;
 #[cfg(feature = "serde")]
 mod permutation;
