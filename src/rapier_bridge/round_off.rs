@@ -66,12 +66,13 @@
 //!   their held cycles: the settled pile of 200 of
 //!   `examples/with_and_without.rs` crept 177 mm instead of 0.63 mm,
 //!   `benchmarks/results/round_shapes.md`). Only when a call resolved with
-//!   its exact depth after within `2 delta` of the tolerance are the bodies
-//!   it moved put at their poses as written (rounded to f32 and read
-//!   back) and checked by the stabilizer at the stated lengths; if the
-//!   rounding took a pair beyond the tolerance, the call is solved again
-//!   from there to the lowered tolerance. So the f32 world is within the
-//!   stated tolerance in every mode.
+//!   its exact depth after within `2 delta` of the tolerance is a copy of
+//!   the scene, the bodies it moved at their poses as written (rounded to
+//!   f32 and read back), measured by a copy of the stabilizer; if the
+//!   rounding took a pair beyond the tolerance, the call is solved again,
+//!   from its answer, to the lowered tolerance. So the f32 world is within
+//!   the stated tolerance in every mode, and a call that needs no second
+//!   solve leaves the trajectory as it was.
 //!
 //! Positions near 10 with bodies of size 1 give `delta` of about 9e-7 and
 //! a tolerance of about 7e-6; the stabilizer's default (1e-6 of the
