@@ -21,6 +21,9 @@
 //! answer; at most [`RELEASE_ROUNDS`] times, each reaching one contact
 //! further. A failure that does not involve held bodies is left as it is.
 
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+
+use crate::broad_phase::body_aabb;
 use crate::scene::Scene;
 use crate::stabilizer::Report;
 
@@ -34,27 +37,18 @@ pub(crate) fn held_near_left_islands(scene: &Scene, report: &Report, margin: f64
     if report.status.is_resolved() || report.islands_left.is_empty() {
         return Vec::new();
     }
-    let grown = |i: usize| {
-        let (min, max) = scene.bodies()[i].world_aabb();
-        (
-            min.coords.add_scalar(-margin),
-            max.coords.add_scalar(margin),
-        )
-    };
-    let stuck: Vec<_> = report
+    let stuck: Vec<Aabb> = report
         .islands_left
         .iter()
-        .flat_map(|island| island.bodies.iter().copied())
-        .filter(|&i| i < scene.len())
-        .map(grown)
+        .flat_map(|island| island.bodies.iter())
+        .filter_map(|&i| scene.bodies().get(i))
+        .map(|body| body_aabb(body).loosened(margin))
         .collect();
     (0..scene.len())
         .filter(|&i| scene.bodies()[i].is_held())
         .filter(|&i| {
-            let (min, max) = scene.bodies()[i].world_aabb();
-            stuck
-                .iter()
-                .any(|(lo, hi)| (0..3).all(|k| min.coords[k] <= hi[k] && lo[k] <= max.coords[k]))
+            let held = body_aabb(&scene.bodies()[i]);
+            stuck.iter().any(|grown| grown.intersects(&held))
         })
         .collect()
 }
