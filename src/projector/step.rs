@@ -221,10 +221,16 @@ pub fn plan_step_warm<P: ConstraintProvider + ?Sized>(
     };
     let cone_rows = cone_rows(&order, &cone_parents);
     let model = settings.friction_model;
-    let (qp, qp_parents) = model_qp(&with_cones, order, &cone_parents, model);
+    // Without cones the problem is its own pyramid: no copy.
+    let (qp, qp_parents, with_cones) = if with_cones.cones.is_empty() {
+        (with_cones, order, None)
+    } else {
+        let (qp, qp_parents) = model_qp(&with_cones, order, &cone_parents, model);
+        (qp, qp_parents, Some(with_cones))
+    };
     let warm = warm(provider, &qp, &qp_parents);
     let problem = FrictionalQp {
-        with_cones: &with_cones,
+        with_cones: with_cones.as_ref().unwrap_or(&qp),
         cone_rows: &cone_rows,
         full: &qp,
         model,

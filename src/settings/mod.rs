@@ -277,7 +277,7 @@ pub struct Settings {
 }
 
 /// Default of [`Settings::joint_rotation_weight`].
-pub const DEFAULT_JOINT_ROTATION_WEIGHT: f64 = 30.0;
+pub const DEFAULT_JOINT_ROTATION_WEIGHT: f64 = 300.0;
 
 /// Default of [`Settings::step_max_rotation`], radians.
 pub const DEFAULT_STEP_MAX_ROTATION: f64 = 0.2;

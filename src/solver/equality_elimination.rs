@@ -56,7 +56,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, Par, Side};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Vector6};
 
 use super::kept_analyses::{AnalysisKind, KeptAnalyses, KeptAnalysis};
 use super::lcp::Lcp;
@@ -64,7 +64,7 @@ use super::lemke::mixed::{EQUALITY_RANK_TOL_REL, check_range, failure, inaccurat
 use super::lemke::{self, LemkeFailure, LemkeSettings};
 use super::metric::BlockMetric;
 use super::projection::ProjectionQp;
-use super::projection_lcp::{dq_from_lambda, for_each_delassus_term};
+use super::projection_lcp::dq_from_lambda;
 use super::residuals::natural_map_abs;
 
 /// The value that replaces a pivot of the scaled `A_EE` below the rank
@@ -168,75 +168,141 @@ struct DelassusBlocks {
     max_diagonal: f64,
 }
 
-/// The compressed columns of the `(col, row, value)` terms of an `e x e`
-/// lower triangle, rows ascending within a column and repeated entries
-/// summed: a counting sort by column, then each (short) column sorted by
-/// row.
-fn compress_columns(e: usize, terms: &[(usize, usize, f64)]) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
-    let mut start = vec![0; e + 1];
-    for &(col, _, _) in terms {
-        start[col + 1] += 1;
-    }
-    for c in 0..e {
-        start[c + 1] += start[c];
-    }
-    let mut next = start.clone();
-    let mut by_column = vec![(0, 0.0); terms.len()];
-    for &(col, row, v) in terms {
-        by_column[next[col]] = (row, v);
-        next[col] += 1;
-    }
-    let mut col_ptr = Vec::with_capacity(e + 1);
-    let mut row_idx = Vec::with_capacity(terms.len());
-    let mut values: Vec<f64> = Vec::with_capacity(terms.len());
-    col_ptr.push(0);
-    for c in 0..e {
-        let column = &mut by_column[start[c]..start[c + 1]];
-        column.sort_unstable_by_key(|&(row, _)| row);
-        let first = row_idx.len();
-        for &(row, v) in column.iter() {
-            match values.last_mut() {
-                Some(value) if row_idx.len() > first && row_idx.last() == Some(&row) => *value += v,
-                _ => {
-                    row_idx.push(row);
-                    values.push(v);
-                }
+/// The rows touching each body, grouped by body (rows ascending within a
+/// body): entry `p` in `start[k]..start[k + 1]` is row `row[p]` with
+/// `J_ik = g[p]` and `M_k^-1 J_ik^T = u[p]`.
+struct Incidence {
+    start: Vec<usize>,
+    row: Vec<usize>,
+    g: Vec<Vector6<f64>>,
+    u: Vec<Vector6<f64>>,
+}
+
+impl Incidence {
+    fn of(qp: &ProjectionQp, metric: &[BlockMetric]) -> Self {
+        let mut start = vec![0; metric.len() + 1];
+        for row in &qp.rows {
+            for (k, _) in &row.blocks {
+                start[*k + 1] += 1;
             }
         }
-        col_ptr.push(row_idx.len());
+        for k in 0..metric.len() {
+            start[k + 1] += start[k];
+        }
+        let total = start[metric.len()];
+        let mut next = start.clone();
+        let (mut row, mut g, mut u) = (
+            vec![0; total],
+            vec![Vector6::zeros(); total],
+            vec![Vector6::zeros(); total],
+        );
+        for (i, jacobian_row) in qp.rows.iter().enumerate() {
+            for (k, block) in &jacobian_row.blocks {
+                let p = next[*k];
+                next[*k] += 1;
+                row[p] = i;
+                g[p] = *block;
+                u[p] = metric[*k].apply_inv(block);
+            }
+        }
+        Self { start, row, g, u }
     }
-    (col_ptr, row_idx, values)
+
+    /// The entries of body `k`.
+    fn of_body(&self, k: usize) -> std::ops::Range<usize> {
+        self.start[k]..self.start[k + 1]
+    }
 }
 
 impl DelassusBlocks {
+    /// The blocks of `A`, `A_EE` column by column: for equality row `c`,
+    /// the terms `J_jk M_k^-1 J_ck^T` over the bodies `k` of row `c` and
+    /// the equality rows `j >= c` touching them, summed in a dense
+    /// accumulator and written in ascending rows (the diagonal first, and
+    /// present even for a zero row, so that the factorization sees every
+    /// column). `O(sum_k deg_k^2)` as the whole matrix, with no sort of
+    /// the terms.
     fn new(qp: &ProjectionQp, metric: &[BlockMetric]) -> Self {
         let (e, m) = (qp.num_equalities, qp.num_rows());
         let ni = m - e;
-        let mut lower: Vec<(usize, usize, f64)> = Vec::new();
+        let incidence = Incidence::of(qp, metric);
+        let mut max_diagonal = 0.0_f64;
+        let mut col_ptr = Vec::with_capacity(e + 1);
+        // At most one entry per pair of equality rows sharing a body.
+        let bound: usize = (0..metric.len())
+            .map(|k| {
+                let entries = incidence.of_body(k);
+                let n = incidence.row[entries].partition_point(|&i| i < e);
+                n * (n + 1) / 2
+            })
+            .sum::<usize>()
+            .max(e);
+        let mut row_idx = Vec::with_capacity(bound);
+        let mut values = Vec::with_capacity(bound);
+        let mut accumulator = vec![0.0; e];
+        let mut touched: Vec<usize> = Vec::new();
+        // `seen[j] == c + 1`: row `j` is in `touched` for column `c`.
+        let mut seen = vec![0_usize; e];
+        // Position of row `c` in each body's entries: the entries of body
+        // `k` with rows below `c` are passed (rows ascend within a body).
+        let mut first = incidence.start[..metric.len()].to_vec();
+        col_ptr.push(0);
+        for c in 0..e {
+            touched.push(c);
+            seen[c] = c + 1;
+            for (k, _) in &qp.rows[c].blocks {
+                let entries = incidence.of_body(*k);
+                while incidence.row[first[*k]] < c {
+                    first[*k] += 1;
+                }
+                let own = first[*k];
+                let u_c = incidence.u[own];
+                for p in own..entries.end {
+                    let j = incidence.row[p];
+                    if j >= e {
+                        break;
+                    }
+                    if seen[j] != c + 1 {
+                        seen[j] = c + 1;
+                        touched.push(j);
+                    }
+                    accumulator[j] += incidence.g[p].dot(&u_c);
+                }
+            }
+            touched.sort_unstable();
+            for &j in &touched {
+                row_idx.push(j);
+                values.push(accumulator[j]);
+                accumulator[j] = 0.0;
+            }
+            touched.clear();
+            max_diagonal = max_diagonal.max(values[col_ptr[c]]);
+            col_ptr.push(row_idx.len());
+        }
         let mut a_ei = DMatrix::zeros(e, ni);
         let mut a_ii = DMatrix::zeros(ni, ni);
-        let mut diagonal = vec![0.0_f64; m];
-        for_each_delassus_term(qp, metric, |i, j, v| {
-            let (hi, lo) = if i >= j { (i, j) } else { (j, i) };
-            if hi == lo {
-                diagonal[hi] += v;
-            }
-            match (hi < e, lo < e) {
-                (true, _) => lower.push((lo, hi, v)),
-                (false, true) => a_ei[(lo, hi - e)] += v,
-                (false, false) => {
-                    a_ii[(hi - e, lo - e)] += v;
-                    if hi != lo {
-                        a_ii[(lo - e, hi - e)] += v;
+        for k in 0..metric.len() {
+            let entries = incidence.of_body(k);
+            let split = entries.start + incidence.row[entries.clone()].partition_point(|&i| i < e);
+            for x in entries.clone() {
+                let (i, u_i) = (incidence.row[x], incidence.u[x]);
+                for y in split.max(x)..entries.end {
+                    let j = incidence.row[y];
+                    let v = incidence.g[y].dot(&u_i);
+                    if i < e {
+                        a_ei[(i, j - e)] += v;
+                    } else {
+                        a_ii[(j - e, i - e)] += v;
+                        if i != j {
+                            a_ii[(i - e, j - e)] += v;
+                        }
                     }
                 }
             }
-        });
-        // Every equality row has its diagonal entry (zero when the row is
-        // zero), so that the factorization sees every column.
-        lower.extend((0..e).map(|i| (i, i, 0.0)));
-        let (col_ptr, row_idx, values) = compress_columns(e, &lower);
-        let max_diagonal = diagonal.iter().copied().fold(0.0, f64::max);
+        }
+        for r in 0..ni {
+            max_diagonal = max_diagonal.max(a_ii[(r, r)]);
+        }
         Self {
             e,
             col_ptr,
