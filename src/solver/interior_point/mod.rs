@@ -99,7 +99,7 @@ use super::packed_rows::PackedRows;
 use super::projection::ProjectionQp;
 use super::projection_lcp::dq_from_lambda;
 use super::residuals::{m_apply, m_inv, projection_residuals, row_diagonal};
-use step::{Iterate, StepInputs, newton_step};
+use step::{Iterate, StepInputs, StepTaken, newton_step};
 
 /// Settings of the interior-point solver.
 #[derive(Debug, Clone, PartialEq)]
@@ -278,7 +278,7 @@ pub fn solve(
             a: &a,
             packed: packed.as_ref(),
         };
-        let gap = newton_step(
+        let StepTaken { gap, clamped } = newton_step(
             &inputs,
             &mut newton,
             &mut it,
@@ -286,6 +286,17 @@ pub fn solve(
             settings.centrality_correctors,
         )?;
         factorizations += 1;
+        // Weights clamped after an answer at the rounding floor: the
+        // iterates only degrade from here (on a bin of 160 boxes with
+        // friction they wandered 38 more iterations to the limit and the
+        // best candidate, already at hand, answered).
+        let floor = ROUNDING_FLOOR_FRACTION * start.tolerance;
+        if clamped && best.as_ref().is_some_and(|(_, b)| *b <= floor) {
+            log::trace!(
+                "interior point: factorization clamped at iteration {iteration} after an answer at the rounding floor"
+            );
+            break;
+        }
         let radius = farkas_radius(&inputs, &g, &it.lambda) / l;
         log::trace!(
             "interior point: iteration {iteration}, gap {:.2e} l^2, Farkas radius {radius:.2e} l",

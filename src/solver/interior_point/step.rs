@@ -76,15 +76,23 @@ pub(super) struct Direction {
     pub lambda: DVector<f64>,
 }
 
-/// Takes one step; `newton` is refactored with the iterate's `D`. Returns
-/// the complementarity gap `sum_i s_i lambda_i` after the step.
+/// What one step did: the complementarity gap `sum_i s_i lambda_i` after
+/// it, and whether `H` had to be factored with clamped weights (the
+/// iteration is then at the rounding floor of its weights).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct StepTaken {
+    pub gap: f64,
+    pub clamped: bool,
+}
+
+/// Takes one step; `newton` is refactored with the iterate's `D`.
 pub(super) fn newton_step(
     inputs: &StepInputs<'_>,
     newton: &mut NewtonMatrix,
     it: &mut Iterate,
     step_fraction: f64,
     correctors: usize,
-) -> Result<f64, InteriorPointFailure> {
+) -> Result<StepTaken, InteriorPointFailure> {
     let (qp, moved) = (inputs.qp, inputs.moved);
     let m = qp.num_rows();
     let active_rows = moved.iter().filter(|&&x| x).count().max(1);
@@ -104,7 +112,8 @@ pub(super) fn newton_step(
             }
         })
         .collect();
-    if inputs.factor(newton, &d).is_err() {
+    let clamped = inputs.factor(newton, &d).is_err();
+    if clamped {
         let clamped: Vec<f64> = d
             .iter()
             .zip(inputs.a)
@@ -164,10 +173,11 @@ pub(super) fn newton_step(
         // The iterates diverged (an infeasible problem).
         return Err(InteriorPointFailure::NotConverged);
     }
-    Ok((0..m)
+    let gap = (0..m)
         .filter(|&i| moved[i])
         .map(|i| it.s[i] * it.lambda[i])
-        .sum())
+        .sum();
+    Ok(StepTaken { gap, clamped })
 }
 
 /// The direction for the complementarity residual `r_c` (module docs of
