@@ -56,7 +56,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, Par, Side};
-use nalgebra::{DMatrix, DVector, Vector6};
+use nalgebra::{DMatrix, DVector};
 
 use super::kept_analyses::{AnalysisKind, KeptAnalyses, KeptAnalysis};
 use super::lcp::Lcp;
@@ -64,7 +64,7 @@ use super::lemke::mixed::{EQUALITY_RANK_TOL_REL, check_range, failure, inaccurat
 use super::lemke::{self, LemkeFailure, LemkeSettings};
 use super::metric::BlockMetric;
 use super::projection::ProjectionQp;
-use super::projection_lcp::dq_from_lambda;
+use super::projection_lcp::{Incidence, dq_from_lambda};
 use super::residuals::natural_map_abs;
 
 /// The value that replaces a pivot of the scaled `A_EE` below the rank
@@ -166,52 +166,6 @@ struct DelassusBlocks {
     a_ii: DMatrix<f64>,
     /// `max_i A_ii` over every row.
     max_diagonal: f64,
-}
-
-/// The rows touching each body, grouped by body (rows ascending within a
-/// body): entry `p` in `start[k]..start[k + 1]` is row `row[p]` with
-/// `J_ik = g[p]` and `M_k^-1 J_ik^T = u[p]`.
-struct Incidence {
-    start: Vec<usize>,
-    row: Vec<usize>,
-    g: Vec<Vector6<f64>>,
-    u: Vec<Vector6<f64>>,
-}
-
-impl Incidence {
-    fn of(qp: &ProjectionQp, metric: &[BlockMetric]) -> Self {
-        let mut start = vec![0; metric.len() + 1];
-        for row in &qp.rows {
-            for (k, _) in &row.blocks {
-                start[*k + 1] += 1;
-            }
-        }
-        for k in 0..metric.len() {
-            start[k + 1] += start[k];
-        }
-        let total = start[metric.len()];
-        let mut next = start.clone();
-        let (mut row, mut g, mut u) = (
-            vec![0; total],
-            vec![Vector6::zeros(); total],
-            vec![Vector6::zeros(); total],
-        );
-        for (i, jacobian_row) in qp.rows.iter().enumerate() {
-            for (k, block) in &jacobian_row.blocks {
-                let p = next[*k];
-                next[*k] += 1;
-                row[p] = i;
-                g[p] = *block;
-                u[p] = metric[*k].apply_inv(block);
-            }
-        }
-        Self { start, row, g, u }
-    }
-
-    /// The entries of body `k`.
-    fn of_body(&self, k: usize) -> std::ops::Range<usize> {
-        self.start[k]..self.start[k + 1]
-    }
 }
 
 impl DelassusBlocks {

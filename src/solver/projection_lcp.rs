@@ -20,8 +20,51 @@ use super::metric::BlockMetric;
 use super::projection::ProjectionQp;
 use super::residuals::m_inv;
 
-/// A row touching a body: `(row index, J_ik, M_k^-1 J_ik^T)`.
-type Incidence = (usize, Vector6<f64>, Vector6<f64>);
+/// The rows touching each body, grouped by body (rows ascending within a
+/// body): entry `p` in `start[k]..start[k + 1]` is row `row[p]` with
+/// `J_ik = g[p]` and `M_k^-1 J_ik^T = u[p]`.
+pub(crate) struct Incidence {
+    pub(crate) start: Vec<usize>,
+    pub(crate) row: Vec<usize>,
+    pub(crate) g: Vec<Vector6<f64>>,
+    pub(crate) u: Vec<Vector6<f64>>,
+}
+
+impl Incidence {
+    pub(crate) fn of(qp: &ProjectionQp, metric: &[BlockMetric]) -> Self {
+        let mut start = vec![0; metric.len() + 1];
+        for row in &qp.rows {
+            for (k, _) in &row.blocks {
+                start[*k + 1] += 1;
+            }
+        }
+        for k in 0..metric.len() {
+            start[k + 1] += start[k];
+        }
+        let total = start[metric.len()];
+        let mut next = start.clone();
+        let (mut row, mut g, mut u) = (
+            vec![0; total],
+            vec![Vector6::zeros(); total],
+            vec![Vector6::zeros(); total],
+        );
+        for (i, jacobian_row) in qp.rows.iter().enumerate() {
+            for (k, block) in &jacobian_row.blocks {
+                let p = next[*k];
+                next[*k] += 1;
+                row[p] = i;
+                g[p] = *block;
+                u[p] = metric[*k].apply_inv(block);
+            }
+        }
+        Self { start, row, g, u }
+    }
+
+    /// The entries of body `k`.
+    pub(crate) fn of_body(&self, k: usize) -> std::ops::Range<usize> {
+        self.start[k]..self.start[k + 1]
+    }
+}
 
 /// Calls `add(i, j, v)` for every term `v = J_ik M_k^-1 J_jk^T` of
 /// `A_ij` (module docs), once per unordered pair of rows `{i, j}` (`i ==
@@ -32,17 +75,13 @@ pub(crate) fn for_each_delassus_term(
     metric: &[BlockMetric],
     mut add: impl FnMut(usize, usize, f64),
 ) {
-    // incident[k] = rows touching body k, with J_ik and M_k^-1 J_ik^T.
-    let mut incident: Vec<Vec<Incidence>> = vec![Vec::new(); metric.len()];
-    for (i, row) in qp.rows.iter().enumerate() {
-        for (k, g) in &row.blocks {
-            incident[*k].push((i, *g, metric[*k].apply_inv(g)));
-        }
-    }
-    for rows in &incident {
-        for (x, (i, _, u_i)) in rows.iter().enumerate() {
-            for (j, g_j, _) in &rows[x..] {
-                add(*i, *j, g_j.dot(u_i));
+    let incidence = Incidence::of(qp, metric);
+    for k in 0..metric.len() {
+        let entries = incidence.of_body(k);
+        for x in entries.clone() {
+            let (i, u_i) = (incidence.row[x], incidence.u[x]);
+            for y in x..entries.end {
+                add(i, incidence.row[y], incidence.g[y].dot(&u_i));
             }
         }
     }
