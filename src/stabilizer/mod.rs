@@ -86,7 +86,7 @@ use joint_state::{
     joint_errors, joint_merit, joint_reports, largest_joint_error, violated_islands,
 };
 use solve_island::{IslandSolution, PassInput, solve_island};
-use solver_warm::SolverWarmCache;
+use solver_warm::{SolverWarmCache, WarmLayers};
 
 /// Removes interpenetration from scenes; owns its settings and the V-Clip
 /// warm starts of earlier queries (temporal coherence across calls).
@@ -362,8 +362,9 @@ impl Stabilizer {
         let certify = self.settings.vclip.motion_certificates;
         self.solver_warm.forget_dropped_shapes();
         // The first pass starts from the last call's first pass, each
-        // later one from the passes before it.
-        let mut pass_warm = self.solver_warm.clone();
+        // later one from the passes before it: the entries of the passes
+        // after the first lie over the kept cache (`WarmLayers`).
+        let mut later_passes_warm = SolverWarmCache::default();
         let mut memo = QueryMemo::default();
         let mut broad_phase = IncrementalBroadPhase::new();
         // Bodies of the islands whose friction could not be honoured in an
@@ -417,7 +418,7 @@ impl Stabilizer {
                 self.last_detection = Some((poses, detection));
                 return Ok(report);
             }
-            let solutions = self.solve_pass(
+            let mut solutions = self.solve_pass(
                 scene,
                 geometry,
                 &detection,
@@ -426,14 +427,18 @@ impl Stabilizer {
                 &lengths,
                 &without_friction,
                 &mut pass,
-                &pass_warm,
+                WarmLayers {
+                    newer: &later_passes_warm,
+                    older: &self.solver_warm,
+                },
             )?;
             report.passes += 1;
-            for solution in &solutions {
-                if report.passes == 1 {
-                    self.solver_warm.merge(solution.solver_warm.clone());
+            for solution in &mut solutions {
+                let warm = std::mem::take(&mut solution.solver_warm);
+                match report.passes {
+                    1 => self.solver_warm.merge(warm),
+                    _ => later_passes_warm.merge(warm),
                 }
-                pass_warm.merge(solution.solver_warm.clone());
             }
             report.solver_warm_multipliers = self.solver_warm.multipliers();
             let stuck = self.apply(scene, &parts, solutions, &mut memo, &mut report, &mut pass)?;
@@ -542,7 +547,7 @@ impl Stabilizer {
         lengths: &ResolvedLengths,
         without_friction: &[bool],
         pass: &mut PassReport,
-        solver_warm: &SolverWarmCache,
+        solver_warm: WarmLayers,
     ) -> Result<Vec<IslandSolution>, Error> {
         let (penetrating, count) = violated_islands(scene, detection, joints, lengths)?;
         pass.islands = count;

@@ -37,7 +37,7 @@ use super::island_constraints::IslandConstraints;
 use super::joint_state::island_joints;
 use super::region::{Region, pushed_bodies};
 use super::report::{IslandOutcome, IslandReport};
-use super::solver_warm::{MultiplierPairs, SolverWarmCache};
+use super::solver_warm::{MultiplierPairs, SolverWarmCache, WarmLayers};
 use crate::settings::{ResolvedLengths, Settings};
 
 /// The outcome of one island's step, to apply to the scene.
@@ -105,7 +105,7 @@ pub struct PassInput<'a> {
     pub without_friction: &'a [bool],
     /// The solver's warm starts (the multipliers of the last pass, or of
     /// the last call's first pass).
-    pub solver_warm: &'a SolverWarmCache,
+    pub solver_warm: WarmLayers<'a>,
     /// The stabilizer's kept sparse analyses.
     pub kept_analyses: &'a KeptAnalyses,
 }

@@ -72,15 +72,32 @@ impl MultiplierPairs<'_> {
     }
 }
 
-impl SolverWarmCache {
+/// The warm starts a pass sees: the entries recorded by this call's later
+/// passes over those of the kept cache (the last calls' first passes and
+/// this call's first), newer first. Layers instead of a merged copy: a
+/// pass reads the kept cache in place, nothing is copied per call.
+#[derive(Debug, Clone, Copy)]
+pub struct WarmLayers<'a> {
+    /// The entries of this call's passes after the first.
+    pub newer: &'a SolverWarmCache,
+    /// The kept cache.
+    pub older: &'a SolverWarmCache,
+}
+
+impl WarmLayers<'_> {
     /// The warm start of a problem whose multipliers belong to `keys`:
-    /// every pair's kept multipliers where they fit (module docs), 0
-    /// elsewhere; `None` when no pair fits.
+    /// every pair's newest kept multipliers where they fit (module docs),
+    /// 0 elsewhere; `None` when no pair fits.
     pub fn warm_start(&self, keys: &MultiplierPairs<'_>) -> Option<DVector<f64>> {
         let mut lambda = DVector::zeros(keys.pairs.len());
         let mut found = false;
         for (pair, positions) in keys.positions() {
-            let Some(entry) = self.entries.get(&pair) else {
+            let Some(entry) = self
+                .newer
+                .entries
+                .get(&pair)
+                .or_else(|| self.older.entries.get(&pair))
+            else {
                 continue;
             };
             let fits = entry.lambda.len() == positions.len()
@@ -97,7 +114,9 @@ impl SolverWarmCache {
         }
         found.then_some(lambda)
     }
+}
 
+impl SolverWarmCache {
     /// Records the multipliers `lambda` of a problem with `keys`.
     pub fn record(&mut self, keys: &MultiplierPairs<'_>, lambda: &DVector<f64>) {
         if lambda.len() != keys.pairs.len() {

@@ -14,6 +14,11 @@
 //! | segment `[-l z, l z]` | the end of larger `d . p` |
 //! | cylinder, cone | `CurvedSolid::support` |
 //!
+//! The support function needs one rotation: with `d_local = R^T d`,
+//! `h(d) = d_local . s_local(d_local) + d . t`. The rotation is kept as a
+//! matrix (`rotation`), cheaper to apply than the pose's quaternion in the
+//! hundreds of evaluations of a pattern search.
+//!
 //! The outline (`outline`) is the finite set of surface points a flat
 //! contact may rest on, for a contact along `d`: a polyhedron's vertices, a
 //! segment's ends, a curved solid's rim samples when the rim is flat to
@@ -21,7 +26,7 @@
 //! its side line facing `d` (which realize a cylinder lying on its side
 //! exactly).
 
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 use parry3d_f64::math::Vector as ParryVector;
 use parry3d_f64::shape::SupportMap;
 
@@ -58,6 +63,8 @@ pub struct PosedCore<'a> {
     pub core: CoreShape<'a>,
     /// Part frame to world.
     pub pose: Isometry3<f64>,
+    /// The pose's rotation as a matrix (`R`, part frame to world).
+    pub rotation: Matrix3<f64>,
     /// The radius grown around the core (0 for a cylinder or cone).
     pub radius: f64,
 }
@@ -80,6 +87,7 @@ impl<'a> PosedCore<'a> {
         PosedCore {
             core,
             pose: geometry.pose,
+            rotation: geometry.pose.rotation.to_rotation_matrix().into_inner(),
             radius,
         }
     }
@@ -129,12 +137,15 @@ impl<'a> PosedCore<'a> {
 
     /// The core's support point along world direction `d` (any length).
     pub fn support(&self, d: &Vector3<f64>) -> Point3<f64> {
-        self.pose * self.support_local(&self.pose.rotation.inverse_transform_vector(d))
+        let local = self.support_local(&self.rotation.tr_mul(d));
+        Point3::from(self.rotation * local.coords + self.pose.translation.vector)
     }
 
-    /// The core's support function `h(d) = d . s(d)`.
+    /// The core's support function `h(d) = d . s(d)`, with one rotation
+    /// (module docs).
     pub fn support_value(&self, d: &Vector3<f64>) -> f64 {
-        d.dot(&self.support(d).coords)
+        let d_local = self.rotation.tr_mul(d);
+        d_local.dot(&self.support_local(&d_local).coords) + d.dot(&self.pose.translation.vector)
     }
 
     /// Surface points of the core a flat contact along unit world
