@@ -88,6 +88,33 @@ pub fn candidate_pairs(scene: &Scene, margin: f64) -> Result<Vec<BodyPair>, Broa
     candidate_pairs_of_aabbs(&aabbs, &scene.fixed_flags(), margin)
 }
 
+/// Every body's world box grown by `margin / 2` on each side (two such
+/// boxes overlap when the bodies' boxes are within `margin`), index =
+/// body index: the leaves of [`candidate_pairs`]' hierarchy, after its
+/// input checks.
+pub fn grown_boxes(scene: &Scene, margin: f64) -> Result<Vec<Aabb>, BroadPhaseError> {
+    let aabbs: Vec<Aabb> = scene.bodies().iter().map(body_aabb).collect();
+    check_inputs(aabbs.as_slice(), &scene.fixed_flags(), margin)?;
+    Ok(aabbs.iter().map(|a| a.loosened(margin / 2.0)).collect())
+}
+
+/// Whether body `i` forms a candidate pair with some other body: its grown
+/// box (from [`grown_boxes`]) overlaps another's, the two not both fixed.
+/// The same test as [`candidate_pairs`]' for the pairs of one body, by a
+/// scan of every box: `O(n)` for the one body, no hierarchy.
+pub fn has_candidate_pair(boxes: &[Aabb], fixed: &[bool], i: usize) -> bool {
+    let (Some(own), Some(&own_fixed)) = (boxes.get(i), fixed.get(i)) else {
+        return false;
+    };
+    boxes
+        .iter()
+        .zip(fixed)
+        .enumerate()
+        .any(|(j, (other, &other_fixed))| {
+            j != i && !(own_fixed && other_fixed) && own.intersects(other)
+        })
+}
+
 /// A body's world AABB as parry's type.
 pub(crate) fn body_aabb(body: &Body) -> Aabb {
     let (min, max) = body.world_aabb();

@@ -79,7 +79,7 @@
 //! smallest body) is kept wherever it is larger.
 
 use super::body_map::BodyMap;
-use crate::broad_phase::candidate_pairs;
+use crate::broad_phase::{candidate_pairs, grown_boxes, has_candidate_pair};
 use crate::scene::Scene;
 use crate::settings::{ResolvedLengths, Settings};
 use crate::stabilizer::scene_scale;
@@ -109,10 +109,16 @@ pub const ROUNDING_DEPTH_FACTOR: f64 = 2.0;
 /// pose is rounded to f32, over the dynamic bodies that can touch another
 /// body (module docs: a body farther than the contact margin from every
 /// other cannot be moved into contact by a rounding); 0 without them.
-/// The restriction costs a broad phase, run only when the bound over all
-/// dynamic bodies would raise the lengths of `settings` (a body far from
-/// the origin): otherwise that bound is returned. `own` are the
-/// stabilizer's own lengths on the scene ([`own_lengths`]).
+/// The restriction is computed only when the bound over all dynamic
+/// bodies would raise the lengths of `settings` (otherwise that bound is
+/// returned), and then by scanning the bodies in decreasing `delta`: the
+/// first that can touch another (a candidate pair of the broad phase's
+/// test, one body's boxes scanned, or a joint) gives the maximum. In a
+/// scene where the bodies touch, that is the first or one of the first,
+/// `O(n)` against a broad phase's hierarchy; after
+/// [`ROUND_OFF_SCAN_LIMIT`] bodies that touch nothing the broad phase
+/// answers for the rest. `own` are the stabilizer's own lengths on the
+/// scene ([`own_lengths`]).
 pub(crate) fn write_back_round_off_bound(
     scene: &Scene,
     map: &BodyMap,
@@ -155,16 +161,38 @@ pub(crate) fn write_back_round_off_bound(
     if !raises_lengths {
         return largest;
     }
-    // A broad phase that fails (it cannot for valid bodies) keeps the
-    // bound over every dynamic body.
+    let mut joined = vec![false; scene.len()];
+    for joint in scene.joints() {
+        for body in [joint.body_a, joint.body_b] {
+            if let Some(flag) = joined.get_mut(body) {
+                *flag = true;
+            }
+        }
+    }
+    // Boxes that fail the broad phase's checks (they cannot for valid
+    // bodies) keep the bound over every dynamic body.
+    let Ok(boxes) = grown_boxes(scene, own.contact_margin) else {
+        return largest;
+    };
+    let fixed = scene.fixed_flags();
+    let mut by_delta = deltas.clone();
+    by_delta.sort_by(|(_, x), (_, y)| y.total_cmp(x));
+    for &(index, delta) in by_delta.iter().take(ROUND_OFF_SCAN_LIMIT) {
+        if joined[index] || has_candidate_pair(&boxes, &fixed, index) {
+            return delta;
+        }
+    }
+    if by_delta.len() <= ROUND_OFF_SCAN_LIMIT {
+        return 0.0;
+    }
+    // Many bodies alone: the broad phase for the rest.
     let Ok(pairs) = candidate_pairs(scene, own.contact_margin) else {
         return largest;
     };
-    let mut touching = vec![false; scene.len()];
-    let joined = scene.joints().iter().map(|j| (j.body_a, j.body_b));
-    for (a, b) in pairs.iter().map(|p| (p.body_a, p.body_b)).chain(joined) {
-        touching[a] = true;
-        touching[b] = true;
+    let mut touching = joined;
+    for pair in &pairs {
+        touching[pair.body_a] = true;
+        touching[pair.body_b] = true;
     }
     deltas
         .iter()
@@ -172,6 +200,11 @@ pub(crate) fn write_back_round_off_bound(
         .map(|&(_, d)| d)
         .fold(0.0, f64::max)
 }
+
+/// Bodies scanned one by one, in decreasing `delta`, for one that can
+/// touch another, before the broad phase answers for the rest
+/// ([`write_back_round_off_bound`]).
+pub const ROUND_OFF_SCAN_LIMIT: usize = 8;
 
 /// The stabilizer's own lengths on `scene` (its settings without an
 /// allowed penetration), which the rule raises.

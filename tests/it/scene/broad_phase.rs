@@ -6,7 +6,7 @@ use crate::support::proptest_config;
 use constraint_stabilization::body::{BodyDesc, MassSpec, Shape};
 use constraint_stabilization::internals::broad_phase::{
     BodyPair, BroadPhaseError, BroadPhaseUpdate, IncrementalBroadPhase, REBUILD_MOVED_FRACTION,
-    candidate_pairs, candidate_pairs_of_aabbs,
+    candidate_pairs, candidate_pairs_of_aabbs, grown_boxes, has_candidate_pair,
 };
 use constraint_stabilization::scene::Scene;
 use nalgebra::Vector3;
@@ -115,6 +115,13 @@ proptest! {
     fn scene_pairs_match_brute_force_and_contain_all_near_pairs(specs in boxes(), margin in 0.0..0.3f64) {
         let scene = scene_of(&specs);
         let found = candidate_pairs(&scene, margin).unwrap();
+        // One body's scan (the round-off bound's test) agrees with the
+        // pairs: a body has a candidate pair exactly when it is in one.
+        let boxes = grown_boxes(&scene, margin).unwrap();
+        for i in 0..specs.len() {
+            let in_a_pair = found.iter().any(|p| p.body_a == i || p.body_b == i);
+            prop_assert_eq!(has_candidate_pair(&boxes, &scene.fixed_flags(), i), in_a_pair);
+        }
         let aabbs: Vec<Aabb> = scene.bodies().iter().map(|b| {
             let (min, max) = b.world_aabb();
             Aabb::new(Vector::new(min.x, min.y, min.z), Vector::new(max.x, max.y, max.z))
