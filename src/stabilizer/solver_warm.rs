@@ -90,19 +90,21 @@ impl WarmLayers<'_> {
     /// 0 elsewhere; `None` when no pair fits.
     pub fn warm_start(&self, keys: &MultiplierPairs<'_>) -> Option<DVector<f64>> {
         let mut lambda = DVector::zeros(keys.pairs.len());
-        let mut found = false;
-        for (pair, positions) in keys.positions() {
+        let positions = keys.positions();
+        let (mut fitting, mut missing) = (0, 0);
+        for (pair, positions) in &positions {
             let Some(entry) = self
                 .newer
                 .entries
-                .get(&pair)
-                .or_else(|| self.older.entries.get(&pair))
+                .get(pair)
+                .or_else(|| self.older.entries.get(pair))
             else {
+                missing += 1;
                 continue;
             };
             let fits = entry.lambda.len() == positions.len()
                 && keys
-                    .shapes_of(pair)
+                    .shapes_of(*pair)
                     .is_some_and(|shapes| entry.shapes.belongs_to(shapes));
             if !fits {
                 continue;
@@ -110,9 +112,13 @@ impl WarmLayers<'_> {
             for (&i, &value) in positions.iter().zip(&entry.lambda) {
                 lambda[i] = value;
             }
-            found = true;
+            fitting += 1;
         }
-        found.then_some(lambda)
+        log::trace!(
+            "warm start: {fitting} of {} pairs fit ({missing} without an entry)",
+            positions.len()
+        );
+        (fitting > 0).then_some(lambda)
     }
 }
 
