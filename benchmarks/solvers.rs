@@ -141,6 +141,7 @@ fn augmented_lagrangian(
     let start = Start {
         warm,
         tolerance: ACCEPTANCE_TOL,
+        relaxation: 1.0,
         deadline: None,
         kept: None,
     };
@@ -153,6 +154,7 @@ fn interior_point(p: &Problem, warm: Option<&DVector<f64>>) -> Result<Candidate,
     let start = Start {
         warm,
         tolerance: ACCEPTANCE_TOL,
+        relaxation: 1.0,
         deadline: None,
         kept: None,
     };

@@ -181,6 +181,21 @@ impl SolverChoice {
 /// many rows the interior point answers under `Auto` (Lemke below).
 pub const DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS: usize = 41;
 
+/// The most the interior point's stop target is raised to by
+/// [`SolverSettings::precision_length`], as a fraction of
+/// [`SolverSettings::tol_residual`]: a thousandth, the rounding floor the
+/// interior point already accepts at its iteration limit, far inside the
+/// acceptance test.
+pub const PRECISION_STOP_CAP: f64 = 1e-3;
+
+/// The factor `m` of the stop relaxation (`stop_relaxation`): a later pass's
+/// acceptance target is `m (precision_length / v)^2` times its own, so its
+/// bound on the distance to the minimizer, `sqrt(2 acceptance) v`, is
+/// `sqrt(m)` (a tenth) of the first pass's: the passes' errors add up in
+/// the call's displacement, and an interior point's bound is loose at its
+/// first stop (it stops past its target) but tight at a raised one.
+const PRECISION_MARGIN: f64 = 1e-2;
+
 /// Settings of [`solve_projection`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolverSettings {
@@ -245,6 +260,22 @@ pub struct SolverSettings {
     /// Every solver gives up at this instant (the caller's time budget;
     /// module docs, "Deadline"); `None`: no limit. Default `None`.
     pub deadline: Option<Instant>,
+    /// The length, in the units of the rows' `b`, that the caller's answer
+    /// needs its precision relative to; `None` (the default): each problem
+    /// to its own length. The stabilizer sets it, from its second pass on,
+    /// to the first pass's deepest penetration: a later pass's problem is
+    /// a correction of the linearization's error (often a thousandth of
+    /// the first pass's depth), and the call's
+    /// displacement is the sum of the passes' corrections. The interior
+    /// point's stop target is raised by `(precision_length / v)^2 / 100`
+    /// (`v` the problem's largest violation), at most to
+    /// [`PRECISION_STOP_CAP`] times [`SolverSettings::tol_residual`]: its
+    /// certified distance to the minimizer in `dq` is `sqrt(2 acceptance)`
+    /// times the correction (`super::residuals`), so the later pass is
+    /// answered to a tenth of the first pass's absolute precision
+    /// (`benchmarks/results/call_cost.md`, "Later passes to the first
+    /// pass's precision"). The acceptance test is unchanged.
+    pub precision_length: Option<f64>,
     /// Under `Auto`, the interior point on the body-space matrix
     /// ([`super::interior_point`]) for problems without cones and equality
     /// rows of at least this many rows (before Lemke and clarabel; the
@@ -288,6 +319,7 @@ impl Default for SolverSettings {
             fall_back: true,
             stop_on_infeasible: false,
             deadline: None,
+            precision_length: None,
             auto_interior_point_min_rows: DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS,
             augmented_lagrangian: AugmentedLagrangianSettings::default(),
             interior_point: InteriorPointSettings::default(),
@@ -758,6 +790,7 @@ impl Problem<'_> {
         let start = Start {
             warm: self.warm,
             tolerance: s.tol_residual,
+            relaxation: stop_relaxation(s, self.qp),
             deadline: s.deadline,
             kept: self.kept,
         };
@@ -920,4 +953,32 @@ pub fn cross_check_projection(
     // then carries a cross-check (see the loop in solve_projection).
     let check = solution.cross_check.clone().expect("cross-check requested");
     Ok((solution, check))
+}
+
+/// The factor by which [`SolverSettings::precision_length`] raises the
+/// interior point's stop target on `qp`: `m (precision_length / v)^2`
+/// ([`PRECISION_MARGIN`] `m`) with
+/// `v` the problem's largest violation (`max_i max(0, -b_i)`, `|b_i|` on an
+/// equality row, the violated normal rows of cones), the length its
+/// correction is of, so that the answer's distance to the minimizer, about
+/// `sqrt(2 acceptance)` times the correction, stays a tenth of the first
+/// pass's absolute precision; at least 1 (never tighter than the problem's own
+/// length), unbounded without a violated row (the caller caps it); 1
+/// without a precision length.
+fn stop_relaxation(settings: &SolverSettings, qp: &ProjectionQp) -> f64 {
+    let Some(length) = settings.precision_length else {
+        return 1.0;
+    };
+    let b = qp.b();
+    let violation = (0..b.len())
+        .map(|i| crate::solver::residuals::row_violation(qp.is_equality(i), b[i]))
+        .chain(qp.cones.iter().map(|cone| (-cone.b()).max(0.0)))
+        .fold(0.0, f64::max);
+    let ratio = length / violation;
+    let relaxation = PRECISION_MARGIN * ratio * ratio;
+    match relaxation > 1.0 {
+        true => relaxation,
+        // Also NaN (no violation and no length): the problem's own.
+        false => 1.0,
+    }
 }

@@ -373,6 +373,7 @@ impl Stabilizer {
         // Part pairs that penetrated in an earlier pass, ascending
         // (`Settings::keep_penetrated_pairs`).
         let mut kept_pairs: Vec<BodyPair> = Vec::new();
+        let mut first_deepest = 0.0;
         loop {
             let poses: Vec<Isometry3<f64>> = scene.bodies().iter().map(|b| *b.com_pose()).collect();
             let part_poses = parts.poses(&poses);
@@ -417,6 +418,12 @@ impl Stabilizer {
                 report.kept_analyses = self.kept_analyses();
                 self.last_detection = Some((poses, detection));
                 return Ok(report);
+            }
+            // Later passes correct the linearization's error: answered to
+            // the first pass's precision (`SolverSettings::precision_length`).
+            match report.passes {
+                0 => first_deepest = detection.deepest.max(pass.joint_error),
+                _ => call_settings.solver.precision_length = Some(first_deepest),
             }
             let mut solutions = self.solve_pass(
                 scene,

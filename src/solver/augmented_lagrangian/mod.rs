@@ -181,6 +181,11 @@ pub struct Start<'a> {
     pub warm: Option<&'a DVector<f64>>,
     /// Stop with the acceptance measure at most this.
     pub tolerance: f64,
+    /// The interior point's stop target is raised by this factor, at most
+    /// to [`crate::solver::PRECISION_STOP_CAP`] times `tolerance`
+    /// ([`crate::solver::SolverSettings::precision_length`]); 1: the
+    /// problem to its own length.
+    pub relaxation: f64,
     /// Give up at this instant.
     pub deadline: Option<Instant>,
     /// The caller's store of sparse symbolic analyses

@@ -188,7 +188,17 @@ pub fn solve(
     if qp.num_equalities > 0 || !qp.cones.is_empty() {
         return Err(InteriorPointFailure::NotApplicable);
     }
-    let target = settings.stop_fraction * start.tolerance;
+    let own_target = settings.stop_fraction * start.tolerance;
+    let target = match start.relaxation > 1.0 {
+        true => (own_target * start.relaxation)
+            .min(crate::solver::PRECISION_STOP_CAP * start.tolerance)
+            .max(own_target),
+        false => own_target,
+    };
+    log::trace!(
+        "interior point: stop target {target:.2e} (relaxation {:.2e})",
+        start.relaxation
+    );
     let mut newton =
         NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal, start.kept);
     let mut factorizations = 0;

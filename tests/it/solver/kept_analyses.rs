@@ -79,6 +79,7 @@ fn the_interior_point_takes_its_analysis_from_the_store() {
         let start = |kept| Start {
             warm: None,
             tolerance: 1e-6,
+            relaxation: 1.0,
             deadline: None,
             kept,
         };
