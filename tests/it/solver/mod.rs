@@ -20,5 +20,6 @@ mod kept_analyses;
 mod lcp_siconos;
 mod lemke;
 mod pgs;
+mod precision_length;
 mod projection;
 mod warm_starts;
