@@ -199,7 +199,7 @@ impl SeparationCertificates {
             return None;
         }
         entry.used = true;
-        Some(entry.query)
+        Some(entry.query.clone())
     }
 
     /// Records the exact answer `query` of `pair` at the part poses
@@ -218,7 +218,7 @@ impl SeparationCertificates {
             // The same solids: only the answer and its poses change.
             entry.poses = poses;
             entry.value = value;
-            entry.query = *query;
+            entry.query = query.clone();
             entry.used = true;
             return;
         }
@@ -229,7 +229,7 @@ impl SeparationCertificates {
                 .map(|part| reach(&parts.shapes()[part], parts.rounding(part).as_ref())),
             poses,
             value,
-            query: *query,
+            query: query.clone(),
             used: true,
         };
         self.entries.insert(pair, entry);

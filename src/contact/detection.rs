@@ -178,7 +178,7 @@ pub fn detect(
     let poses_of = |pair: BodyPair| [&geometry.poses[pair.body_a], &geometry.poses[pair.body_b]];
     let mut answers: Vec<Option<PairQuery>> = candidates
         .iter()
-        .map(|&pair| memo.get(pair, poses_of(pair)).copied())
+        .map(|&pair| memo.get(pair, poses_of(pair)).cloned())
         .collect();
     let mut certified = vec![false; candidates.len()];
     let mut reused = 0;
@@ -222,7 +222,7 @@ pub fn detect(
             pair,
             PosedQuery {
                 poses,
-                query: result,
+                query: result.clone(),
             },
         );
         answers[i] = Some(result);

@@ -167,7 +167,7 @@ impl<'a> IslandContacts<'a> {
             .iter()
             .zip(&self.answers)
             .filter_map(|(&pair, answer)| {
-                let query = (*answer)?;
+                let query = answer.clone()?;
                 let poses = [
                     self.geometry(pair.body_a, configuration).pose,
                     self.geometry(pair.body_b, configuration).pose,

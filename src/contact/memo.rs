@@ -18,7 +18,7 @@ use super::PairQuery;
 use crate::broad_phase::{BodyPair, PairMap};
 
 /// A pair's answer and the poses of its two bodies when it was computed.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct PosedQuery {
     /// Centre-of-mass poses of the pair's bodies `[a, b]`.
     pub poses: [Isometry3<f64>; 2],

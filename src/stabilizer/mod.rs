@@ -518,18 +518,18 @@ impl Stabilizer {
             .islands_left
             .iter()
             .any(|left| matches!(left.outcome, IslandOutcome::Failed(_)));
-        for solution in solutions {
+        for mut solution in solutions {
             report.times.solve += solution.solve_seconds;
             report.times.line_search += solution.line_search_seconds;
             report.times.narrow_phase += solution.query_seconds;
             report.pair_queries += solution.queries;
             solution.apply(scene, &mut self.cache)?;
-            for (pair, answer) in &solution.answers {
-                memo.insert(*pair, *answer);
+            for (pair, answer) in std::mem::take(&mut solution.answers) {
                 if self.settings.vclip.motion_certificates {
                     self.certificates
-                        .record(*pair, parts, answer.poses, &answer.query);
+                        .record(pair, parts, answer.poses, &answer.query);
                 }
+                memo.insert(pair, answer);
             }
             pass.solved.push(solution.report);
         }

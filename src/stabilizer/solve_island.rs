@@ -212,7 +212,7 @@ fn plan_region<'a>(
         .collect();
     let answers: Vec<PairQuery> = region_pairs
         .iter()
-        .map(|&k| input.active_queries[k])
+        .map(|&k| input.active_queries[k].clone())
         .collect();
     let friction: Vec<f64> = region_pairs
         .iter()
