@@ -263,7 +263,8 @@ pub struct SolverSettings {
     /// The length, in the units of the rows' `b`, that the caller's answer
     /// needs its precision relative to; `None` (the default): each problem
     /// to its own length. The stabilizer sets it, from its second pass on,
-    /// to the first pass's deepest penetration: a later pass's problem is
+    /// to the first pass's deepest penetration (or largest joint error,
+    /// when that is larger): a later pass's problem is
     /// a correction of the linearization's error (often a thousandth of
     /// the first pass's depth), and the call's
     /// displacement is the sum of the passes' corrections. The interior
@@ -790,7 +791,11 @@ impl Problem<'_> {
         let start = Start {
             warm: self.warm,
             tolerance: s.tol_residual,
-            relaxation: stop_relaxation(s, self.qp),
+            // Only the interior point reads it (`Start::relaxation`).
+            relaxation: match kind {
+                SolverKind::InteriorPoint => stop_relaxation(s, self.qp),
+                _ => 1.0,
+            },
             deadline: s.deadline,
             kept: self.kept,
         };
