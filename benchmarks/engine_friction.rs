@@ -8,7 +8,8 @@
 //! multiplies the two bodies' coefficients), MuJoCo 1.0 (its default,
 //! combined by the maximum), Rapier 0.5 (its default, combined by the
 //! mean). Seven calls per repeat, interleaved and rotated in order:
-//! frictionless, then friction as the pyramid (the default model) and as
+//! frictionless (every body's coefficient cleared, also those a file
+//! carries: `rp08_mixed_pile` has Rapier's 0.5 on its bodies), then friction as the pyramid (the default model) and as
 //! the cone, each with the three ways its rows enter the problem
 //! (`Settings::friction_rows`: the pyramid's facets in place of their row,
 //! the default; generated as needed; all rows); each on a fresh copy of
@@ -147,7 +148,10 @@ fn measure(scene: &Scene, mu: f64, repeats: usize) -> Vec<Call> {
         for k in 0..CALLS.len() {
             let index = (repeat + k) % CALLS.len();
             let (_, model, friction_rows) = CALLS[index];
-            let mut copy = scene.clone();
+            let mut copy = match model {
+                None => common::frictionless(scene.clone()),
+                Some(_) => scene.clone(),
+            };
             let mut settings = Settings::default();
             settings.friction_rows = friction_rows;
             if let Some(model) = model {

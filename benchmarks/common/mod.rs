@@ -187,6 +187,27 @@ mod engine_state_files;
 #[allow(unused_imports)]
 pub use engine_state_files::engine_states;
 
+/// `scene` with every body's friction coefficient cleared, so that the
+/// stabilizer's frictionless default applies. The Rapier states written by
+/// `examples/engine_states.rs` through the bridge carry Rapier's
+/// coefficient (0.5) on their bodies; a frictionless call must not read it.
+// Each benchmark includes this module; not every one calls it.
+#[allow(dead_code)]
+pub fn frictionless(
+    mut scene: constraint_stabilization::scene::Scene,
+) -> constraint_stabilization::scene::Scene {
+    for body in 0..scene.bodies().len() {
+        scene
+            .body_mut(body)
+            // The index is one of the scene's bodies.
+            .expect("a body of the scene")
+            .set_friction(None)
+            // `None` is always a valid coefficient.
+            .expect("no coefficient is valid");
+    }
+    scene
+}
+
 /// Directory of the result files (created on demand).
 pub fn results_dir() -> std::path::PathBuf {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("benchmarks/results");
