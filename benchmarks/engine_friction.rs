@@ -27,7 +27,8 @@
 //!
 //! Run: `cargo bench --features serde --bench engine_friction`
 //! (`-- --quick`: one repeat; `-- --only STEM`: the states whose stem
-//! contains STEM).
+//! contains STEM). The environment variable `ENGINE_FRICTION_IP_MIN_ROWS`
+//! sets `Auto`'s `auto_interior_point_min_rows` in every call.
 
 mod common;
 
@@ -154,6 +155,12 @@ fn measure(scene: &Scene, mu: f64, repeats: usize) -> Vec<Call> {
             };
             let mut settings = Settings::default();
             settings.friction_rows = friction_rows;
+            if let Some(rows) = std::env::var("ENGINE_FRICTION_IP_MIN_ROWS")
+                .ok()
+                .and_then(|v| v.parse().ok())
+            {
+                settings.solver.auto_interior_point_min_rows = rows;
+            }
             if let Some(model) = model {
                 settings.friction_model = model;
                 for body in 0..copy.bodies().len() {
