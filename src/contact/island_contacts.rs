@@ -20,7 +20,7 @@ use nalgebra::Isometry3;
 
 use super::memo::PosedQuery;
 use super::scene_parts::SceneParts;
-use super::{BodyGeometry, ContactFriction, PairQuery, WarmStartCache, contact_rows, query};
+use super::{BodyGeometry, ContactFriction, PairQuery, contact_rows, query};
 use crate::broad_phase::BodyPair;
 use crate::geometry::ConvexPolyhedron;
 use crate::rows::{BodyState, ConstraintProvider, ConstraintRow, Measurement};
@@ -150,13 +150,14 @@ impl<'a> IslandContacts<'a> {
         self.query_seconds
     }
 
-    /// The last feature pairs, to merge into the stabilizer's cache.
-    pub fn record_warm_starts(&self, cache: &mut WarmStartCache) {
-        for (&pair, start) in self.pairs.iter().zip(&self.warm_starts) {
-            if let Some(features) = start {
-                cache.insert(pair, shape_pair(self.scene.shapes(), pair), *features);
-            }
-        }
+    /// The last feature pair of every pair queried or answered, to record
+    /// in the stabilizer's cache ([`WarmStartCache::insert`]).
+    pub fn warm_starts(&self) -> Vec<(BodyPair, FeaturePair)> {
+        self.pairs
+            .iter()
+            .zip(&self.warm_starts)
+            .filter_map(|(&pair, start)| start.map(|features| (pair, features)))
+            .collect()
     }
 
     /// The answers of the last configuration measured, with the poses they

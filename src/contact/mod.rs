@@ -61,7 +61,7 @@ pub use certificate::SeparationCertificates;
 pub use contact_row::{ContactSide, contact_row, contact_row_with_friction, tangent_basis};
 pub use detection::{Detection, DetectionError, DetectionState, PairPenetration, detect};
 pub use island::{Island, IslandError, islands, islands_with_joints};
-pub use island_contacts::{IslandContacts, SceneGeometry};
+pub use island_contacts::{IslandContacts, SceneGeometry, shape_pair};
 pub use manifold::{ContactPoint, Manifold};
 pub use memo::{PosedQuery, QueryMemo};
 pub use penetration::{

@@ -66,20 +66,24 @@ impl WarmStartCache {
             .map(|entry| entry.features)
     }
 
-    /// Records the final feature pair of a query.
+    /// Records the final feature pair of a query. An entry of the same
+    /// shapes is updated in place: its `Weak` references stay, so a
+    /// repeated query touches no reference count (every box of a scene may
+    /// share one shape, whose counters both threads would otherwise write
+    /// on every query).
     pub fn insert(
         &mut self,
         pair: BodyPair,
         shapes: [&Arc<ConvexPolyhedron>; 2],
         features: FeaturePair,
     ) {
-        let shapes = ShapeIdentity::of(shapes);
-        self.entries.insert(pair, CachedPair { shapes, features });
-    }
-
-    /// Takes over every entry of `other` (newer queries win).
-    pub fn merge(&mut self, other: WarmStartCache) {
-        self.entries.extend(other.entries);
+        match self.entries.get_mut(&pair) {
+            Some(entry) if entry.shapes.belongs_to(shapes) => entry.features = features,
+            _ => {
+                let shapes = ShapeIdentity::of(shapes);
+                self.entries.insert(pair, CachedPair { shapes, features });
+            }
+        }
     }
 
     /// Removes the entries of shapes that have been dropped.

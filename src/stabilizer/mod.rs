@@ -523,7 +523,7 @@ impl Stabilizer {
             report.times.line_search += solution.line_search_seconds;
             report.times.narrow_phase += solution.query_seconds;
             report.pair_queries += solution.queries;
-            solution.apply(scene, &mut self.cache)?;
+            solution.apply(scene, parts.shapes(), &mut self.cache)?;
             for (pair, answer) in std::mem::take(&mut solution.answers) {
                 if self.settings.vclip.motion_certificates {
                     self.certificates

@@ -26,12 +26,15 @@ use std::sync::Arc;
 use crate::Error;
 use crate::broad_phase::BodyPair;
 use crate::contact::{Island, IslandError};
-use crate::contact::{IslandContacts, PairQuery, PosedQuery, SceneGeometry, WarmStartCache};
+use crate::contact::{
+    IslandContacts, PairQuery, PosedQuery, SceneGeometry, WarmStartCache, shape_pair,
+};
 use crate::geometry::ConvexPolyhedron;
 use crate::projector::{Plan, PlannedStep, StepReport, plan_step_warm, take_step};
 use crate::rows::{BodyInertia, BodyState};
 use crate::scene::Scene;
 use crate::solver::{KeptAnalyses, ProjectionQp, SolverSettings};
+use crate::vclip::FeaturePair;
 
 use super::island_constraints::IslandConstraints;
 use super::joint_state::island_joints;
@@ -46,8 +49,9 @@ pub struct IslandSolution {
     pub report: IslandReport,
     /// New centre-of-mass states of the moved bodies (empty unless moved).
     pub states: Vec<(usize, BodyState)>,
-    /// V-Clip warm starts of the solved pairs after the step.
-    pub warm_starts: WarmStartCache,
+    /// V-Clip warm starts of the solved pairs after the step (part pairs
+    /// and their last feature pairs).
+    pub warm_starts: Vec<(BodyPair, FeaturePair)>,
     /// The multipliers of the island's answer, for the next pass and call.
     pub solver_warm: SolverWarmCache,
     /// Narrow-phase answers at the accepted configuration (empty unless
@@ -65,11 +69,19 @@ pub struct IslandSolution {
 
 impl IslandSolution {
     /// Moves the island's bodies and records the warm starts.
-    pub fn apply(&self, scene: &mut Scene, cache: &mut WarmStartCache) -> Result<(), Error> {
+    /// `shapes`: the polyhedron of every part (`SceneParts::shapes`).
+    pub fn apply(
+        &self,
+        scene: &mut Scene,
+        shapes: &[Arc<ConvexPolyhedron>],
+        cache: &mut WarmStartCache,
+    ) -> Result<(), Error> {
         for (body, state) in &self.states {
             scene.body_mut(*body)?.set_com_pose(state.isometry())?;
         }
-        cache.merge(self.warm_starts.clone());
+        for &(pair, features) in &self.warm_starts {
+            cache.insert(pair, shape_pair(shapes, pair), features);
+        }
         Ok(())
     }
 }
@@ -170,7 +182,7 @@ impl IslandSolution {
                 displacement: 0.0,
             },
             states: Vec::new(),
-            warm_starts: WarmStartCache::default(),
+            warm_starts: Vec::new(),
             solver_warm: SolverWarmCache::default(),
             answers: Vec::new(),
             solve_seconds: 0.0,
@@ -547,8 +559,7 @@ fn finish(
     step: StepReport,
     solve_seconds: f64,
 ) -> IslandSolution {
-    let mut warm_starts = WarmStartCache::default();
-    contacts.record_warm_starts(&mut warm_starts);
+    let warm_starts = contacts.warm_starts();
     let moved = step.outcome == crate::projector::StepOutcome::Moved;
     let bodies = contacts.bodies();
     let (states, answers) = if moved {

@@ -8,3 +8,4 @@ mod contact_row_jacobian;
 mod depth;
 mod gauss_map_arcs;
 mod manifold;
+mod warm_start;
