@@ -16,29 +16,24 @@ fn cube() -> Arc<ConvexPolyhedron> {
     Arc::new(ConvexPolyhedron::cuboid(Vector3::new(0.5, 0.5, 0.5)).expect("a valid cuboid"))
 }
 
-fn features(a: Feature, b: Feature) -> FeaturePair {
-    FeaturePair { a, b }
-}
+/// Two feature pairs a query could end on.
+const FIRST: FeaturePair = FeaturePair {
+    a: Feature::Vertex(3),
+    b: Feature::Face(1),
+};
+const SECOND: FeaturePair = FeaturePair {
+    a: Feature::Edge(2),
+    b: Feature::Vertex(5),
+};
 
 #[test]
 fn a_query_of_the_same_shapes_updates_the_entry() {
     let (a, b) = (cube(), cube());
     let pair = BodyPair::new(0, 1).expect("two bodies");
     let mut cache = WarmStartCache::default();
-    cache.insert(
-        pair,
-        [&a, &b],
-        features(Feature::Vertex(3), Feature::Face(1)),
-    );
-    cache.insert(
-        pair,
-        [&a, &b],
-        features(Feature::Edge(2), Feature::Vertex(5)),
-    );
-    assert_eq!(
-        cache.get(pair, [&a, &b]),
-        Some(features(Feature::Edge(2), Feature::Vertex(5)))
-    );
+    cache.insert(pair, [&a, &b], FIRST);
+    cache.insert(pair, [&a, &b], SECOND);
+    assert_eq!(cache.get(pair, [&a, &b]), Some(SECOND));
     assert_eq!(cache.len(), 1);
     // The entry holds no strong reference.
     assert_eq!((Arc::strong_count(&a), Arc::strong_count(&b)), (1, 1));
@@ -49,22 +44,11 @@ fn a_replaced_shape_gets_a_new_entry() {
     let (a, b, replacement) = (cube(), cube(), cube());
     let pair = BodyPair::new(0, 1).expect("two bodies");
     let mut cache = WarmStartCache::default();
-    cache.insert(
-        pair,
-        [&a, &b],
-        features(Feature::Vertex(3), Feature::Face(1)),
-    );
+    cache.insert(pair, [&a, &b], FIRST);
     // The same geometry, another object: not the recorded shapes.
     assert_eq!(cache.get(pair, [&a, &replacement]), None);
-    cache.insert(
-        pair,
-        [&a, &replacement],
-        features(Feature::Face(4), Feature::Vertex(0)),
-    );
-    assert_eq!(
-        cache.get(pair, [&a, &replacement]),
-        Some(features(Feature::Face(4), Feature::Vertex(0)))
-    );
+    cache.insert(pair, [&a, &replacement], SECOND);
+    assert_eq!(cache.get(pair, [&a, &replacement]), Some(SECOND));
     assert_eq!(cache.get(pair, [&a, &b]), None);
     // Another pair of the same shapes is another entry.
     let other = BodyPair::new(1, 2).expect("two bodies");
