@@ -9,11 +9,12 @@
 //! combined by the maximum), Rapier 0.5 (its default, combined by the
 //! mean). Seven calls per repeat, interleaved and rotated in order:
 //! frictionless (every body's coefficient cleared, also those a file
-//! carries: `rp08_mixed_pile` has Rapier's 0.5 on its bodies), then friction as the pyramid (the default model) and as
-//! the cone, each with the three ways its rows enter the problem
-//! (`Settings::friction_rows`: the pyramid's facets in place of their row,
-//! the default; generated as needed; all rows); each on a fresh copy of
-//! the scene, with a fresh stabilizer and the default settings otherwise.
+//! carries: `rp08_mixed_pile` has Rapier's 0.5 on its bodies), then
+//! friction as the pyramid (the default model) and as the cone, each with
+//! the three ways its rows enter the problem (`Settings::friction_rows`:
+//! the pyramid's facets in place of their row, `implied`; generated as
+//! needed; all rows, the default); each on a fresh copy of the scene, with
+//! a fresh stabilizer and the default settings otherwise.
 //! Time: the median over the repeats.
 //!
 //! Quality (from the first repeat, the call being deterministic): status,
@@ -42,16 +43,21 @@ use constraint_stabilization::{FrictionModel, FrictionRows, Report, Settings, St
 /// Repeats per state (`--quick`: 1).
 const REPEATS: usize = 9;
 /// The calls compared: label, friction model (`None`: frictionless) and
-/// how its rows enter the problem (`Settings::friction_rows`; `Implied`,
-/// the fastest, first; the default is `All`).
+/// how its rows enter the problem (`Settings::friction_rows`). The labels
+/// name the rows' way; `default` marks the default settings' call (the
+/// pyramid with `All`).
 const CALLS: [(&str, Option<FrictionModel>, FrictionRows); 7] = [
     ("frictionless", None, FrictionRows::Implied),
     (
-        "pyramid",
+        "pyramid, implied",
         Some(FrictionModel::Pyramid),
         FrictionRows::Implied,
     ),
-    ("cone", Some(FrictionModel::Cone), FrictionRows::Implied),
+    (
+        "cone, implied",
+        Some(FrictionModel::Cone),
+        FrictionRows::Implied,
+    ),
     (
         "pyramid, generated",
         Some(FrictionModel::Pyramid),
@@ -63,7 +69,7 @@ const CALLS: [(&str, Option<FrictionModel>, FrictionRows); 7] = [
         FrictionRows::Generated,
     ),
     (
-        "pyramid, all rows",
+        "pyramid, all rows (default)",
         Some(FrictionModel::Pyramid),
         FrictionRows::All,
     ),
