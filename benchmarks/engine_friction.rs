@@ -155,10 +155,7 @@ fn measure(scene: &Scene, mu: f64, repeats: usize) -> Vec<Call> {
         for k in 0..CALLS.len() {
             let index = (repeat + k) % CALLS.len();
             let (_, model, friction_rows) = CALLS[index];
-            let mut copy = match model {
-                None => common::frictionless(scene.clone()),
-                Some(_) => scene.clone(),
-            };
+            let mut copy = common::with_friction(scene.clone(), model.map(|_| mu));
             let mut settings = Settings::default();
             settings.friction_rows = friction_rows;
             if let Some(rows) = std::env::var("ENGINE_FRICTION_IP_MIN_ROWS")
@@ -169,12 +166,6 @@ fn measure(scene: &Scene, mu: f64, repeats: usize) -> Vec<Call> {
             }
             if let Some(model) = model {
                 settings.friction_model = model;
-                for body in 0..copy.bodies().len() {
-                    copy.body_mut(body)
-                        .expect("a body of the scene")
-                        .set_friction(Some(mu))
-                        .expect("a valid coefficient");
-                }
             }
             let mut stabilizer = Stabilizer::new(settings).expect("valid settings");
             let start = Instant::now();

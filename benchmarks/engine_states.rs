@@ -9,7 +9,7 @@
 //!   stabilizer, on a fresh copy of the scene, frictionless: a coefficient
 //!   the file gives its bodies (the Rapier states written through the
 //!   bridge, `rp08_mixed_pile` and the pile of 1,000, carry Rapier's 0.5)
-//!   is cleared (`common::frictionless`; with friction:
+//!   is cleared (`common::with_friction`; with friction:
 //!   `benchmarks/engine_friction.rs`);
 //! - the step: the Rapier world of the same scene
 //!   (`rapier_bridge::world_from_scene`: the same fixed and dynamic bodies,
@@ -128,7 +128,7 @@ fn main() {
         let scene = read_scene(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         cases.push(Case {
             name: "rp_pile_1000 (regenerated)".into(),
-            scene: common::frictionless(scene),
+            scene: common::with_friction(scene, None),
         });
     }
     if let Some(stem) = &only {
@@ -155,7 +155,7 @@ fn engine_states() -> Vec<Case> {
         .into_iter()
         .map(|(name, scene)| Case {
             name,
-            scene: common::frictionless(scene),
+            scene: common::with_friction(scene, None),
         })
         .collect()
 }

@@ -187,23 +187,24 @@ mod engine_state_files;
 #[allow(unused_imports)]
 pub use engine_state_files::engine_states;
 
-/// `scene` with every body's friction coefficient cleared, so that the
-/// stabilizer's frictionless default applies. The Rapier states written by
-/// `examples/engine_states.rs` through the bridge carry Rapier's
-/// coefficient (0.5) on their bodies; a frictionless call must not read it.
+/// `scene` with `mu` as every body's friction coefficient (`None`: cleared,
+/// so that the stabilizer's frictionless default applies). The Rapier
+/// states written by `examples/engine_states.rs` through the bridge carry
+/// Rapier's coefficient (0.5) on their bodies: a frictionless call clears
+/// it. Panics on an invalid `mu` (a benchmark's constant).
 // Each benchmark includes this module; not every one calls it.
 #[allow(dead_code)]
-pub fn frictionless(
+pub fn with_friction(
     mut scene: constraint_stabilization::scene::Scene,
+    mu: Option<f64>,
 ) -> constraint_stabilization::scene::Scene {
     for body in 0..scene.bodies().len() {
         scene
             .body_mut(body)
             // The index is one of the scene's bodies.
             .expect("a body of the scene")
-            .set_friction(None)
-            // `None` is always a valid coefficient.
-            .expect("no coefficient is valid");
+            .set_friction(mu)
+            .expect("a finite nonnegative coefficient");
     }
     scene
 }
