@@ -10,6 +10,10 @@
 //! polish on every answer (`ClarabelSettings::polish_above` 0), whose trace line
 //! (`RUST_LOG=constraint_stabilization::solver::clarabel_qp=trace`) gives
 //! the acceptance measure of each clarabel answer unpolished and polished.
+//! `solver=NAME`: `SolverSettings::choice` (`auto`, `lemke`, ...);
+//! `lemke-max=N`: `Auto` takes Lemke up to N rows, the interior point
+//! above. `repeat=N`: the call N more times on fresh copies of the scene, for a
+//! profiler, and their median time.
 
 use std::time::Instant;
 
@@ -25,20 +29,46 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     if args.iter().any(|a| a == "cone") {
         settings.friction_model = FrictionModel::Cone;
     }
+    if let Some(name) = args.iter().find_map(|a| a.strip_prefix("solver=")) {
+        settings.solver.choice = constraint_stabilization::solver::SolverChoice::from_name(name)
+            .ok_or_else(|| format!("unknown solver {name}"))?;
+    }
+    if let Some(rows) = args.iter().find_map(|a| a.strip_prefix("lemke-max=")) {
+        settings.solver.auto_lemke_max_rows = rows.parse()?;
+        settings.solver.auto_interior_point_min_rows = settings.solver.auto_lemke_max_rows + 1;
+    }
     if args.iter().any(|a| a == "polish") {
         settings.solver.clarabel.polish_above = 0.0;
     }
     for body in 0..scene.bodies().len() {
         scene.body_mut(body)?.set_friction(Some(mu))?;
     }
-    let mut stabilizer = Stabilizer::new(settings)?;
+    let repeats: usize = args
+        .iter()
+        .find_map(|a| a.strip_prefix("repeat="))
+        .map_or(Ok(0), str::parse)?;
+    let input = scene.clone();
+    let mut stabilizer = Stabilizer::new(settings.clone())?;
     let start = Instant::now();
     let report = stabilizer.stabilize(&mut scene)?;
+    let call_ms = start.elapsed().as_secs_f64() * 1e3;
+    let mut times_ms = Vec::with_capacity(repeats);
+    for _ in 0..repeats {
+        let mut copy = input.clone();
+        let mut fresh = Stabilizer::new(settings.clone())?;
+        let t = Instant::now();
+        fresh.stabilize(&mut copy)?;
+        times_ms.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    if !times_ms.is_empty() {
+        times_ms.sort_by(f64::total_cmp);
+        println!("{repeats} repeats, median {:.3} ms", times_ms[repeats / 2]);
+    }
     println!(
         "{}: {} passes, {:.1} ms, depth {:.3e} -> {:.3e}",
         report.status.name(),
         report.passes,
-        start.elapsed().as_secs_f64() * 1e3,
+        call_ms,
         report.depth_before,
         report.depth_after
     );

@@ -54,8 +54,8 @@ use std::sync::Arc;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, Mat, Par, Side};
+use faer::sparse::SparseColMatRef;
+use faer::{Conj, Mat, Par};
 use nalgebra::{DMatrix, DVector};
 
 use super::kept_analyses::{AnalysisKind, KeptAnalyses, KeptAnalysis};
@@ -296,14 +296,17 @@ impl DelassusBlocks {
             .flat_map(|c| (self.col_ptr[c]..self.col_ptr[c + 1]).map(move |p| (c, p)))
             .map(|(c, p)| d[c] * self.values[p] * d[self.row_idx[p]])
             .collect();
-        let symbolic_matrix =
-            SymbolicSparseColMatRef::new_checked(e, e, &self.col_ptr, None, &self.row_idx);
-        let matrix = SparseColMatRef::new(symbolic_matrix, &scaled);
         let kind = AnalysisKind::Simplicial;
         let analysis = match kept {
             Some(kept) => kept.analysis(kind, &self.col_ptr, &self.row_idx)?,
             None => Arc::new(KeptAnalysis::new(kind, &self.col_ptr, &self.row_idx)?),
         };
+        // Factored as `P A P^T` in the analysis's order, solved as
+        // `(P A P^T) (P x) = P rhs` (`super::kept_analyses`).
+        let mut permuted = vec![0.0; scaled.len()];
+        analysis.permute_values(&scaled, &mut permuted);
+        let matrix = SparseColMatRef::new(analysis.permuted_pattern(), &permuted);
+        let order = analysis.order();
         let symbolic = analysis.symbolic();
         let k = rhs.ncols();
         let scratch = symbolic
@@ -319,27 +322,23 @@ impl DelassusBlocks {
             .factorize_numeric_llt(
                 &mut l_values,
                 matrix,
-                Side::Lower,
+                analysis.permuted_side(),
                 regularization,
                 Par::Seq,
                 MemStack::new(&mut workspace),
                 Default::default(),
             )
             .ok()?;
-        for c in 0..k {
-            for r in 0..e {
-                rhs[(r, c)] *= d[r];
-            }
-        }
+        let mut rhs_permuted = Mat::from_fn(e, k, |r, c| d[order[r]] * rhs[(order[r], c)]);
         llt.solve_in_place_with_conj(
             Conj::No,
-            rhs.as_mut(),
+            rhs_permuted.as_mut(),
             Par::Seq,
             MemStack::new(&mut workspace),
         );
         for c in 0..k {
-            for r in 0..e {
-                rhs[(r, c)] *= d[r];
+            for (r, &original) in order.iter().enumerate() {
+                rhs[(original, c)] = d[original] * rhs_permuted[(r, c)];
             }
         }
         Some(())

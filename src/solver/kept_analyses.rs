@@ -16,6 +16,20 @@
 //! used only for exactly the pattern and kind it was made for, so it cannot
 //! change an answer, only skip work.
 //!
+//! **The order applied once.** faer's numeric factorization under an
+//! ordering `P` first copies the matrix into `P A P^T`, computing every
+//! entry's permuted place again at every factorization (8 % of a call on
+//! the Bullet pyramid, whose 21 interior-point iterations each factor).
+//! A kept analysis therefore holds the AMD order `P`, the pattern of
+//! `P A P^T` (lower triangle, sorted columns) and, for each entry of the
+//! caller's pattern, its place in that one (`value_map`); the symbolic
+//! analysis is made on the permuted pattern under the identity order
+//! (the same elimination tree, supernodes and fill, since faer analyses
+//! `P A P^T` either way). A factorization then gathers the values once
+//! ([`KeptAnalysis::permute_values`]) and a solve permutes its right-hand
+//! side in and out ([`KeptAnalysis::order`]): `A x = b` is
+//! `(P A P^T) (P x) = P b`.
+//!
 //! **Owner and size.** A [`crate::Stabilizer`] owns one store for its calls
 //! (its islands, solved on several threads, share it behind a mutex); the
 //! store keeps at most [`KEPT_ANALYSES_CAPACITY`] patterns, the most
@@ -27,10 +41,13 @@
 use std::sync::{Arc, Mutex, PoisonError};
 
 use faer::Side;
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+    CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky,
 };
 
 /// Patterns kept at most: a scene has a few joint islands whose patterns
@@ -63,12 +80,25 @@ impl AnalysisKind {
 }
 
 /// A symbolic analysis of a symmetric matrix's lower triangle under an AMD
-/// order, and the pattern and kind it was made for.
+/// order `P`, made on the pattern of `P A P^T` (module docs), and the
+/// pattern and kind it was made for.
 #[derive(Debug)]
 pub struct KeptAnalysis {
     kind: AnalysisKind,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
+    /// `order[i]`: the caller's index of row and column `i` of `P A P^T`.
+    order: Vec<usize>,
+    /// `value_map[p]`: the place in `P A P^T`'s values of the caller's
+    /// value `p`.
+    value_map: Vec<usize>,
+    /// Column pointers and row indices of `P A P^T`'s triangle `side`.
+    permuted_col_ptr: Vec<usize>,
+    permuted_row_idx: Vec<usize>,
+    /// The triangle of `P A P^T` stored: the one faer's factorization of
+    /// this analysis reads.
+    side: Side,
+    /// The analysis of `P A P^T` under the identity order.
     symbolic: SymbolicCholesky<usize>,
 }
 
@@ -83,17 +113,38 @@ impl KeptAnalysis {
         }
         // Checked above: faer's own check cannot fail.
         let pattern = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx);
+        let (order, inverse) = amd_order(pattern)?;
+        // faer analyses a pattern under the identity order as its upper
+        // triangle; its supernodal factorization reads the lower one, its
+        // simplicial one the upper (either other side costs a copy).
+        let upper = permute_pattern(col_ptr, row_idx, &inverse, Side::Upper);
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: kind.threshold(),
             ..Default::default()
         };
-        let symbolic =
-            factorize_symbolic_cholesky(pattern, Side::Lower, SymmetricOrdering::Amd, params)
-                .ok()?;
+        let symbolic = factorize_symbolic_cholesky(
+            SymbolicSparseColMatRef::new_checked(n, n, &upper.col_ptr, None, &upper.row_idx),
+            Side::Upper,
+            SymmetricOrdering::Identity,
+            params,
+        )
+        .ok()?;
+        let (permuted, side) = match symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(_) => (
+                permute_pattern(col_ptr, row_idx, &inverse, Side::Lower),
+                Side::Lower,
+            ),
+            SymbolicCholeskyRaw::Simplicial(_) => (upper, Side::Upper),
+        };
         Some(Self {
             kind,
             col_ptr: col_ptr.to_vec(),
             row_idx: row_idx.to_vec(),
+            order,
+            value_map: permuted.value_map,
+            permuted_col_ptr: permuted.col_ptr,
+            permuted_row_idx: permuted.row_idx,
+            side,
             symbolic,
         })
     }
@@ -103,33 +154,147 @@ impl KeptAnalysis {
         self.kind == kind && self.col_ptr == col_ptr && self.row_idx == row_idx
     }
 
-    /// The analysis.
+    /// The analysis of `P A P^T` (module docs), under the identity order:
+    /// factor [`KeptAnalysis::permuted_matrix`]'s values with it.
     pub fn symbolic(&self) -> &SymbolicCholesky<usize> {
         &self.symbolic
     }
 
-    /// Bytes held: the pattern's indices and the factor's structure (one
-    /// index per stored entry of `L`, one per column).
+    /// `order[i]`: the caller's index of row and column `i` of `P A P^T`
+    /// (`(P x)_i = x_order[i]`).
+    pub fn order(&self) -> &[usize] {
+        &self.order
+    }
+
+    /// The triangle of `P A P^T` that [`KeptAnalysis::permuted_pattern`]
+    /// holds, as faer's factorization is told.
+    pub fn permuted_side(&self) -> Side {
+        self.side
+    }
+
+    /// The pattern of `P A P^T`'s triangle [`KeptAnalysis::permuted_side`].
+    pub fn permuted_pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        let n = self.order.len();
+        SymbolicSparseColMatRef::new_checked(
+            n,
+            n,
+            &self.permuted_col_ptr,
+            None,
+            &self.permuted_row_idx,
+        )
+    }
+
+    /// Writes the values of `P A P^T` into `permuted` from the caller's
+    /// values of `A` (both as long as the pattern's entries).
+    pub fn permute_values(&self, values: &[f64], permuted: &mut [f64]) {
+        for (&value, &place) in values.iter().zip(&self.value_map) {
+            permuted[place] = value;
+        }
+    }
+
+    /// Bytes held: the pattern's indices (the caller's and the permuted
+    /// one, with the map between them and the order) and the factor's
+    /// structure (one index per stored entry of `L`, one per column).
     pub fn bytes(&self) -> usize {
-        let indices = self.col_ptr.len()
-            + self.row_idx.len()
+        let indices = 2 * (self.col_ptr.len() + self.row_idx.len())
+            + self.value_map.len()
+            + self.order.len()
             + self.symbolic.len_val()
             + self.symbolic.nrows();
         indices * std::mem::size_of::<usize>()
     }
 }
 
-/// Whether `col_ptr`, `row_idx` compress an `n x n` pattern as faer reads
-/// it: pointers from 0 to `row_idx.len()`, never decreasing, rows strictly
-/// ascending within a column and below `n`.
+/// faer's approximate minimum degree order of the pattern of `A + A^T`
+/// (here a triangle's pattern, mirrored): `(order, inverse)`,
+/// `order[i]` the original index placed at `i`; `None` when faer fails
+/// (out of memory, or an index overflow).
+fn amd_order(pattern: SymbolicSparseColMatRef<'_, usize>) -> Option<(Vec<usize>, Vec<usize>)> {
+    let n = pattern.nrows();
+    let scratch = amd::order_maybe_unsorted_scratch::<usize>(n, pattern.compute_nnz());
+    let mut workspace = MemBuffer::try_new(scratch).ok()?;
+    let mut order = vec![0usize; n];
+    let mut inverse = vec![0usize; n];
+    amd::order_maybe_unsorted(
+        &mut order,
+        &mut inverse,
+        pattern,
+        amd::Control::default(),
+        MemStack::new(&mut workspace),
+    )
+    .ok()?;
+    Some((order, inverse))
+}
+
+/// A triangle of `P A P^T` and where each entry of `A` goes.
+struct PermutedPattern {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    value_map: Vec<usize>,
+}
+
+/// Entry `(i, j)`, `i >= j`, of `A` (lower triangle, compressed by
+/// columns) is entry `(max, min)` of `(inverse[i], inverse[j])` in the
+/// lower triangle of `P A P^T`, `(min, max)` in its upper one: counted per
+/// new column, placed, and each new column's rows sorted with the map
+/// following them.
+fn permute_pattern(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    inverse: &[usize],
+    side: Side,
+) -> PermutedPattern {
+    let n = inverse.len();
+    let entry = |p: usize, j: usize| {
+        let (a, b) = (inverse[row_idx[p]], inverse[j]);
+        match side {
+            Side::Lower => (a.max(b), a.min(b)),
+            Side::Upper => (a.min(b), a.max(b)),
+        }
+    };
+    let columns = || (0..n).flat_map(|j| (col_ptr[j]..col_ptr[j + 1]).map(move |p| (p, j)));
+    let mut counts = vec![0usize; n + 1];
+    for (p, j) in columns() {
+        counts[entry(p, j).1 + 1] += 1;
+    }
+    for c in 0..n {
+        counts[c + 1] += counts[c];
+    }
+    let new_col_ptr = counts.clone();
+    let mut next = counts;
+    // (new row, original position) per new place, then sorted per column.
+    let mut placed = vec![(0usize, 0usize); row_idx.len()];
+    for (p, j) in columns() {
+        let (r, c) = entry(p, j);
+        placed[next[c]] = (r, p);
+        next[c] += 1;
+    }
+    for c in 0..n {
+        placed[new_col_ptr[c]..new_col_ptr[c + 1]].sort_unstable();
+    }
+    let mut value_map = vec![0usize; row_idx.len()];
+    for (place, &(_, p)) in placed.iter().enumerate() {
+        value_map[p] = place;
+    }
+    PermutedPattern {
+        col_ptr: new_col_ptr,
+        row_idx: placed.into_iter().map(|(r, _)| r).collect(),
+        value_map,
+    }
+}
+
+/// Whether `col_ptr`, `row_idx` compress the lower triangle of an `n x n`
+/// pattern as faer reads it: pointers from 0 to `row_idx.len()`, never
+/// decreasing, rows strictly ascending within a column, from the column's
+/// own index and below `n`.
 fn valid_pattern(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> bool {
     // The pointers first: every slice below is then within `row_idx`.
     col_ptr.first() == Some(&0)
         && col_ptr.last() == Some(&row_idx.len())
         && col_ptr.windows(2).all(|w| w[0] <= w[1])
-        && col_ptr.windows(2).all(|w| {
+        && col_ptr.windows(2).enumerate().all(|(c, w)| {
             let column = &row_idx[w[0]..w[1]];
-            column.windows(2).all(|r| r[0] < r[1]) && column.iter().all(|&r| r < n)
+            column.windows(2).all(|r| r[0] < r[1]) && column.iter().all(|&r| c <= r && r < n)
         })
 }
 

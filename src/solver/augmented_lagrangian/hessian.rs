@@ -15,9 +15,9 @@ use std::sync::Arc;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::cholesky::LltRef;
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Conj, MatMut, Par};
 use nalgebra::{DMatrix, DVector, Matrix6};
 
 use super::super::dense_cholesky::DenseCholesky;
@@ -44,13 +44,6 @@ struct BlockPattern {
 }
 
 impl BlockPattern {
-    /// The lower triangle's structure as faer reads it (`H` is square,
-    /// one column per entry of `dq`).
-    fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
-        let dofs = self.col_ptr.len() - 1;
-        SymbolicSparseColMatRef::new_checked(dofs, dofs, &self.col_ptr, None, &self.row_idx)
-    }
-
     fn new(qp: &ProjectionQp) -> Self {
         let n_bodies = qp.bodies.len();
         let mut neighbours = vec![Vec::new(); n_bodies];
@@ -132,6 +125,9 @@ struct SparseFactor {
     analysis: Arc<KeptAnalysis>,
     /// Values of `H`'s lower triangle in the pattern's order.
     values: Vec<f64>,
+    /// The same values in the order of `P H P^T`, the analysis's order
+    /// applied (`super::super::kept_analyses`).
+    permuted: Vec<f64>,
     /// Values of the factor `L` (empty before the first factorization).
     factor_values: Vec<f64>,
     /// Workspace of the numeric factorization and of the solves.
@@ -311,11 +307,13 @@ impl<'a> NewtonMatrix<'a> {
 
     /// The numeric factorization of the assembled sparse values.
     fn factor_sparse_values(&mut self) -> Result<(), FactorizationFailed> {
-        let (Some(pattern), Some(sparse)) = (self.pattern.as_ref(), self.sparse.as_mut()) else {
+        let Some(sparse) = self.sparse.as_mut() else {
             return Err(FactorizationFailed);
         };
-        let symbolic_matrix = pattern.symbolic();
-        let matrix = SparseColMatRef::new(symbolic_matrix, &sparse.values);
+        sparse
+            .analysis
+            .permute_values(&sparse.values, &mut sparse.permuted);
+        let matrix = SparseColMatRef::new(sparse.analysis.permuted_pattern(), &sparse.permuted);
         let stack = MemStack::new(&mut sparse.workspace);
         sparse
             .analysis
@@ -323,7 +321,7 @@ impl<'a> NewtonMatrix<'a> {
             .factorize_numeric_llt(
                 &mut sparse.factor_values,
                 matrix,
-                Side::Lower,
+                sparse.analysis.permuted_side(),
                 LltRegularization::default(),
                 Par::Seq,
                 stack,
@@ -381,15 +379,21 @@ impl<'a> NewtonMatrix<'a> {
             Factor::Dense(chol) => Some(chol.solve(rhs)),
             Factor::Sparse => {
                 let sparse = self.sparse.as_mut()?;
-                let mut x = rhs.clone();
-                let n = x.len();
+                // `H x = rhs` as `(P H P^T) (P x) = P rhs`.
+                let order = sparse.analysis.order();
+                let mut x_permuted: Vec<f64> = order.iter().map(|&i| rhs[i]).collect();
+                let n = x_permuted.len();
                 let llt = LltRef::new(sparse.analysis.symbolic(), &sparse.factor_values);
                 llt.solve_in_place_with_conj(
                     Conj::No,
-                    MatMut::from_column_major_slice_mut(x.as_mut_slice(), n, 1),
+                    MatMut::from_column_major_slice_mut(&mut x_permuted, n, 1),
                     Par::Seq,
                     MemStack::new(&mut sparse.workspace),
                 );
+                let mut x = DVector::zeros(n);
+                for (&i, value) in order.iter().zip(x_permuted) {
+                    x[i] = value;
+                }
                 Some(x)
             }
         }
@@ -408,6 +412,7 @@ impl SparseFactor {
         Ok(Self {
             factor_values: vec![0.0; symbolic.len_val()],
             values: vec![0.0; nonzeros],
+            permuted: vec![0.0; nonzeros],
             analysis,
             workspace,
         })
