@@ -27,6 +27,13 @@ use crate::scene::Scene;
 use crate::settings::ResolvedLengths;
 use crate::vclip::{FeaturePair, VClip, VClipError};
 
+/// The queries of a pass are spread over the thread pool from this many
+/// on, and made on the calling thread below: one query costs 5-7 us on
+/// the engine states (a call's narrow-phase time over its queries: the
+/// Bullet pyramid, the MuJoCo thrown box), and handing work to the pool
+/// and waiting for it costs a few tens of microseconds in thread switches.
+pub const PARALLEL_MIN_QUERIES: usize = 16;
+
 /// Why a detection failed: invalid broad-phase input (a margin, a box) or
 /// an invalid V-Clip query (a pose). [`crate::Error`] has a variant for
 /// each.
@@ -200,7 +207,7 @@ pub fn detect(
         .filter(|&i| answers[i].is_none() && !certified[i])
         .collect();
     memo.reserve(to_query.len());
-    let queried = parallel::map(&to_query, |&i| {
+    let queried = parallel::map_from(&to_query, PARALLEL_MIN_QUERIES, |&i| {
         let pair = candidates[i];
         let start = cache.get(pair, shape_pair(geometry.shapes(), pair));
         query_pair(geometry, pair, vclip, start)

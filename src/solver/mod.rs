@@ -17,6 +17,8 @@
 //! - [`augmented_lagrangian`]: the augmented Lagrangian method with a
 //!   semismooth Newton inner solve on `H = M + rho J_A^T J_A` (sparse
 //!   Cholesky), warm-startable from multipliers;
+//! - [`dual_active_set`]: Goldfarb and Idnani's dual active-set method,
+//!   dense in body space, for islands of a few bodies with many rows;
 //! - [`interior_point`]: a primal-dual interior point on the same
 //!   body-space matrix (`H = M + J^T D J`, sparse Cholesky, symbolic
 //!   analysis once per problem);
@@ -38,6 +40,7 @@ pub(crate) mod cone_residuals;
 pub(crate) mod cross_check;
 #[doc(hidden)]
 pub mod dense_cholesky;
+pub mod dual_active_set;
 pub mod equality_elimination;
 mod error;
 pub mod friction_cone;
@@ -68,7 +71,8 @@ pub use projection::{BodyMetric, JacobianRow, ProjectionQp};
 pub use projection_lcp::{dq_from_lambda, lcp_matrix, projection_to_lcp};
 pub use residuals::ProjectionResiduals;
 pub use solve::{
-    DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS, PRECISION_STOP_CAP, ProjectionSolution, SolverChoice,
+    DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS, DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS,
+    DUAL_ACTIVE_SET_IN_LEMKE_RANGE_MAX_DOFS, PRECISION_STOP_CAP, ProjectionSolution, SolverChoice,
     SolverSettings, cross_check_projection, solve_projection, solve_projection_kept,
     solve_projection_warm,
 };

@@ -7,6 +7,7 @@ use nalgebra::DVector;
 
 use super::augmented_lagrangian::AugmentedLagrangianFailure;
 use super::clarabel_qp::ClarabelFailure;
+use super::dual_active_set::DualActiveSetFailure;
 use super::interior_point::InteriorPointFailure;
 use super::lemke::LemkeStatus;
 use super::pgs::PgsStatus;
@@ -26,6 +27,9 @@ pub enum SolverKind {
     AugmentedLagrangian,
     /// The primal-dual interior point on the body-space matrix
     /// ([`super::interior_point`]).
+    /// Goldfarb and Idnani's dual active-set method
+    /// ([`super::dual_active_set`]).
+    DualActiveSet,
     InteriorPoint,
     /// clarabel on the primal QP (variables `dq`).
     Clarabel,
@@ -71,6 +75,8 @@ pub enum FailureReason {
     /// The augmented Lagrangian solver gave up.
     AugmentedLagrangian(AugmentedLagrangianFailure),
     /// The interior point on the body-space matrix gave up.
+    /// The dual active-set method's failure.
+    DualActiveSet(DualActiveSetFailure),
     InteriorPoint(InteriorPointFailure),
     /// The caller's deadline ([`super::SolverSettings::deadline`]) had
     /// passed before the solver ran, or while it ran (clarabel's time
@@ -128,6 +134,7 @@ impl fmt::Display for FailureReason {
             Self::Pgs(s) => write!(f, "pgs: {s:?}"),
             Self::AugmentedLagrangian(s) => write!(f, "augmented Lagrangian: {s:?}"),
             Self::InteriorPoint(s) => write!(f, "interior point: {s:?}"),
+            Self::DualActiveSet(s) => write!(f, "dual active set: {s:?}"),
             Self::DeadlinePassed => write!(f, "the deadline passed"),
             Self::AboveDenseLimit { rows, limit } => {
                 write!(f, "{rows} rows, above the dense solvers' limit of {limit}")

@@ -106,6 +106,7 @@ use super::augmented_lagrangian::{self, AugmentedLagrangianSettings, Start};
 use super::clarabel_qp::{self, ClarabelSettings};
 use super::closed_form::solve_single_row;
 use super::cross_check::{CrossCheck, CrossCheckOutcome, differences};
+use super::dual_active_set;
 use super::equality_elimination;
 use super::error::SolverError;
 use super::friction_cone::{CONE_DIM, cone_multipliers_of_facets};
@@ -142,12 +143,15 @@ pub enum SolverChoice {
     Lemke,
     /// Projected Gauss-Seidel on the LCP.
     Pgs,
+    /// Goldfarb and Idnani's dual active-set method
+    /// ([`super::dual_active_set`]).
+    DualActiveSet,
 }
 
 impl SolverChoice {
     /// All choices, with [`SolverChoice::name`] as in scene files and on
     /// the command line.
-    pub const ALL: [SolverChoice; 7] = [
+    pub const ALL: [SolverChoice; 8] = [
         SolverChoice::Auto,
         SolverChoice::AugmentedLagrangian,
         SolverChoice::InteriorPoint,
@@ -155,10 +159,11 @@ impl SolverChoice {
         SolverChoice::ClarabelDual,
         SolverChoice::Lemke,
         SolverChoice::Pgs,
+        SolverChoice::DualActiveSet,
     ];
 
     /// The name in files: `auto`, `augmented_lagrangian`, `clarabel`,
-    /// `clarabel_dual`, `lemke`, `pgs`.
+    /// `clarabel_dual`, `lemke`, `pgs`, `dual_active_set`.
     pub fn name(self) -> &'static str {
         match self {
             SolverChoice::Auto => "auto",
@@ -168,6 +173,7 @@ impl SolverChoice {
             SolverChoice::ClarabelDual => "clarabel_dual",
             SolverChoice::Lemke => "lemke",
             SolverChoice::Pgs => "pgs",
+            SolverChoice::DualActiveSet => "dual_active_set",
         }
     }
 
@@ -176,6 +182,19 @@ impl SolverChoice {
         Self::ALL.into_iter().find(|c| c.name() == name)
     }
 }
+
+/// Default of [`SolverSettings::auto_dual_active_set_max_dofs`]: 22
+/// bodies.
+pub const DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS: usize = 132;
+
+/// In Lemke's range (fewer rows than
+/// [`SolverSettings::auto_interior_point_min_rows`]) `Auto` takes the dual
+/// active-set method for problems of at most this many entries of `dq`
+/// (four bodies): on the engine states' QPs of 2-40 rows it answered in
+/// 0.49, 0.59, 0.72 and 0.81x Lemke's time at 6, 12, 18 and 24 entries
+/// (geometric means), 0.99x at 30 and 1.1-3.1x above
+/// (`benchmarks/results/solvers.md`, "The dual active-set method").
+pub const DUAL_ACTIVE_SET_IN_LEMKE_RANGE_MAX_DOFS: usize = 24;
 
 /// Default of [`SolverSettings::auto_interior_point_min_rows`]: from this
 /// many rows the interior point answers under `Auto` (Lemke below).
@@ -296,6 +315,19 @@ pub struct SolverSettings {
     /// `benchmarks/results/coupling.md`, "The settle over perturbed
     /// drops"). `usize::MAX`: never.
     pub auto_interior_point_min_rows: usize,
+    /// Under `Auto`, the dual active-set method ([`super::dual_active_set`],
+    /// dense in body space) for problems without cones and equality rows of
+    /// at most this many entries of `dq` that the interior point would
+    /// answer (from [`SolverSettings::auto_interior_point_min_rows`] rows),
+    /// and in Lemke's range for those of at most
+    /// [`DUAL_ACTIVE_SET_IN_LEMKE_RANGE_MAX_DOFS`] entries. Default
+    /// [`DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS`], by measurement on every QP
+    /// of the engine states' calls, frictionless and with their engines'
+    /// friction: up to 132 entries it answered in 0.07-0.8x the interior
+    /// point's time (break-even near 140-180 entries)
+    /// (`benchmarks/results/solvers.md`, "The dual active-set method").
+    /// 0: never.
+    pub auto_dual_active_set_max_dofs: usize,
     /// Augmented Lagrangian settings.
     pub augmented_lagrangian: AugmentedLagrangianSettings,
     /// Interior-point settings.
@@ -322,6 +354,7 @@ impl Default for SolverSettings {
             deadline: None,
             precision_length: None,
             auto_interior_point_min_rows: DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS,
+            auto_dual_active_set_max_dofs: DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS,
             augmented_lagrangian: AugmentedLagrangianSettings::default(),
             interior_point: InteriorPointSettings::default(),
             clarabel: ClarabelSettings::default(),
@@ -559,6 +592,7 @@ fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind>
         SolverChoice::ClarabelDual => SolverKind::ClarabelDual,
         SolverChoice::Lemke => SolverKind::Lemke,
         SolverChoice::Pgs => SolverKind::Pgs,
+        SolverChoice::DualActiveSet => SolverKind::DualActiveSet,
     };
     if first == SolverKind::Trivial || !settings.fall_back {
         return vec![first];
@@ -569,6 +603,11 @@ fn solver_order(qp: &ProjectionQp, settings: &SolverSettings) -> Vec<SolverKind>
         FALLBACK_ORDER_LARGE
     };
     let mut order = vec![first];
+    // The dual active-set method answers in the interior point's place
+    // (`auto_choice`): the interior point follows it.
+    if first == SolverKind::DualActiveSet && qp.num_equalities == 0 {
+        order.push(SolverKind::InteriorPoint);
+    }
     order.extend(fallbacks.iter().copied().filter(|&k| k != first));
     if dense_rows(qp) > settings.dense_max_rows {
         order.retain(|&k| !is_dense(k) || dense_rows_of(k, qp) <= settings.dense_max_rows);
@@ -616,6 +655,10 @@ fn choice_reason(qp: &ProjectionQp, settings: &SolverSettings) -> String {
         (SolverChoice::Auto, SolverKind::Clarabel) if !qp.cones.is_empty() => {
             "auto: friction cones, which only clarabel solves".into()
         }
+        (SolverChoice::Auto, SolverKind::DualActiveSet) => format!(
+            "auto: the dense dual active-set method up to {} entries of dq",
+            settings.auto_dual_active_set_max_dofs
+        ),
         (SolverChoice::Auto, SolverKind::InteriorPoint) => format!(
             "auto: the interior point on the body-space matrix from {} rows",
             settings.auto_interior_point_min_rows
@@ -646,6 +689,8 @@ fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
         SolverKind::ClosedForm
     } else if n >= settings.auto_augmented_lagrangian_min_rows {
         SolverKind::AugmentedLagrangian
+    } else if dual_active_set_fits(qp, settings) {
+        SolverKind::DualActiveSet
     } else if n >= settings.auto_interior_point_min_rows && qp.num_equalities == 0 {
         SolverKind::InteriorPoint
     } else if n - qp.num_equalities <= settings.auto_lemke_max_rows {
@@ -653,6 +698,16 @@ fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
     } else {
         SolverKind::Clarabel
     }
+}
+
+/// Whether `Auto` takes the dual active-set method for `qp` (no cones,
+/// checked by the caller; [`SolverSettings::auto_dual_active_set_max_dofs`]).
+fn dual_active_set_fits(qp: &ProjectionQp, settings: &SolverSettings) -> bool {
+    let (rows, dofs) = (qp.num_rows(), qp.num_dofs());
+    qp.num_equalities == 0
+        && dofs <= settings.auto_dual_active_set_max_dofs
+        && (rows >= settings.auto_interior_point_min_rows
+            || dofs <= DUAL_ACTIVE_SET_IN_LEMKE_RANGE_MAX_DOFS)
 }
 
 /// A validated problem with its dual LCP built on first use, and the
@@ -814,6 +869,10 @@ impl Problem<'_> {
             SolverKind::InteriorPoint => {
                 interior_point::solve(self.qp, self.metric, &s.interior_point, &start)
                     .map_err(FailureReason::InteriorPoint)
+            }
+            SolverKind::DualActiveSet => {
+                dual_active_set::solve(self.qp, self.metric, s.tol_residual, s.deadline)
+                    .map_err(FailureReason::DualActiveSet)
             }
             SolverKind::Clarabel => {
                 clarabel_qp::primal::solve(self.qp, self.metric, &self.clarabel_settings())

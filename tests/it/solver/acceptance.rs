@@ -199,8 +199,9 @@ fn badly_conditioned_stacks_accepted() {
 }
 
 /// Above `auto_lemke_max_rows` rows the fallbacks are size-aware: the
-/// interior point (`Auto`'s first choice from `auto_interior_point_min_rows`
-/// rows), clarabel (sparse), then PGS (bounded sweeps), dense Lemke last. A body
+/// dual active-set method (`Auto`'s first choice for one body), the
+/// interior point (in its place from `auto_interior_point_min_rows` rows),
+/// clarabel (sparse), then PGS (bounded sweeps), dense Lemke last. A body
 /// pushed both ways by `dz >= 1` and `-dz >= 1`, plus separated rows up to
 /// the size: infeasible, so every solver is tried and listed in order.
 #[test]
@@ -228,6 +229,7 @@ fn hundreds_of_rows_try_dense_lemke_last() {
     assert_eq!(
         order,
         [
+            SolverKind::DualActiveSet,
             SolverKind::InteriorPoint,
             SolverKind::Clarabel,
             SolverKind::Pgs,

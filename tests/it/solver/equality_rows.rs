@@ -69,6 +69,7 @@ fn kind_of(choice: SolverChoice) -> SolverKind {
         SolverChoice::Pgs => SolverKind::Pgs,
         SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
         SolverChoice::InteriorPoint => SolverKind::InteriorPoint,
+        SolverChoice::DualActiveSet => SolverKind::DualActiveSet,
         SolverChoice::Auto => unreachable!("only named choices here"),
     }
 }

@@ -128,13 +128,15 @@ fn packed_rows_agree_with_the_general_path() {
     }
 }
 
-/// Under `Auto` with the interior point from `N` rows, a pyramid of at
-/// least `N` rows goes to it and a smaller one to Lemke, and both answers
+/// Under `Auto` with the interior point from `N` rows (and the dual
+/// active-set method off), a pyramid of at least `N` rows goes to it and a
+/// smaller one to Lemke, and both answers
 /// agree with Lemke's.
 #[test]
 fn auto_takes_the_interior_point_from_its_row_count() {
     let settings = SolverSettings {
         auto_interior_point_min_rows: 41,
+        auto_dual_active_set_max_dofs: 0,
         ..SolverSettings::default()
     };
     for (boxes, expected) in [(2, SolverKind::Lemke), (6, SolverKind::InteriorPoint)] {

@@ -7,6 +7,7 @@ mod augmented_lagrangian;
 mod deadline;
 mod dense_cholesky;
 mod dense_limit;
+mod dual_active_set;
 mod equality_elimination;
 mod equality_rows;
 mod exact_engine_states;

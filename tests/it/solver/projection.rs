@@ -8,10 +8,13 @@ use crate::support::solver_oracle::{
     KKT_TOL, assert_kkt, dq_of_lambda, projection_kkt, relative_metric_distance,
 };
 use constraint_stabilization::solver::clarabel_qp::{ClarabelFailure, ClarabelSettings};
+use constraint_stabilization::solver::dual_active_set::DualActiveSetFailure;
+use constraint_stabilization::solver::interior_point::InteriorPointFailure;
 use constraint_stabilization::solver::lemke::LemkeStatus;
 use constraint_stabilization::solver::pgs::{PgsSettings, PgsStatus};
 use constraint_stabilization::solver::{
-    BodyMetric, CrossCheckOutcome, FailureReason, Fallback, JacobianRow, ProjectionQp,
+    BodyMetric, CrossCheckOutcome, DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS,
+    DUAL_ACTIVE_SET_IN_LEMKE_RANGE_MAX_DOFS, FailureReason, Fallback, JacobianRow, ProjectionQp,
     ProjectionSolution, SolverChoice, SolverError, SolverKind, SolverSettings,
     cross_check_projection, solve_projection,
 };
@@ -44,7 +47,8 @@ fn settings(choice: SolverChoice) -> SolverSettings {
 
 /// The solver that must answer `qp` under `choice` when nothing fails: the
 /// named one, or under `Auto` the rule documented in `solver::solve`
-/// (trivial, closed form for one row, the interior point from
+/// (trivial, closed form for one row, the dual active-set method by size,
+/// the interior point from
 /// `auto_interior_point_min_rows` rows without equalities, Lemke up to
 /// `auto_lemke_max_rows` rows, clarabel above).
 fn first_solver(qp: &ProjectionQp, choice: SolverChoice) -> SolverKind {
@@ -53,6 +57,14 @@ fn first_solver(qp: &ProjectionQp, choice: SolverChoice) -> SolverKind {
             SolverKind::Trivial
         }
         SolverChoice::Auto if qp.rows.len() == 1 => SolverKind::ClosedForm,
+        SolverChoice::Auto
+            if qp.num_equalities == 0
+                && qp.num_dofs() <= DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS
+                && (qp.rows.len() >= SolverSettings::default().auto_interior_point_min_rows
+                    || qp.num_dofs() <= DUAL_ACTIVE_SET_IN_LEMKE_RANGE_MAX_DOFS) =>
+        {
+            SolverKind::DualActiveSet
+        }
         SolverChoice::Auto
             if qp.rows.len() >= SolverSettings::default().auto_interior_point_min_rows
                 && qp.num_equalities == 0 =>
@@ -68,6 +80,7 @@ fn first_solver(qp: &ProjectionQp, choice: SolverChoice) -> SolverKind {
         SolverChoice::Pgs => SolverKind::Pgs,
         SolverChoice::AugmentedLagrangian => SolverKind::AugmentedLagrangian,
         SolverChoice::InteriorPoint => SolverKind::InteriorPoint,
+        SolverChoice::DualActiveSet => SolverKind::DualActiveSet,
     }
 }
 
@@ -100,12 +113,13 @@ fn agreement_tol(sol: &ProjectionSolution) -> f64 {
     }
 }
 
-const ALL: [SolverChoice; 5] = [
+const ALL: [SolverChoice; 6] = [
     SolverChoice::Auto,
     SolverChoice::Clarabel,
     SolverChoice::ClarabelDual,
     SolverChoice::Lemke,
     SolverChoice::Pgs,
+    SolverChoice::DualActiveSet,
 ];
 
 fn contact(body: usize, r: Vector3<f64>, n: Vector3<f64>) -> JacobianRow {
@@ -545,7 +559,9 @@ fn clarabel_polish_on_large_stacks() {
 
 /// A body squeezed between two fixed planes that overlap: `dy >= 1` and
 /// `-dy >= 1` cannot both hold. Every solver says so in its own terms and
-/// the error lists them all; no dq is made up.
+/// the error lists them all (the dual active-set method first, `Auto`'s
+/// choice for one body, then the interior point in its place); no dq is
+/// made up.
 #[test]
 fn infeasible_problem_lists_every_failure() {
     let mut qp = box_face_down(0.0, 0.0);
@@ -563,19 +579,33 @@ fn infeasible_problem_lists_every_failure() {
     let solvers: Vec<SolverKind> = fallbacks.iter().map(|f| f.solver).collect();
     assert_eq!(
         solvers,
-        [SolverKind::Lemke, SolverKind::Clarabel, SolverKind::Pgs]
+        [
+            SolverKind::DualActiveSet,
+            SolverKind::InteriorPoint,
+            SolverKind::Clarabel,
+            SolverKind::Lemke,
+            SolverKind::Pgs
+        ]
     );
-    assert_eq!(fallbacks[0].reason, FailureReason::Lemke(LemkeStatus::Ray));
-    assert!(matches!(
+    assert_eq!(
+        fallbacks[0].reason,
+        FailureReason::DualActiveSet(DualActiveSetFailure::Infeasible)
+    );
+    assert_eq!(
         fallbacks[1].reason,
+        FailureReason::InteriorPoint(InteriorPointFailure::Infeasible)
+    );
+    assert!(matches!(
+        fallbacks[2].reason,
         FailureReason::Clarabel(
             ClarabelFailure::PrimalInfeasible | ClarabelFailure::AlmostPrimalInfeasible
         )
     ));
+    assert_eq!(fallbacks[3].reason, FailureReason::Lemke(LemkeStatus::Ray));
     assert!(
-        matches!(fallbacks[2].reason, FailureReason::Pgs(_)),
+        matches!(fallbacks[4].reason, FailureReason::Pgs(_)),
         "{:?}",
-        fallbacks[2]
+        fallbacks[4]
     );
 }
 

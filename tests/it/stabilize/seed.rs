@@ -11,8 +11,9 @@
 //! separating axis (`near_pair_faces = false`; the default builds a near
 //! pair's manifold on a face, which moves the demo's answer within the
 //! tolerance) and the solvers `Auto` chose then (Lemke up to 160 rows,
-//! clarabel above: `auto_interior_point_min_rows` off; the interior point
-//! answers within the tolerance too, not bit for bit).
+//! clarabel above: `auto_interior_point_min_rows` and
+//! `auto_dual_active_set_max_dofs` off; the interior point and the dual
+//! active-set method answer within the tolerance too, not bit for bit).
 
 use crate::stabilize::support::pose_hash;
 use constraint_stabilization::testbed::demo::demo_scene;
@@ -31,6 +32,7 @@ fn frictionless_default_reproduces_the_seed_bit_for_bit() {
         let mut settings = Settings::default();
         settings.near_pair_faces = false;
         settings.solver.auto_interior_point_min_rows = usize::MAX;
+        settings.solver.auto_dual_active_set_max_dofs = 0;
         settings
     };
     let mut stabilizer = Stabilizer::new(settings).expect("valid settings");
