@@ -9,6 +9,7 @@
 use super::active_set_oracle::brute_force_dq;
 use super::equality_rows::random_mixed;
 use super::friction_cone::{pushed_column, pushed_into_the_ground};
+use super::interior_point_friction::{named, tight_clarabel};
 use crate::support::solver_oracle::{assert_kkt, relative_metric_distance};
 use constraint_stabilization::solver::dual_active_set::DualActiveSetFailure;
 use constraint_stabilization::solver::interior_point::InteriorPointFailure;
@@ -22,22 +23,6 @@ use dev_support::solver::{StackSpec, random_stacks};
 /// certified far below it (the method is exact up to rounding, clarabel
 /// runs at 1e-12), so a larger distance is a wrong answer.
 const DQ_AGREEMENT_TOL: f64 = 1e-6;
-
-fn named(choice: SolverChoice) -> SolverSettings {
-    SolverSettings {
-        choice,
-        fall_back: false,
-        ..SolverSettings::default()
-    }
-}
-
-fn tight_clarabel() -> SolverSettings {
-    let mut settings = named(SolverChoice::Clarabel);
-    settings.clarabel.tol_gap = 1e-12;
-    settings.clarabel.tol_feas = 1e-12;
-    settings.fall_back = true;
-    settings
-}
 
 fn solve_with(qp: &ProjectionQp, settings: &SolverSettings, context: &str) -> ProjectionSolution {
     solve_projection(qp, settings)
@@ -55,6 +40,18 @@ fn dual_active_set(qp: &ProjectionQp, context: &str) -> ProjectionSolution {
 fn assert_close(qp: &ProjectionQp, a: &ProjectionSolution, b: &ProjectionSolution, context: &str) {
     let distance = relative_metric_distance(qp, &a.dq, &b.dq);
     assert!(distance <= DQ_AGREEMENT_TOL, "{context}: {distance:e}");
+}
+
+/// The method's answer agrees with clarabel's (tight) and Lemke's.
+fn agrees_with_clarabel_and_lemke(qp: &ProjectionQp, context: &str) {
+    let solution = dual_active_set(qp, context);
+    for (name, settings) in [
+        ("clarabel", tight_clarabel()),
+        ("Lemke", named(SolverChoice::Lemke)),
+    ] {
+        let other = solve_with(qp, &settings, context);
+        assert_close(qp, &solution, &other, &format!("{context}, {name}"));
+    }
 }
 
 /// Independent random rows over two bodies (some violated, some open):
@@ -89,11 +86,7 @@ fn agrees_with_clarabel_and_lemke_on_redundant_stacks() {
                     seed,
                 });
                 let context = format!("{rows} rows, {mass_decades} decades, seed {seed}");
-                let solution = dual_active_set(&qp, &context);
-                let clarabel = solve_with(&qp, &tight_clarabel(), &context);
-                assert_close(&qp, &solution, &clarabel, &format!("{context}, clarabel"));
-                let lemke = solve_with(&qp, &named(SolverChoice::Lemke), &context);
-                assert_close(&qp, &solution, &lemke, &format!("{context}, Lemke"));
+                agrees_with_clarabel_and_lemke(&qp, &context);
             }
         }
     }
@@ -108,11 +101,7 @@ fn agrees_with_clarabel_and_lemke_on_friction_pyramids() {
         for seed in 0..3 {
             let qp = pushed_column(boxes, seed).pyramid().0;
             let context = format!("{boxes} boxes, seed {seed}, {} rows", qp.num_rows());
-            let solution = dual_active_set(&qp, &context);
-            let clarabel = solve_with(&qp, &tight_clarabel(), &context);
-            assert_close(&qp, &solution, &clarabel, &format!("{context}, clarabel"));
-            let lemke = solve_with(&qp, &named(SolverChoice::Lemke), &context);
-            assert_close(&qp, &solution, &lemke, &format!("{context}, Lemke"));
+            agrees_with_clarabel_and_lemke(&qp, &context);
         }
     }
 }

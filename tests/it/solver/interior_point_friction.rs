@@ -39,7 +39,8 @@ fn solve_with(qp: &ProjectionQp, settings: &SolverSettings) -> ProjectionSolutio
     solve_projection(qp, settings).unwrap_or_else(|e| panic!("{:?}: {e}", settings.choice))
 }
 
-fn named(choice: SolverChoice) -> SolverSettings {
+/// `choice` alone, no fallback (also the dual active-set tests').
+pub(super) fn named(choice: SolverChoice) -> SolverSettings {
     SolverSettings {
         choice,
         fall_back: false,
@@ -47,7 +48,8 @@ fn named(choice: SolverChoice) -> SolverSettings {
     }
 }
 
-fn tight_clarabel() -> SolverSettings {
+/// clarabel at gap and feasibility tolerances 1e-12, the chain after it.
+pub(super) fn tight_clarabel() -> SolverSettings {
     let mut settings = named(SolverChoice::Clarabel);
     settings.clarabel.tol_gap = 1e-12;
     settings.clarabel.tol_feas = 1e-12;
