@@ -104,12 +104,19 @@ pub fn solve(
     if qp.num_equalities > 0 || !qp.cones.is_empty() {
         return Err(DualActiveSetFailure::NotApplicable);
     }
+    let rows = packed_rows(qp).ok_or(DualActiveSetFailure::NotApplicable)?;
     let n = qp.num_dofs();
     let m = qp.num_rows();
     let b = qp.b();
     let lengths: Vec<f64> = row_diagonal(qp, metric)
         .into_iter()
         .map(f64::sqrt)
+        .collect();
+    // A row no body moves (length 0) is never added: it holds or the
+    // problem was rejected before (`super::solve`).
+    let inverse_lengths: Vec<f64> = lengths
+        .iter()
+        .map(|&len| if len > 0.0 { 1.0 / len } else { 0.0 })
         .collect();
     let violated_below = -VIOLATION_OF_ACCEPTANCE * tol_residual * acceptance_length(qp);
     let mut state = State::new(n, metric).ok_or(DualActiveSetFailure::NotApplicable)?;
@@ -121,7 +128,7 @@ pub fn solve(
     let limit = STEPS_PER_SIZE * (m + n);
     let mut steps = 0;
     // The most violated row, in M^-1 lengths; none: the answer.
-    while let Some(p) = most_violated(&slack, &lengths, &is_active, violated_below) {
+    while let Some(p) = most_violated(&slack, &inverse_lengths, &is_active, violated_below) {
         let mut u_p = 0.0;
         loop {
             steps += 1;
@@ -131,7 +138,7 @@ pub fn solve(
             if deadline.is_some_and(|d| Instant::now() >= d) {
                 return Err(DualActiveSetFailure::Deadline);
             }
-            let d = state.project(qp, p);
+            let d = state.project(&rows[p]);
             let q = active.len();
             let r = state.active_coefficients(&d, q);
             let z = state.direction(&d, q);
@@ -164,13 +171,9 @@ pub fn solve(
             if !dependent {
                 dq.axpy(t, &z, 1.0);
                 // s <- s + t J z (every row, the active ones stay at 0).
-                for (s_i, row) in slack.iter_mut().zip(&qp.rows) {
-                    let moved: f64 = row
-                        .blocks
-                        .iter()
-                        .map(|(k, g)| g.dot(&z.fixed_rows::<6>(6 * k)))
-                        .sum();
-                    *s_i += t * moved;
+                let z_slice = z.as_slice();
+                for (s_i, row) in slack.iter_mut().zip(&rows) {
+                    *s_i += t * row.dot(z_slice);
                 }
             }
             match drop {
@@ -205,24 +208,65 @@ pub fn solve(
 }
 
 /// The row with the most negative `s_i / |a_i|_{M^-1}` among the inactive
-/// rows violated beyond `violated_below`.
+/// rows violated beyond `violated_below` (`inverse_lengths`: `1 /
+/// |a_i|_{M^-1}`, 0 for a row no body moves).
 fn most_violated(
     slack: &DVector<f64>,
-    lengths: &[f64],
+    inverse_lengths: &[f64],
     is_active: &[bool],
     violated_below: f64,
 ) -> Option<usize> {
     let mut best: Option<(f64, usize)> = None;
-    for (i, (&s, &len)) in slack.iter().zip(lengths).enumerate() {
-        if is_active[i] || s >= violated_below || len <= 0.0 {
+    for (i, (&s, &inverse)) in slack.iter().zip(inverse_lengths).enumerate() {
+        if s >= violated_below || is_active[i] || inverse == 0.0 {
             continue;
         }
-        let measure = s / len;
+        let measure = s * inverse;
         if best.is_none_or(|(b, _)| measure < b) {
             best = Some((measure, i));
         }
     }
     best.map(|(_, i)| i)
+}
+
+/// A row's gradient as at most two blocks of six entries of `dq` (a
+/// contact's two bodies; an absent second block is zeros at offset 0).
+struct PackedRow {
+    offsets: [usize; 2],
+    gradients: [Vector6<f64>; 2],
+}
+
+impl PackedRow {
+    /// `a^T v`.
+    fn dot(&self, v: &[f64]) -> f64 {
+        self.offsets
+            .iter()
+            .zip(&self.gradients)
+            .map(|(&offset, g)| Vector6::from_column_slice(&v[offset..offset + 6]).dot(g))
+            .sum()
+    }
+}
+
+/// The rows packed; `None` when a row has more than two bodies (not a
+/// contact's: the other solvers take that problem).
+fn packed_rows(qp: &ProjectionQp) -> Option<Vec<PackedRow>> {
+    qp.rows
+        .iter()
+        .map(|row| {
+            let mut packed = PackedRow {
+                offsets: [0; 2],
+                gradients: [Vector6::zeros(); 2],
+            };
+            if row.blocks.len() > 2 {
+                return None;
+            }
+            for (slot, (k, g)) in row.blocks.iter().enumerate() {
+                packed.offsets[slot] = 6 * k;
+                packed.gradients[slot] = *g;
+            }
+            Some(packed)
+        })
+        .collect()
 }
 
 /// `Jm` and `R` (module docs), dense, column-major.
@@ -256,17 +300,11 @@ impl State {
         })
     }
 
-    /// `d = Jm^T a_p` (the row's two blocks only).
-    fn project(&self, qp: &ProjectionQp, p: usize) -> DVector<f64> {
+    /// `d = Jm^T a` (the row's two blocks only).
+    fn project(&self, row: &PackedRow) -> DVector<f64> {
         let n = self.n;
-        let mut d = DVector::zeros(n);
-        for (k, g) in &qp.rows[p].blocks {
-            for (j, dj) in d.iter_mut().enumerate() {
-                let column = &self.jm.as_slice()[j * n + 6 * k..j * n + 6 * k + 6];
-                *dj += Vector6::from_column_slice(column).dot(g);
-            }
-        }
-        d
+        let data = self.jm.as_slice();
+        DVector::from_fn(n, |j, _| row.dot(&data[j * n..j * n + n]))
     }
 
     /// `r = R^-1 d_1` by back substitution, column by column (`R` is
