@@ -80,15 +80,6 @@ const CALLS: [(&str, Option<FrictionModel>, FrictionRows); 7] = [
     ),
 ];
 
-/// The coefficient of a pair of default bodies in the state's engine.
-fn engine_friction(stem: &str) -> f64 {
-    match &stem[..2] {
-        "bt" => 0.5 * 0.5,
-        "mj" => 1.0,
-        _ => 0.5,
-    }
-}
-
 /// One call's quality and time.
 struct Call {
     report: Result<Report, String>,
@@ -108,7 +99,7 @@ fn main() {
         if only.as_ref().is_some_and(|o| !stem.contains(o.as_str())) {
             continue;
         }
-        let mu = engine_friction(&stem);
+        let mu = common::engine_friction(&stem);
         let calls = measure(&scene, mu, repeats);
         let base = median(&calls[0].seconds);
         for ((label, _, _), call) in CALLS.iter().zip(&calls) {

@@ -2,6 +2,7 @@
 //! `tests/data/engine` is stabilized once with the default settings while
 //! the QPs handed to the solver are recorded
 //! (`constraint_stabilization::solver::recorder`); the frictionless ones
+//! (with `--friction`, the pyramids of the calls with friction)
 //! of at least `--min-rows` rows (default 161, above Lemke's range) are
 //! then solved again by each variant, the variants interleaved (one run of
 //! each per round, `--rounds` rounds, default 7), cold (no warm start).
@@ -12,7 +13,13 @@
 //! factorizations are summed over the QPs.
 //!
 //! `cargo bench --bench engine_qps --features serde -- [--only TEXT]
-//! [--min-rows N] [--rounds N] [--variants a,b,...]`
+//! [--min-rows N] [--max-dofs N] [--friction] [--rounds N]
+//! [--variants a,b,...]`
+//!
+//! `--max-dofs N`: only the QPs of at most `N` entries of `dq`;
+//! `--friction`: the calls with the engine's friction coefficient on every
+//! body (as `engine_friction`; their QPs are the friction pyramids, every
+//! call clears the coefficients a file carries otherwise).
 //!
 //! With `--rapier SCENE` (built with `--features rapier,serde`) the QPs
 //! are instead those of the `--worst K` slowest calls (default 1) of
@@ -26,7 +33,9 @@
 //!
 //! Variants: `clarabel` (the reference: the default settings with
 //! `SolverChoice::Clarabel`), `al` (the augmented Lagrangian, named),
-//! `auto` (the default `Auto`), and those listed in [`variants`].
+//! `auto` (the default `Auto`), `auto_no_das` (`Auto` without the dual
+//! active-set method), `das`, `ip`, `lemke` (named), and those listed in
+//! [`variants`].
 
 mod common;
 #[cfg(feature = "rapier")]
@@ -44,6 +53,8 @@ use nalgebra::DVector;
 struct Args {
     only: Option<String>,
     min_rows: Option<usize>,
+    max_dofs: Option<usize>,
+    friction: bool,
     rapier: Option<String>,
     steps: usize,
     worst: usize,
@@ -55,6 +66,8 @@ fn parse() -> Args {
     let mut args = Args {
         only: None,
         min_rows: None,
+        max_dofs: None,
+        friction: false,
         rapier: None,
         steps: 300,
         worst: 1,
@@ -66,6 +79,8 @@ fn parse() -> Args {
         match a.as_str() {
             "--only" => args.only = it.next(),
             "--min-rows" => args.min_rows = it.next().and_then(|v| v.parse().ok()),
+            "--max-dofs" => args.max_dofs = it.next().and_then(|v| v.parse().ok()),
+            "--friction" => args.friction = true,
             "--rapier" => args.rapier = it.next(),
             "--steps" => args.steps = it.next().and_then(|v| v.parse().ok()).unwrap_or(300),
             "--worst" => args.worst = it.next().and_then(|v| v.parse().ok()).unwrap_or(1),
@@ -96,6 +111,9 @@ fn variant(name: &str) -> SolverSettings {
             s.augmented_lagrangian.exact_only = false;
         }
         "ip" => s.choice = SolverChoice::InteriorPoint,
+        "das" => s.choice = SolverChoice::DualActiveSet,
+        "lemke" => s.choice = SolverChoice::Lemke,
+        "auto_no_das" => s.auto_dual_active_set_max_dofs = 0,
         "ip_sparse" => {
             s.choice = SolverChoice::InteriorPoint;
             s.interior_point.dense_max_dofs = 0;
@@ -206,14 +224,18 @@ fn main() {
         {
             continue;
         }
-        let mut work = scene.clone();
+        let mu = args.friction.then(|| common::engine_friction(&name));
+        let mut work = common::with_friction(scene.clone(), mu);
         let mut stabilizer =
             constraint_stabilization::Stabilizer::new(Settings::default()).expect("settings");
         recorder::start();
         let _ = stabilizer.stabilize(&mut work);
+        let max_dofs = args.max_dofs.unwrap_or(usize::MAX);
         let qps: Vec<RecordedQp> = recorder::stop()
             .into_iter()
-            .filter(|p| p.qp.cones.is_empty() && p.qp.num_rows() >= min_rows)
+            .filter(|p| {
+                p.qp.cones.is_empty() && p.qp.num_rows() >= min_rows && p.qp.num_dofs() <= max_dofs
+            })
             .collect();
         compare(&args, &name, &qps);
     }

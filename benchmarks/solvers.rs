@@ -33,6 +33,7 @@ use constraint_stabilization::solver::augmented_lagrangian::{
     self, AugmentedLagrangianSettings, Start,
 };
 use constraint_stabilization::solver::clarabel_qp::{ClarabelSettings, dual, primal};
+use constraint_stabilization::solver::dual_active_set;
 use constraint_stabilization::solver::interior_point::{self, InteriorPointSettings};
 use constraint_stabilization::solver::lemke::{self, LemkeSettings};
 use constraint_stabilization::solver::pgs::{self, PgsSettings, PgsStatus};
@@ -52,6 +53,10 @@ const MAX_ROUNDS: usize = 30;
 /// The O(n^3)-per-pivot variant is only run up to this size (at 100 rows it
 /// is already two orders of magnitude slower).
 const REFACTOR_MAX_N: usize = 100;
+/// The dual active-set method (dense in body space, `O(n^2)` per step) is
+/// only run up to this size (about 75 boxes, 450 entries of `dq`).
+const DUAL_ACTIVE_SET_MAX_N: usize = 300;
+
 /// The augmented Lagrangian with a dense `H` is only run up to this size
 /// (at 1,000 rows one solve takes seconds).
 const DENSE_H_MAX_N: usize = 300;
@@ -69,10 +74,12 @@ enum Method {
     AugmentedLagrangianWarm,
     InteriorPoint,
     InteriorPointWarm,
+    DualActiveSet,
 }
 
-const METHODS: [Method; 11] = [
+const METHODS: [Method; 12] = [
     Method::BuildA,
+    Method::DualActiveSet,
     Method::InteriorPoint,
     Method::InteriorPointWarm,
     Method::AugmentedLagrangianDense,
@@ -99,6 +106,7 @@ impl Method {
             Method::AugmentedLagrangianWarm => "augmented Lagrangian, warm",
             Method::InteriorPoint => "interior point",
             Method::InteriorPointWarm => "interior point, warm",
+            Method::DualActiveSet => "dual active set",
         }
     }
 }
@@ -185,6 +193,8 @@ fn run_once(p: &Problem, method: Method) -> Result<Candidate, Failure> {
         ),
         Method::InteriorPoint => interior_point(p, None),
         Method::InteriorPointWarm => interior_point(p, Some(&p.warm)),
+        Method::DualActiveSet => dual_active_set::solve(&p.qp, &p.metric, ACCEPTANCE_TOL, None)
+            .map_err(|e| (format!("{e:?}"), None)),
         Method::BuildA => {
             let a = lcp();
             Ok(Candidate {
@@ -379,6 +389,7 @@ fn main() {
                 .into_iter()
                 .filter(|&m| m != Method::LemkeRefactorEvery || n <= REFACTOR_MAX_N)
                 .filter(|&m| m != Method::AugmentedLagrangianDense || n <= DENSE_H_MAX_N)
+                .filter(|&m| m != Method::DualActiveSet || n <= DUAL_ACTIVE_SET_MAX_N)
                 .collect();
             for row in measure_interleaved(&p, n, seed, &methods) {
                 let _ = writeln!(
@@ -423,7 +434,9 @@ fn main() {
          Cholesky of `H`, and warm-started from the multipliers of the same \
          problem with every `phi` scaled by 0.9 (as between two passes); so \
          does the interior point on the body-space matrix \
-         (`solver::interior_point`). Every run is in `solvers.csv`.\n\n{table}",
+         (`solver::interior_point`). The dual active-set method \
+         (`solver::dual_active_set`, dense in body space) runs up to \
+         {DUAL_ACTIVE_SET_MAX_N} rows. Every run is in `solvers.csv`.\n\n{table}",
         provenance.markdown(),
         SEED_BASE + SEEDS - 1,
     );

@@ -209,6 +209,20 @@ pub fn with_friction(
     scene
 }
 
+/// The friction coefficient of a pair of default bodies in the engine of
+/// the state named `stem` (`bt..`, `mj..`, `rp..`): Bullet 0.5 x 0.5 (it
+/// multiplies the bodies' coefficients), MuJoCo 1.0 (its default), Rapier
+/// 0.5 (its default).
+// Each benchmark includes this module; not every one calls it.
+#[allow(dead_code)]
+pub fn engine_friction(stem: &str) -> f64 {
+    match stem.get(..2) {
+        Some("bt") => 0.5 * 0.5,
+        Some("mj") => 1.0,
+        _ => 0.5,
+    }
+}
+
 /// Directory of the result files (created on demand).
 pub fn results_dir() -> std::path::PathBuf {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("benchmarks/results");

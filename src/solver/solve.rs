@@ -187,14 +187,14 @@ impl SolverChoice {
 /// bodies.
 pub const DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS: usize = 132;
 
-/// In Lemke's range (fewer rows than
-/// [`SolverSettings::auto_interior_point_min_rows`]) `Auto` takes the dual
-/// active-set method for problems of at most this many entries of `dq`
-/// (four bodies): on the engine states' QPs of 2-40 rows it answered in
-/// 0.49, 0.59, 0.72 and 0.81x Lemke's time at 6, 12, 18 and 24 entries
-/// (geometric means), 0.99x at 30 and 1.1-3.1x above
+/// `Auto` takes the dual active-set method for problems of at most this
+/// many entries of `dq` (four bodies) whatever their rows
+/// ([`SolverSettings::auto_dual_active_set_max_dofs`]): on the engine
+/// states' QPs of 2-40 rows it answered in 0.49, 0.59, 0.72 and 0.81x
+/// Lemke's time at 6, 12, 18 and 24 entries (geometric means), 0.99x at 30
+/// and 1.1-3.1x above where the rows were fewer than the entries
 /// (`benchmarks/results/solvers.md`, "The dual active-set method").
-pub const DUAL_ACTIVE_SET_IN_LEMKE_RANGE_MAX_DOFS: usize = 24;
+pub const DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS: usize = 24;
 
 /// Default of [`SolverSettings::auto_interior_point_min_rows`]: from this
 /// many rows the interior point answers under `Auto` (Lemke below).
@@ -315,18 +315,21 @@ pub struct SolverSettings {
     /// `benchmarks/results/coupling.md`, "The settle over perturbed
     /// drops"). `usize::MAX`: never.
     pub auto_interior_point_min_rows: usize,
-    /// Under `Auto`, the dual active-set method ([`super::dual_active_set`],
-    /// dense in body space) for problems without cones and equality rows of
-    /// at most this many entries of `dq` that the interior point would
-    /// answer (from [`SolverSettings::auto_interior_point_min_rows`] rows),
-    /// and in Lemke's range for those of at most
-    /// [`DUAL_ACTIVE_SET_IN_LEMKE_RANGE_MAX_DOFS`] entries. Default
+    /// Under `Auto`, for problems without cones and equality rows of at
+    /// most this many entries of `dq`: the dual active-set method
+    /// ([`super::dual_active_set`], dense in body space) where the rows are
+    /// at least as many as the entries, or the entries at most
+    /// [`DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS`]; Lemke where the rows are fewer
+    /// (up to [`SolverSettings::auto_lemke_max_rows`]). Default
     /// [`DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS`], by measurement on every QP
     /// of the engine states' calls, frictionless and with their engines'
-    /// friction: up to 132 entries it answered in 0.07-0.8x the interior
-    /// point's time (break-even near 140-180 entries)
+    /// friction, each solver in alternation: up to 132 entries the method
+    /// took 0.07-0.8x the interior point's time (break-even near 140-180
+    /// entries); from 41 rows, 0.29x Lemke's time where the rows are at
+    /// least the entries and 1.8x where they are fewer (geometric means;
+    /// the interior point slower than both there)
     /// (`benchmarks/results/solvers.md`, "The dual active-set method").
-    /// 0: never.
+    /// 0: neither (the rules by rows alone).
     pub auto_dual_active_set_max_dofs: usize,
     /// Augmented Lagrangian settings.
     pub augmented_lagrangian: AugmentedLagrangianSettings,
@@ -656,9 +659,15 @@ fn choice_reason(qp: &ProjectionQp, settings: &SolverSettings) -> String {
             "auto: friction cones, which only clarabel solves".into()
         }
         (SolverChoice::Auto, SolverKind::DualActiveSet) => format!(
-            "auto: the dense dual active-set method up to {} entries of dq",
+            "auto: the dense dual active-set method, at most {} entries of dq",
             settings.auto_dual_active_set_max_dofs
         ),
+        (SolverChoice::Auto, SolverKind::Lemke) if small_island_choice(qp, settings).is_some() => {
+            format!(
+                "auto: Lemke for fewer rows than entries of dq, at most {}",
+                settings.auto_dual_active_set_max_dofs
+            )
+        }
         (SolverChoice::Auto, SolverKind::InteriorPoint) => format!(
             "auto: the interior point on the body-space matrix from {} rows",
             settings.auto_interior_point_min_rows
@@ -689,8 +698,8 @@ fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
         SolverKind::ClosedForm
     } else if n >= settings.auto_augmented_lagrangian_min_rows {
         SolverKind::AugmentedLagrangian
-    } else if dual_active_set_fits(qp, settings) {
-        SolverKind::DualActiveSet
+    } else if let Some(kind) = small_island_choice(qp, settings) {
+        kind
     } else if n >= settings.auto_interior_point_min_rows && qp.num_equalities == 0 {
         SolverKind::InteriorPoint
     } else if n - qp.num_equalities <= settings.auto_lemke_max_rows {
@@ -700,14 +709,21 @@ fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
     }
 }
 
-/// Whether `Auto` takes the dual active-set method for `qp` (no cones,
-/// checked by the caller; [`SolverSettings::auto_dual_active_set_max_dofs`]).
-fn dual_active_set_fits(qp: &ProjectionQp, settings: &SolverSettings) -> bool {
+/// `Auto`'s choice for a small island
+/// ([`SolverSettings::auto_dual_active_set_max_dofs`]; no cones, checked by
+/// the caller): the dual active-set method or Lemke, or `None` (equality
+/// rows, more entries of `dq`, or more rows than Lemke's range).
+fn small_island_choice(qp: &ProjectionQp, settings: &SolverSettings) -> Option<SolverKind> {
     let (rows, dofs) = (qp.num_rows(), qp.num_dofs());
-    qp.num_equalities == 0
-        && dofs <= settings.auto_dual_active_set_max_dofs
-        && (rows >= settings.auto_interior_point_min_rows
-            || dofs <= DUAL_ACTIVE_SET_IN_LEMKE_RANGE_MAX_DOFS)
+    if qp.num_equalities > 0 || dofs > settings.auto_dual_active_set_max_dofs {
+        None
+    } else if rows >= dofs || dofs <= DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS {
+        Some(SolverKind::DualActiveSet)
+    } else if rows <= settings.auto_lemke_max_rows {
+        Some(SolverKind::Lemke)
+    } else {
+        None
+    }
 }
 
 /// A validated problem with its dual LCP built on first use, and the

@@ -177,11 +177,11 @@ fn equality_rows_are_not_applicable() {
     assert_ne!(auto.solver, SolverKind::DualActiveSet);
 }
 
-/// `Auto` takes it for few bodies with many rows, for up to
-/// `DUAL_ACTIVE_SET_IN_LEMKE_RANGE_MAX_DOFS` entries of `dq` in Lemke's
-/// range, not for more bodies with few rows (Lemke) nor beyond
-/// `DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS` entries (the interior point);
-/// each answer agrees with clarabel's.
+/// `Auto` takes it where the rows are at least the entries of `dq` and
+/// for up to `DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS` entries whatever the
+/// rows, Lemke where the rows are fewer, and beyond
+/// `DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS` entries neither (the interior
+/// point); each answer agrees with clarabel's.
 #[test]
 fn auto_takes_it_by_size() {
     let settings = SolverSettings::default();
@@ -194,9 +194,9 @@ fn auto_takes_it_by_size() {
     let cases = [
         // Three boxes: 18 entries, a few rows.
         (frictionless(3), SolverKind::DualActiveSet),
-        // Six boxes' pyramids: 36 entries, over 41 rows.
+        // Six boxes' pyramids: 36 entries, more rows.
         (pyramid(6), SolverKind::DualActiveSet),
-        // Six boxes without friction: 36 entries, under 41 rows.
+        // Six boxes without friction: 36 entries, fewer rows.
         (frictionless(6), SolverKind::Lemke),
         // Thirty boxes' pyramids: 180 entries.
         (pyramid(30), SolverKind::InteriorPoint),

@@ -158,10 +158,11 @@ fn rod_of_one_to_a_thousand_across_another_and_into_the_ground() {
 /// (1e-9 on the scaled LCP) by about twice, from rounding at that
 /// conditioning; inside the projection Lemke's test is loosened to the
 /// acceptance tolerance, so `auto` with Lemke over its whole range (the
-/// interior point's threshold off) keeps Lemke's answer on every
-/// island (none falls back to clarabel), and the answer is the minimal
-/// correction: clarabel's to 1e-6 of the displacement, the exact depth
-/// after within the tolerance.
+/// interior point's threshold and the dual active-set method off) keeps
+/// Lemke's answer on every island (none falls back to clarabel), and the
+/// answer is the minimal correction: clarabel's to 1e-6 of the
+/// displacement, the exact depth after within the tolerance. The dual
+/// active-set method over its range (every island) does the same.
 #[cfg(feature = "serde")]
 #[test]
 fn lemke_answers_every_island_under_a_heavy_lid() {
@@ -170,31 +171,40 @@ fn lemke_answers_every_island_under_a_heavy_lid() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/stiff/pyramid_under_1e6.json");
     let scene = read_scene(&path).expect("reads");
-    let mut auto = scene.clone();
-    let mut lemke_range = Settings::default();
-    lemke_range.solver.auto_interior_point_min_rows = usize::MAX;
-    let (report, residual) = crate::stabilize::support::stabilize_with(&mut auto, lemke_range);
-    println!(
-        "{}",
-        crate::stabilize::support::describe("auto", &report, residual)
-    );
-    assert!(report.status.is_resolved(), "{:?}", report.status);
-    assert!(residual <= report.tolerance, "exact depth {residual:e}");
-    let solved: Vec<_> = report.pass_reports.iter().flat_map(|p| &p.solved).collect();
-    assert!(!solved.is_empty());
-    for island in &solved {
-        assert_eq!(island.solver, Some(SolverKind::Lemke), "{island:?}");
-        assert!(island.fallbacks.is_empty(), "{:?}", island.fallbacks);
-    }
     let mut settings = Settings::default();
     settings.solver.choice = SolverChoice::Clarabel;
     let mut clarabel = scene.clone();
     let (reference, _) = crate::stabilize::support::stabilize_with(&mut clarabel, settings);
-    let relative = (report.displacement - reference.displacement).abs() / reference.displacement;
-    assert!(
-        relative <= 1e-6,
-        "displacements {} and {}",
-        report.displacement,
-        reference.displacement
-    );
+    // Lemke over its whole range, and the dual active-set method over its
+    // own (both with the interior point's threshold off).
+    for (das_max_dofs, expected) in [
+        (0, SolverKind::Lemke),
+        (usize::MAX, SolverKind::DualActiveSet),
+    ] {
+        let mut auto = scene.clone();
+        let mut lemke_range = Settings::default();
+        lemke_range.solver.auto_interior_point_min_rows = usize::MAX;
+        lemke_range.solver.auto_dual_active_set_max_dofs = das_max_dofs;
+        let (report, residual) = crate::stabilize::support::stabilize_with(&mut auto, lemke_range);
+        println!(
+            "{}",
+            crate::stabilize::support::describe(&format!("{expected:?}"), &report, residual)
+        );
+        assert!(report.status.is_resolved(), "{:?}", report.status);
+        assert!(residual <= report.tolerance, "exact depth {residual:e}");
+        let solved: Vec<_> = report.pass_reports.iter().flat_map(|p| &p.solved).collect();
+        assert!(!solved.is_empty());
+        for island in &solved {
+            assert_eq!(island.solver, Some(expected), "{island:?}");
+            assert!(island.fallbacks.is_empty(), "{:?}", island.fallbacks);
+        }
+        let relative =
+            (report.displacement - reference.displacement).abs() / reference.displacement;
+        assert!(
+            relative <= 1e-6,
+            "{expected:?}: displacements {} and {}",
+            report.displacement,
+            reference.displacement
+        );
+    }
 }
