@@ -78,11 +78,20 @@ pub const VIOLATION_OF_ACCEPTANCE: f64 = 1e-3;
 /// guards against cycling through degenerate ties.
 pub const STEPS_PER_SIZE: usize = 4;
 
+/// Problems of more entries of `dq` are refused (`NotApplicable`): its
+/// two dense `n x n` matrices (5.8 MB at this size) and `O(n^2)` steps
+/// are for islands of a few bodies, and a user naming it for a large
+/// island gets the next solver of the chain, not a huge allocation.
+/// `Auto` takes it up to 132 entries
+/// ([`crate::solver::SolverSettings::auto_dual_active_set_max_dofs`]).
+pub const MAX_DOFS: usize = 600;
+
 /// Why the dual active-set method gave no answer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub enum DualActiveSetFailure {
-    /// Equality rows or friction cones, which it does not take.
+    /// Equality rows, friction cones or rows of more than two bodies,
+    /// which it does not take, or more than [`MAX_DOFS`] entries of `dq`.
     NotApplicable,
     /// A violated row that no step can satisfy (module docs).
     Infeasible,
@@ -101,7 +110,7 @@ pub fn solve(
     tol_residual: f64,
     deadline: Option<Instant>,
 ) -> Result<Candidate, DualActiveSetFailure> {
-    if qp.num_equalities > 0 || !qp.cones.is_empty() {
+    if qp.num_equalities > 0 || !qp.cones.is_empty() || qp.num_dofs() > MAX_DOFS {
         return Err(DualActiveSetFailure::NotApplicable);
     }
     let rows = packed_rows(qp).ok_or(DualActiveSetFailure::NotApplicable)?;

@@ -155,7 +155,8 @@ impl KeptAnalysis {
     }
 
     /// The analysis of `P A P^T` (module docs), under the identity order:
-    /// factor [`KeptAnalysis::permuted_matrix`]'s values with it.
+    /// factor the values of [`KeptAnalysis::permuted_pattern`] (from
+    /// [`KeptAnalysis::permute_values`]) with it.
     pub fn symbolic(&self) -> &SymbolicCholesky<usize> {
         &self.symbolic
     }

@@ -11,7 +11,7 @@ use super::equality_rows::random_mixed;
 use super::friction_cone::{pushed_column, pushed_into_the_ground};
 use super::interior_point_friction::{named, tight_clarabel};
 use crate::support::solver_oracle::{assert_kkt, relative_metric_distance};
-use constraint_stabilization::solver::dual_active_set::DualActiveSetFailure;
+use constraint_stabilization::solver::dual_active_set::{DualActiveSetFailure, MAX_DOFS};
 use constraint_stabilization::solver::interior_point::InteriorPointFailure;
 use constraint_stabilization::solver::{
     FailureReason, ProjectionQp, ProjectionSolution, SolverChoice, SolverError, SolverKind,
@@ -157,6 +157,29 @@ fn a_wedged_pyramid_fails_typed_and_the_chain_certifies() {
             &FailureReason::InteriorPoint(InteriorPointFailure::Infeasible),
         ]
     );
+}
+
+/// An island above its size limit, named: `NotApplicable` (no dense
+/// matrices of that size are made), and the chain answers.
+#[test]
+fn a_large_island_named_goes_down_the_chain() {
+    let qp = random_stacks(&StackSpec::new(600, 2));
+    assert!(qp.num_dofs() > MAX_DOFS, "{} entries", qp.num_dofs());
+    let Err(SolverError::AllSolversFailed(alone)) =
+        solve_projection(&qp, &named(SolverChoice::DualActiveSet))
+    else {
+        panic!("a large island was taken");
+    };
+    assert_eq!(
+        alone[0].reason,
+        FailureReason::DualActiveSet(DualActiveSetFailure::NotApplicable)
+    );
+    let chain = SolverSettings {
+        choice: SolverChoice::DualActiveSet,
+        ..SolverSettings::default()
+    };
+    let solution = solve_with(&qp, &chain, "a stack of 600 rows");
+    assert_eq!(solution.solver, SolverKind::InteriorPoint);
 }
 
 /// Equality rows are not its problem: `NotApplicable`, and under `Auto`
