@@ -150,7 +150,6 @@ pub fn solve(
             let d = state.project(&rows[p]);
             let q = active.len();
             let r = state.active_coefficients(&d, q);
-            let z = state.direction(&d, q);
             let d2_norm_sq: f64 = d.rows(q, n - q).norm_squared();
             // The partial step: the first active multiplier to reach zero.
             let mut partial: Option<(f64, usize)> = None;
@@ -178,6 +177,8 @@ pub fn solve(
             }
             u_p += t;
             if !dependent {
+                // The primal direction, only where the step moves `dq`.
+                let z = state.direction(&d, q);
                 dq.axpy(t, &z, 1.0);
                 // s <- s + t J z (every row, the active ones stay at 0).
                 let z_slice = z.as_slice();
