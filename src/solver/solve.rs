@@ -3,8 +3,12 @@
 //!
 //! Order of solvers tried: under [`SolverChoice::Auto`], nothing when every
 //! row already holds ([`SolverKind::Trivial`]), the closed form for one
-//! row, Lemke up to [`SolverSettings::auto_lemke_max_rows`] rows (not
-//! counting equality rows) and clarabel above, or the augmented Lagrangian from
+//! row, for islands of at most
+//! [`SolverSettings::auto_dual_active_set_max_dofs`] entries of `dq`
+//! without equality rows the dual active-set method or Lemke (by rows
+//! against entries), otherwise Lemke up to
+//! [`SolverSettings::auto_lemke_max_rows`] rows (not counting equality
+//! rows) and clarabel above, or the augmented Lagrangian from
 //! [`SolverSettings::auto_augmented_lagrangian_min_rows`] rows (default
 //! never: faster, but less exact, which keeps settled bridge scenes
 //! awake; `benchmarks/results/solvers.md`, `coupling.md`). A named choice runs that solver
