@@ -124,6 +124,22 @@ fn duplicated_rows_leave_dq_unchanged() {
     }
 }
 
+/// The method alone (no fallback) fails on `qp` with `failure`; returns
+/// the failure's reason for further checks.
+fn fails_alone(qp: &ProjectionQp, failure: DualActiveSetFailure, context: &str) -> FailureReason {
+    let Err(SolverError::AllSolversFailed(alone)) =
+        solve_projection(qp, &named(SolverChoice::DualActiveSet))
+    else {
+        panic!("{context}: answered");
+    };
+    assert_eq!(
+        alone[0].reason,
+        FailureReason::DualActiveSet(failure),
+        "{context}"
+    );
+    alone[0].reason.clone()
+}
+
 /// A body wedged by a push that misses its cone's pyramid has no answer:
 /// the method fails typed (its certificate, at a rounding tolerance, is
 /// not taken as one), and with `stop_on_infeasible` the chain goes on to
@@ -131,16 +147,8 @@ fn duplicated_rows_leave_dq_unchanged() {
 #[test]
 fn a_wedged_pyramid_fails_typed_and_the_chain_certifies() {
     let qp = pushed_into_the_ground(2.0, 1.0, 0.3, 1e-3).pyramid().0;
-    let Err(SolverError::AllSolversFailed(alone)) =
-        solve_projection(&qp, &named(SolverChoice::DualActiveSet))
-    else {
-        panic!("a wedged body was solved");
-    };
-    assert_eq!(
-        alone[0].reason,
-        FailureReason::DualActiveSet(DualActiveSetFailure::Infeasible)
-    );
-    assert!(!alone[0].reason.certifies_infeasibility());
+    let reason = fails_alone(&qp, DualActiveSetFailure::Infeasible, "a wedged body");
+    assert!(!reason.certifies_infeasibility());
     let chain = SolverSettings {
         choice: SolverChoice::DualActiveSet,
         stop_on_infeasible: true,
@@ -165,15 +173,7 @@ fn a_wedged_pyramid_fails_typed_and_the_chain_certifies() {
 fn a_large_island_named_goes_down_the_chain() {
     let qp = random_stacks(&StackSpec::new(600, 2));
     assert!(qp.num_dofs() > MAX_DOFS, "{} entries", qp.num_dofs());
-    let Err(SolverError::AllSolversFailed(alone)) =
-        solve_projection(&qp, &named(SolverChoice::DualActiveSet))
-    else {
-        panic!("a large island was taken");
-    };
-    assert_eq!(
-        alone[0].reason,
-        FailureReason::DualActiveSet(DualActiveSetFailure::NotApplicable)
-    );
+    fails_alone(&qp, DualActiveSetFailure::NotApplicable, "a large island");
     let chain = SolverSettings {
         choice: SolverChoice::DualActiveSet,
         ..SolverSettings::default()
@@ -187,15 +187,7 @@ fn a_large_island_named_goes_down_the_chain() {
 #[test]
 fn equality_rows_are_not_applicable() {
     let qp = random_mixed(3, 2, 4);
-    let Err(SolverError::AllSolversFailed(fallbacks)) =
-        solve_projection(&qp, &named(SolverChoice::DualActiveSet))
-    else {
-        panic!("equality rows were taken");
-    };
-    assert_eq!(
-        fallbacks[0].reason,
-        FailureReason::DualActiveSet(DualActiveSetFailure::NotApplicable)
-    );
+    fails_alone(&qp, DualActiveSetFailure::NotApplicable, "equality rows");
     let auto = solve_with(&qp, &SolverSettings::default(), "auto");
     assert_ne!(auto.solver, SolverKind::DualActiveSet);
 }
