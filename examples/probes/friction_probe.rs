@@ -12,7 +12,8 @@
 //! the acceptance measure of each clarabel answer unpolished and polished.
 //! `solver=NAME`: `SolverSettings::choice` (`auto`, `lemke`, ...);
 //! `lemke-max=N`: `Auto` takes Lemke up to N rows, the interior point
-//! above. `repeat=N`: the call N more times on fresh copies of the scene, for a
+//! above. `rows=NAME`: `Settings::friction_rows` (`all`, `implied`,
+//! `generated`). `repeat=N`: the call N more times on fresh copies of the scene, for a
 //! profiler, and their median time.
 
 use std::time::Instant;
@@ -39,6 +40,12 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     }
     if args.iter().any(|a| a == "polish") {
         settings.solver.clarabel.polish_above = 0.0;
+    }
+    if let Some(name) = args.iter().find_map(|a| a.strip_prefix("rows=")) {
+        settings.friction_rows = constraint_stabilization::FrictionRows::ALL
+            .into_iter()
+            .find(|rows| rows.name() == name)
+            .ok_or_else(|| format!("unknown friction rows {name}"))?;
     }
     for body in 0..scene.bodies().len() {
         scene.body_mut(body)?.set_friction(Some(mu))?;

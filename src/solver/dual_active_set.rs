@@ -1,7 +1,7 @@
 //! The dual active-set method of Goldfarb and Idnani ("A numerically
 //! stable dual method for solving strictly convex quadratic programs",
 //! Math. Programming 27, 1983) for the projection QP of a small island,
-//! dense in body space.
+//! in the range space of the active rows.
 //!
 //! The problem is `minimize 1/2 dq^T M dq` subject to `s_i = a_i^T dq + b_i
 //! >= 0` (`a_i = J_i^T`, `b = phi - target`, inequality rows only). The
@@ -9,45 +9,52 @@
 //! rows one at a time, keeping every iterate the minimizer over its
 //! active set `A` (rows held as equalities) with multipliers `u >= 0`: it
 //! is dual feasible throughout and primal feasible at the end, where it is
-//! the answer. Its state is `Jm = L^-T Q` and the upper triangle `R` of
-//! the QR factorization `L^-1 N_A = Q [R; 0]` (`M = L L^T`, `N_A` the
-//! active rows' gradients): then `Jm^T M Jm = I`, and for a row `a`,
-//! `d = Jm^T a` splits into `d_1` (the first `q = |A|` entries) and `d_2`.
+//! the answer. Its state is the lower Cholesky factor `L` of the active
+//! rows' Delassus matrix `W_A = N_A^T M^-1 N_A` (`N_A` the active rows'
+//! gradients; `L L^T = W_A`).
 //!
-//! **One step** toward a violated row `p` (`s_p < 0`):
+//! **One step** toward a violated row `p` (`s_p < 0`), with `w = N_A^T M^-1
+//! a_p` (nonzero only for active rows that share a body with `p`):
 //!
 //! ```text
-//! z = Jm_2 d_2               (the primal direction: moves s_p, keeps A tight)
-//! r = R^-1 d_1               (how A's multipliers change: u <- u - t r, u_p <- u_p + t)
-//! t_full = -s_p / (z^T a_p) = -s_p / |d_2|^2          (row p becomes tight)
-//! t_part = min over r_j > 0 of u_j / r_j              (multiplier j reaches 0)
+//! y = L^-1 w,  r = L^-T y    (a_p's part in span(N_A): u <- u - t r, u_p <- u_p + t)
+//! delta = w_pp - |y|^2       (|a_p|^2 outside that span, in M^-1)
+//! z = M^-1 (a_p - N_A r)     (the primal direction: a_p^T z = delta, N_A^T z = 0)
+//! t_full = -s_p / delta                         (row p becomes tight)
+//! t_part = min over r_j > 0 of u_j / r_j        (multiplier j reaches 0)
 //! ```
 //!
 //! With `t = min(t_full, t_part)`, `dq <- dq + t z`. A full step adds `p`
-//! to `A` (Givens rotations zero `d_2` below its first entry, the same
-//! rotations applied to `Jm`'s columns, and `d`'s first `q + 1` entries
-//! become `R`'s new column); a partial step drops the row whose multiplier
-//! reached zero (rotations restore `R`'s triangle, applied to `Jm` too)
-//! and steps toward `p` again. When `a_p` is a combination of the active
-//! rows (`|d_2|` at rounding, [`DEPENDENT_REL`]) only the multipliers move
-//! (`t = t_part`), and a row is dropped: redundant contact rows (four
-//! corners on a face) are handled so, the active rows always independent.
-//! When, in addition, no `r_j` is positive, no step exists: `a_p` is a
-//! non-positive combination of tight rows, which certifies that the rows
-//! cannot all hold; that is reported as [`DualActiveSetFailure::Infeasible`]
-//! and left to the solvers that certify with a tolerance of their own
+//! to `A` (`L` gains the row `[y^T, sqrt(delta)]`); a partial step drops
+//! the row whose multiplier reached zero (its row of `L` removed, the
+//! rows below it moved up and rotations of neighbouring columns, `L <- L
+//! G`, restore the triangle) and steps toward `p` again. When `a_p` is a
+//! combination of the active rows (`delta <= DEPENDENT_REL^2 w_pp`,
+//! [`DEPENDENT_REL`]) only the multipliers move (`t = t_part`), and a row
+//! is dropped: redundant contact rows (four corners on a face) are
+//! handled so, the active rows always independent. When, in addition, no
+//! `r_j` is positive, no step exists: `a_p` is a non-positive combination
+//! of tight rows, which certifies that the rows cannot all hold; that is
+//! reported as [`DualActiveSetFailure::Infeasible`] and left to the solvers
+//! that certify with a tolerance of their own
 //! ([`crate::solver::FailureReason::certifies_infeasibility`] does not take
 //! it).
 //!
-//! **Cost.** `M` is block diagonal (`L` per body: `sqrt(m) I_3` and the
-//! inertia's Cholesky factor). A step costs `O(n (n - q))` for `z` and the
-//! rotations, `O(q^2)` for `r`, `12 n` for `d` (a row has two bodies) and
-//! `12 m` to measure every row after a primal step (`n = 6 bodies`, `m`
-//! rows); the number of steps is about the size of the final active set
-//! plus the drops. Dense in `n`: for islands of a few bodies with many
-//! rows (a stack with its friction pyramids, 100-250 rows on 30-42
-//! entries of `dq`), where the interior point's 16-20 factorizations cost
-//! more (`benchmarks/results/solvers.md`).
+//! **Cost.** `M` is block diagonal, so `M^-1 a_i` has a row's twelve
+//! entries and `w` costs a 6-product per shared body. A step costs
+//! `O(q^2)` for the two triangular solves (`q = |A|`), `12 q` for `z`,
+//! `12 m` to measure the inactive rows after a primal step, `O(q (q - k))`
+//! to drop row `k`; the number of steps is about the size of the final
+//! active set plus the drops. This is Goldfarb and Idnani's step in the
+//! range space: their null-space form keeps `L^-T Q` (`n x n`), whose
+//! column rotations cost `O(n (n - q))` a step, and measures dependence
+//! without a difference of squares; here dependence is judged on `delta`,
+//! whose rounding grows with the condition of `W_A`, so [`DEPENDENT_REL`]
+//! sits far above the precision (every answer passes the same acceptance
+//! test in `dq` as every solver's). Dense in `q`: for islands of a few
+//! bodies with many rows (a stack with its friction pyramids, 100-250
+//! rows on 30-42 entries of `dq`), where the interior point's 16-20
+//! factorizations cost more (`benchmarks/results/solvers.md`).
 //!
 //! **Order.** The most violated row, measured in `M^-1` lengths
 //! (`s_i / |a_i|_{M^-1}`), is added first. A row counts as violated while
@@ -57,16 +64,19 @@
 
 use std::time::Instant;
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector6};
+use nalgebra::{DVector, Vector6};
 
 use super::metric::BlockMetric;
 use super::outcome::Candidate;
 use super::projection::ProjectionQp;
-use super::residuals::{acceptance_length, row_diagonal};
+use super::residuals::acceptance_length;
 
-/// `|d_2| <= DEPENDENT_REL |a_p|_{M^-1}`: the row is a combination of the
-/// active rows (module docs), at rounding.
-pub const DEPENDENT_REL: f64 = 1e-10;
+/// A row is a combination of the active rows, at rounding, when the part
+/// of it outside their span is at most this fraction of its length, both
+/// in `M^-1` (`delta_p <= DEPENDENT_REL^2 w_pp`, module docs). The pivot
+/// `delta_p` is a difference of squares whose rounding grows with the
+/// condition of `W_A`, so the bound sits well above the precision.
+pub const DEPENDENT_REL: f64 = 1e-5;
 
 /// A row counts as violated while `s_i` is below `-VIOLATION_OF_ACCEPTANCE
 /// tol_residual L` (module docs).
@@ -79,11 +89,10 @@ pub const VIOLATION_OF_ACCEPTANCE: f64 = 1e-3;
 pub const STEPS_PER_SIZE: usize = 4;
 
 /// Problems of more entries of `dq` are refused (`NotApplicable`): its
-/// two dense `n x n` matrices (5.8 MB at this size) and `O(n^2)` steps
-/// are for islands of a few bodies, and a user naming it for a large
-/// island gets the next solver of the chain, not a huge allocation.
-/// `Auto` takes it up to 132 entries
-/// ([`crate::solver::SolverSettings::auto_dual_active_set_max_dofs`]).
+/// dense `q x q` factor and `O(q^2)` steps are for islands of a few
+/// bodies, and a user naming it for a large island gets the next solver
+/// of the chain, not a long dense solve. `Auto` takes it up to 132
+/// entries ([`crate::solver::SolverSettings::auto_dual_active_set_max_dofs`]).
 pub const MAX_DOFS: usize = 600;
 
 /// Why the dual active-set method gave no answer.
@@ -102,7 +111,7 @@ pub enum DualActiveSetFailure {
 }
 
 /// Solves `qp` (module docs). `Candidate::iterations` counts the steps,
-/// `Candidate::factorizations` is 0 (the factors are updated, never made
+/// `Candidate::factorizations` is 0 (the factor is updated, never made
 /// again).
 pub fn solve(
     qp: &ProjectionQp,
@@ -117,25 +126,30 @@ pub fn solve(
     let n = qp.num_dofs();
     let m = qp.num_rows();
     let b = qp.b();
-    let lengths: Vec<f64> = row_diagonal(qp, metric)
-        .into_iter()
-        .map(f64::sqrt)
-        .collect();
-    // A row no body moves (length 0) is never added: it holds or the
-    // problem was rejected before (`super::solve`).
-    let inverse_lengths: Vec<f64> = lengths
+    // `M^-1 a_i`, packed like the rows, and `w_ii = a_i^T M^-1 a_i`.
+    let scaled: Vec<PackedRow> = rows.iter().map(|row| row.scaled(metric)).collect();
+    let diagonal: Vec<f64> = rows
         .iter()
-        .map(|&len| if len > 0.0 { 1.0 / len } else { 0.0 })
+        .zip(&scaled)
+        .map(|(a, x)| a.dot_packed(x))
+        .collect();
+    // A row no body moves (`w_ii = 0`) is never added: it holds or the
+    // problem was rejected before (`super::solve`).
+    let inverse_lengths: Vec<f64> = diagonal
+        .iter()
+        .map(|&w| if w > 0.0 { 1.0 / w.sqrt() } else { 0.0 })
         .collect();
     let violated_below = -VIOLATION_OF_ACCEPTANCE * tol_residual * acceptance_length(qp);
-    let mut state = State::new(n, metric).ok_or(DualActiveSetFailure::NotApplicable)?;
+    let mut factor = ActiveFactor::new(n.min(m));
     let mut dq = DVector::zeros(n);
+    let b_rows = b.clone();
     let mut slack = b;
     let mut active: Vec<usize> = Vec::new();
     let mut u: Vec<f64> = Vec::new();
     let mut is_active = vec![false; m];
     let limit = STEPS_PER_SIZE * (m + n);
     let mut steps = 0;
+    let mut column = Vec::with_capacity(n.min(m));
     // The most violated row, in M^-1 lengths; none: the answer.
     while let Some(p) = most_violated(&slack, &inverse_lengths, &is_active, violated_below) {
         let mut u_p = 0.0;
@@ -147,10 +161,12 @@ pub fn solve(
             if deadline.is_some_and(|d| Instant::now() >= d) {
                 return Err(DualActiveSetFailure::Deadline);
             }
-            let d = state.project(&rows[p]);
-            let q = active.len();
-            let r = state.active_coefficients(&d, q);
-            let d2_norm_sq: f64 = d.rows(q, n - q).norm_squared();
+            // w = N_A^T M^-1 a_p, y = L^-1 w, r = L^-T y.
+            column.clear();
+            column.extend(active.iter().map(|&j| rows[j].dot_packed(&scaled[p])));
+            let y = factor.solve_lower(&column);
+            let delta = diagonal[p] - y.iter().map(|x| x * x).sum::<f64>();
+            let r = factor.solve_upper(&y);
             // The partial step: the first active multiplier to reach zero.
             let mut partial: Option<(f64, usize)> = None;
             for (j, &rj) in r.iter().enumerate() {
@@ -161,8 +177,9 @@ pub fn solve(
                     }
                 }
             }
-            let dependent = d2_norm_sq.sqrt() <= DEPENDENT_REL * lengths[p];
-            let full = (!dependent).then(|| -slack[p] / d2_norm_sq);
+            let dependent = delta <= DEPENDENT_REL * DEPENDENT_REL * diagonal[p]
+                || active.len() == factor.capacity;
+            let full = (!dependent).then(|| -slack[p] / delta);
             let (t, drop) = match (full, partial) {
                 (None, None) => return Err(DualActiveSetFailure::Infeasible),
                 (Some(t_full), Some((t_part, j))) if t_part < t_full => (t_part, Some(j)),
@@ -177,23 +194,33 @@ pub fn solve(
             }
             u_p += t;
             if !dependent {
-                // The primal direction, only where the step moves `dq`.
-                let z = state.direction(&d, q);
+                // z = M^-1 (a_p - N_A r): moves s_p by delta per unit,
+                // keeps the active rows tight.
+                let mut z = DVector::zeros(n);
+                scaled[p].add_to(1.0, z.as_mut_slice());
+                for (&j, &rj) in active.iter().zip(&r) {
+                    scaled[j].add_to(-rj, z.as_mut_slice());
+                }
                 dq.axpy(t, &z, 1.0);
-                // s <- s + t J z (every row, the active ones stay at 0).
+                // s <- s + t J z on the inactive rows (the active ones
+                // stay at 0; a dropped row is measured again).
                 let z_slice = z.as_slice();
-                for (s_i, row) in slack.iter_mut().zip(&rows) {
-                    *s_i += t * row.dot(z_slice);
+                for ((s_i, row), &on) in slack.iter_mut().zip(&rows).zip(&is_active) {
+                    if !on {
+                        *s_i += t * row.dot(z_slice);
+                    }
                 }
             }
             match drop {
                 Some(j) => {
-                    state.drop_active(j, q);
-                    is_active[active.remove(j)] = false;
+                    factor.remove(j, active.len());
+                    let dropped = active.remove(j);
+                    is_active[dropped] = false;
+                    slack[dropped] = rows[dropped].dot(dq.as_slice()) + b_rows[dropped];
                     u.remove(j);
                 }
                 None => {
-                    state.add_active(d, q);
+                    factor.append(&y, delta.sqrt());
                     active.push(p);
                     is_active[p] = true;
                     u.push(u_p);
@@ -239,21 +266,58 @@ fn most_violated(
     best.map(|(_, i)| i)
 }
 
-/// A row's gradient as at most two blocks of six entries of `dq` (a
-/// contact's two bodies; an absent second block is zeros at offset 0).
+/// A row's gradient (or `M^-1` times it) as at most two blocks of six
+/// entries of `dq` (a contact's two bodies; an absent second block is
+/// zeros at the first block's offset).
 struct PackedRow {
     offsets: [usize; 2],
-    gradients: [Vector6<f64>; 2],
+    blocks: [Vector6<f64>; 2],
 }
 
 impl PackedRow {
-    /// `a^T v`.
+    /// `a^T v` for a dense `v`.
     fn dot(&self, v: &[f64]) -> f64 {
         self.offsets
             .iter()
-            .zip(&self.gradients)
+            .zip(&self.blocks)
             .map(|(&offset, g)| Vector6::from_column_slice(&v[offset..offset + 6]).dot(g))
             .sum()
+    }
+
+    /// `a^T x` for another packed row: the blocks of the bodies both have.
+    fn dot_packed(&self, other: &PackedRow) -> f64 {
+        let mut sum = 0.0;
+        for (&offset, g) in self.offsets.iter().zip(&self.blocks) {
+            for (&other_offset, h) in other.offsets.iter().zip(&other.blocks) {
+                if offset == other_offset {
+                    sum += g.dot(h);
+                }
+            }
+        }
+        sum
+    }
+
+    /// `v <- v + c a`.
+    fn add_to(&self, c: f64, v: &mut [f64]) {
+        for (&offset, g) in self.offsets.iter().zip(&self.blocks) {
+            for (x, gi) in v[offset..offset + 6].iter_mut().zip(g.iter()) {
+                *x += c * gi;
+            }
+        }
+    }
+
+    /// `M^-1 a` (`M` block diagonal, so the same bodies).
+    fn scaled(&self, metric: &[BlockMetric]) -> PackedRow {
+        PackedRow {
+            offsets: self.offsets,
+            // A row of no body (zero blocks at offset 0) of a problem with
+            // no body has no metric block: zeros.
+            blocks: [0, 1].map(|slot| {
+                metric
+                    .get(self.offsets[slot] / 6)
+                    .map_or_else(Vector6::zeros, |block| block.apply_inv(&self.blocks[slot]))
+            }),
+        }
     }
 }
 
@@ -265,150 +329,112 @@ fn packed_rows(qp: &ProjectionQp) -> Option<Vec<PackedRow>> {
         .map(|row| {
             let mut packed = PackedRow {
                 offsets: [0; 2],
-                gradients: [Vector6::zeros(); 2],
+                blocks: [Vector6::zeros(); 2],
             };
-            if row.blocks.len() > 2 {
-                return None;
-            }
-            for (slot, (k, g)) in row.blocks.iter().enumerate() {
-                packed.offsets[slot] = 6 * k;
-                packed.gradients[slot] = *g;
+            match row.blocks.as_slice() {
+                [] => {}
+                [(k, g)] => {
+                    packed.offsets = [6 * k, 6 * k];
+                    packed.blocks[0] = *g;
+                }
+                [(k, g), (l, h)] => {
+                    packed.offsets = [6 * k, 6 * l];
+                    packed.blocks = [*g, *h];
+                }
+                _ => return None,
             }
             Some(packed)
         })
         .collect()
 }
 
-/// `Jm` and `R` (module docs), dense, column-major.
-struct State {
-    n: usize,
-    /// `n x n`, `Jm^T M Jm = I`.
-    jm: DMatrix<f64>,
-    /// `n x n`, upper triangle of the first `q` columns used.
-    r: DMatrix<f64>,
+/// The lower Cholesky factor `L` of `W_A = N_A^T M^-1 N_A`, the active
+/// rows' Delassus matrix, dense and row-major in a square of `capacity`
+/// (at most `min(n, m)` independent rows are ever active).
+struct ActiveFactor {
+    capacity: usize,
+    l: Vec<f64>,
+    /// `1 / L_ii` (the solves multiply: a division per entry was a fifth
+    /// of a step).
+    inverse_diagonal: Vec<f64>,
 }
 
-impl State {
-    /// `Jm = L^-T`: per body `I_3 / sqrt(m)` and `C^-T` (`C` the inertia's
-    /// lower Cholesky factor); `R` empty. `None` when a factor is singular
-    /// (a validated metric's never is).
-    fn new(n: usize, metric: &[BlockMetric]) -> Option<Self> {
-        let mut jm = DMatrix::zeros(n, n);
-        for (k, block) in metric.iter().enumerate() {
-            let scale = 1.0 / block.mass.sqrt();
-            for c in 0..3 {
-                jm[(6 * k + c, 6 * k + c)] = scale;
-            }
-            let c_inv_t: Matrix3<f64> = block.inertia_chol.transpose().try_inverse()?;
-            jm.fixed_view_mut::<3, 3>(6 * k + 3, 6 * k + 3)
-                .copy_from(&c_inv_t);
+impl ActiveFactor {
+    fn new(capacity: usize) -> Self {
+        Self {
+            capacity,
+            l: vec![0.0; capacity * capacity],
+            inverse_diagonal: vec![0.0; capacity],
         }
-        Some(Self {
-            n,
-            jm,
-            r: DMatrix::zeros(n, n),
-        })
     }
 
-    /// `d = Jm^T a` (the row's two blocks only).
-    fn project(&self, row: &PackedRow) -> DVector<f64> {
-        let n = self.n;
-        let data = self.jm.as_slice();
-        DVector::from_fn(n, |j, _| row.dot(&data[j * n..j * n + n]))
+    fn at(&self, i: usize, j: usize) -> f64 {
+        self.l[i * self.capacity + j]
     }
 
-    /// `r = R^-1 d_1` by back substitution, column by column (`R` is
-    /// stored by columns).
-    fn active_coefficients(&self, d: &DVector<f64>, q: usize) -> Vec<f64> {
-        let n = self.n;
-        let data = self.r.as_slice();
-        let mut r: Vec<f64> = d.as_slice()[..q].to_vec();
-        for j in (0..q).rev() {
-            let column = &data[j * n..j * n + j + 1];
-            r[j] /= column[j];
-            let rj = r[j];
-            for (ri, rij) in r[..j].iter_mut().zip(column) {
-                *ri -= rij * rj;
+    /// `y = L^-1 w` (`q = w.len()`).
+    fn solve_lower(&self, w: &[f64]) -> Vec<f64> {
+        let mut y = w.to_vec();
+        for i in 0..y.len() {
+            let row = &self.l[i * self.capacity..i * self.capacity + i + 1];
+            let sum: f64 = row[..i].iter().zip(&y[..i]).map(|(a, b)| a * b).sum();
+            y[i] = (y[i] - sum) * self.inverse_diagonal[i];
+        }
+        y
+    }
+
+    /// `r = L^-T y`, by columns of `L^T` (rows of `L`).
+    fn solve_upper(&self, y: &[f64]) -> Vec<f64> {
+        let mut r = y.to_vec();
+        for i in (0..r.len()).rev() {
+            let row = &self.l[i * self.capacity..i * self.capacity + i + 1];
+            r[i] *= self.inverse_diagonal[i];
+            let ri = r[i];
+            for (rj, lij) in r[..i].iter_mut().zip(&row[..i]) {
+                *rj -= lij * ri;
             }
         }
         r
     }
 
-    /// `z = Jm_2 d_2`.
-    fn direction(&self, d: &DVector<f64>, q: usize) -> DVector<f64> {
-        let mut z = DVector::zeros(self.n);
-        for j in q..self.n {
-            z.axpy(d[j], &self.jm.column(j), 1.0);
-        }
-        z
+    /// Appends the row `[y^T, pivot]` (the new row's column of `W_A` was
+    /// `w = L y`, its diagonal `|y|^2 + pivot^2`).
+    fn append(&mut self, y: &[f64], pivot: f64) {
+        let q = y.len();
+        let row = &mut self.l[q * self.capacity..q * self.capacity + q + 1];
+        row[..q].copy_from_slice(y);
+        row[q] = pivot;
+        self.inverse_diagonal[q] = 1.0 / pivot;
     }
 
-    /// Adds the row with `d = Jm^T a`: rotations zero `d[q + 1..]` from the
-    /// bottom, applied to `Jm`'s columns; `d[..=q]` is `R`'s column `q`.
-    fn add_active(&mut self, mut d: DVector<f64>, q: usize) {
-        for j in (q + 1..self.n).rev() {
-            if let Some((c, s, h)) = givens(d[j - 1], d[j]) {
-                d[j - 1] = h;
-                d[j] = 0.0;
-                rotate_columns(&mut self.jm, j - 1, j, c, s);
-            }
+    /// Removes active row `k` of `q`: the rows after it move up one,
+    /// which leaves one entry above the diagonal in each of them; a
+    /// rotation of columns `(j, j + 1)` (`L <- L G`, so `L L^T` keeps)
+    /// zeroes it, row by row.
+    fn remove(&mut self, k: usize, q: usize) {
+        let cap = self.capacity;
+        for i in k..q - 1 {
+            let (upper, lower) = self.l.split_at_mut((i + 1) * cap);
+            upper[i * cap..i * cap + i + 2].copy_from_slice(&lower[..i + 2]);
         }
-        for i in 0..=q {
-            self.r[(i, q)] = d[i];
-        }
-    }
-
-    /// Drops active row `k` of `q`: `R`'s column `k` removed, the columns
-    /// after it shifted left (upper Hessenberg), rotations on rows
-    /// `(j, j + 1)` restore the triangle, applied to `Jm`'s columns too.
-    fn drop_active(&mut self, k: usize, q: usize) {
-        for j in k..q - 1 {
-            for i in 0..=j + 1 {
-                self.r[(i, j)] = self.r[(i, j + 1)];
-            }
-        }
-        for i in 0..q {
-            self.r[(i, q - 1)] = 0.0;
+        for j in 0..q {
+            self.l[(q - 1) * cap + j] = 0.0;
         }
         for j in k..q - 1 {
-            if let Some((c, s, h)) = givens(self.r[(j, j)], self.r[(j + 1, j)]) {
-                self.r[(j, j)] = h;
-                self.r[(j + 1, j)] = 0.0;
-                for col in j + 1..q - 1 {
-                    let (top, bottom) = (self.r[(j, col)], self.r[(j + 1, col)]);
-                    self.r[(j, col)] = c * top + s * bottom;
-                    self.r[(j + 1, col)] = -s * top + c * bottom;
-                }
-                rotate_columns(&mut self.jm, j, j + 1, c, s);
+            let (x, y) = (self.at(j, j), self.at(j, j + 1));
+            if y == 0.0 {
+                continue;
+            }
+            let h = (x * x + y * y).sqrt();
+            let (c, s) = (x / h, y / h);
+            for i in j..q - 1 {
+                let (a, b) = (self.at(i, j), self.at(i, j + 1));
+                self.l[i * cap + j] = c * a + s * b;
+                self.l[i * cap + j + 1] = -s * a + c * b;
             }
         }
-    }
-}
-
-/// The rotation `G^T [x; y] = [h; 0]`, `G^T = [[c, s], [-s, c]]`; `None`
-/// when `y` is already zero.
-fn givens(x: f64, y: f64) -> Option<(f64, f64, f64)> {
-    if y == 0.0 {
-        return None;
-    }
-    // The entries are lengths in `M^-1` of rows and their parts: far from
-    // overflow, so the plain root (hypot's scaling costs a tenth of the
-    // solve).
-    let h = (x * x + y * y).sqrt();
-    Some((x / h, y / h, h))
-}
-
-/// `Jm <- Jm G` on columns `a`, `b` (`G = [[c, -s], [s, c]]`): the rotation
-/// that [`givens`] applied to `Jm^T a`.
-fn rotate_columns(jm: &mut DMatrix<f64>, a: usize, b: usize, c: f64, s: f64) {
-    let n = jm.nrows();
-    let data = jm.as_mut_slice();
-    let (left, right) = data.split_at_mut(b * n);
-    let col_a = &mut left[a * n..a * n + n];
-    let col_b = &mut right[..n];
-    for (x, y) in col_a.iter_mut().zip(col_b.iter_mut()) {
-        let (t1, t2) = (*x, *y);
-        *x = c * t1 + s * t2;
-        *y = -s * t1 + c * t2;
+        for i in k..q - 1 {
+            self.inverse_diagonal[i] = 1.0 / self.at(i, i);
+        }
     }
 }

@@ -18,7 +18,7 @@
 //!   semismooth Newton inner solve on `H = M + rho J_A^T J_A` (sparse
 //!   Cholesky), warm-startable from multipliers;
 //! - [`dual_active_set`]: Goldfarb and Idnani's dual active-set method,
-//!   dense in body space, for islands of a few bodies with many rows;
+//!   dense in the active rows, for islands of a few bodies with many rows;
 //! - [`interior_point`]: a primal-dual interior point on the same
 //!   body-space matrix (`H = M + J^T D J`, sparse Cholesky, symbolic
 //!   analysis once per problem);

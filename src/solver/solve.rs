@@ -321,7 +321,7 @@ pub struct SolverSettings {
     pub auto_interior_point_min_rows: usize,
     /// Under `Auto`, for problems without cones and equality rows of at
     /// most this many entries of `dq`: the dual active-set method
-    /// ([`super::dual_active_set`], dense in body space) where the rows are
+    /// ([`super::dual_active_set`], dense in the active rows) where the rows are
     /// at least as many as the entries, or the entries at most
     /// [`DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS`]; Lemke where the rows are fewer
     /// (up to [`SolverSettings::auto_lemke_max_rows`]). Default
