@@ -31,6 +31,10 @@
 //! `ENGINE_QPS_AROUND_MEDIAN=1` the `--worst K` calls are instead the `K`
 //! around the median call (a typical call rather than the slowest).
 //!
+//! With `ENGINE_QPS_PER_QP=1`, one line per QP on stderr: its entries of
+//! `dq`, rows, rows violated at `dq = 0`, and each variant's median time
+//! (ms) and iterations, in `--variants` order.
+//!
 //! Variants: `clarabel` (the reference: the default settings with
 //! `SolverChoice::Clarabel`), `al` (the augmented Lagrangian, named),
 //! `auto` (the default `Auto`), `auto_no_das` (`Auto` without the dual
@@ -333,6 +337,24 @@ fn compare(args: &Args, name: &str, qps: &[RecordedQp]) {
         let largest = qps.iter().map(|p| p.qp.num_rows()).max().unwrap_or(0);
         format!("{} QPs, {total} rows, largest {largest}", qps.len())
     };
+    if std::env::var("ENGINE_QPS_PER_QP").is_ok() {
+        for (q, p) in qps.iter().enumerate() {
+            let medians: Vec<String> = (0..settings.len())
+                .map(|v| format!("{:.4}", 1e3 * common::median(&times[v][q])))
+                .collect();
+            let violated = p.qp.b().iter().filter(|&&b| b < 0.0).count();
+            let steps: Vec<String> = (0..settings.len())
+                .map(|v| last[v][q].as_ref().map_or(0, |s| s.iterations).to_string())
+                .collect();
+            eprintln!(
+                "per-qp {name} dofs {} rows {} violated {violated} ms {} iterations {}",
+                p.qp.num_dofs(),
+                p.qp.num_rows(),
+                medians.join(" "),
+                steps.join(" ")
+            );
+        }
+    }
     let clarabel_time: f64 = times[0].iter().map(|t| common::median(t)).sum();
     for (v, vname) in args.variants.iter().enumerate() {
         let time: f64 = times[v].iter().map(|t| common::median(t)).sum();

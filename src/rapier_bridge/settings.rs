@@ -214,6 +214,7 @@ impl Default for BridgeSettings {
     fn default() -> Self {
         let mut stabilizer = Settings::default();
         stabilizer.solver.auto_dual_active_set_max_dofs = 0;
+        stabilizer.solver.auto_dual_active_set_violated_max_dofs = 0;
         BridgeSettings::with_stabilizer(stabilizer)
     }
 }

@@ -71,8 +71,8 @@ pub use projection::{BodyMetric, JacobianRow, ProjectionQp};
 pub use projection_lcp::{dq_from_lambda, lcp_matrix, projection_to_lcp};
 pub use residuals::ProjectionResiduals;
 pub use solve::{
-    DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS, DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS,
-    DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS, PRECISION_STOP_CAP, ProjectionSolution, SolverChoice,
+    DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS, DEFAULT_AUTO_DUAL_ACTIVE_SET_VIOLATED_MAX_DOFS,
+    DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS, PRECISION_STOP_CAP, ProjectionSolution, SolverChoice,
     SolverSettings, cross_check_projection, solve_projection, solve_projection_kept,
     solve_projection_warm,
 };

@@ -5,8 +5,9 @@
 //! row already holds ([`SolverKind::Trivial`]), the closed form for one
 //! row, for islands of at most
 //! [`SolverSettings::auto_dual_active_set_max_dofs`] entries of `dq`
-//! without equality rows the dual active-set method or Lemke (by rows
-//! against entries), otherwise Lemke up to
+//! without equality rows the dual active-set method (up to
+//! [`SolverSettings::auto_dual_active_set_violated_max_dofs`] entries when
+//! the rows violated at `dq = 0` are at most the entries), otherwise Lemke up to
 //! [`SolverSettings::auto_lemke_max_rows`] rows (not counting equality
 //! rows) and clarabel above, or the augmented Lagrangian from
 //! [`SolverSettings::auto_augmented_lagrangian_min_rows`] rows (default
@@ -191,14 +192,10 @@ impl SolverChoice {
 /// bodies.
 pub const DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS: usize = 132;
 
-/// `Auto` takes the dual active-set method for problems of at most this
-/// many entries of `dq` (four bodies) whatever their rows
-/// ([`SolverSettings::auto_dual_active_set_max_dofs`]): on the engine
-/// states' QPs of 2-40 rows it answered in 0.49, 0.59, 0.72 and 0.81x
-/// Lemke's time at 6, 12, 18 and 24 entries (geometric means), 0.99x at 30
-/// and 1.1-3.1x above where the rows were fewer than the entries
-/// (`benchmarks/results/solvers.md`, "The dual active-set method").
-pub const DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS: usize = 24;
+/// Default of [`SolverSettings::auto_dual_active_set_violated_max_dofs`]:
+/// the method's own limit ([`super::dual_active_set::MAX_DOFS`], 100
+/// bodies).
+pub const DEFAULT_AUTO_DUAL_ACTIVE_SET_VIOLATED_MAX_DOFS: usize = super::dual_active_set::MAX_DOFS;
 
 /// Default of [`SolverSettings::auto_interior_point_min_rows`]: from this
 /// many rows the interior point answers under `Auto` (Lemke below).
@@ -321,20 +318,27 @@ pub struct SolverSettings {
     pub auto_interior_point_min_rows: usize,
     /// Under `Auto`, for problems without cones and equality rows of at
     /// most this many entries of `dq`: the dual active-set method
-    /// ([`super::dual_active_set`], dense in the active rows) where the rows are
-    /// at least as many as the entries, or the entries at most
-    /// [`DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS`]; Lemke where the rows are fewer
-    /// (up to [`SolverSettings::auto_lemke_max_rows`]). Default
-    /// [`DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS`], by measurement on every QP
-    /// of the engine states' calls, frictionless and with their engines'
-    /// friction, each solver in alternation: up to 132 entries the method
-    /// took 0.07-0.8x the interior point's time (break-even near 140-180
-    /// entries); from 41 rows, 0.29x Lemke's time where the rows are at
-    /// least the entries and 1.8x where they are fewer (geometric means;
-    /// the interior point slower than both there)
-    /// (`benchmarks/results/solvers.md`, "The dual active-set method").
-    /// 0: neither (the rules by rows alone).
+    /// ([`super::dual_active_set`], dense in the active rows), whatever
+    /// the rows. Default [`DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS`], by
+    /// measurement on every QP of the engine states' calls, frictionless
+    /// and with their engines' friction, each solver in alternation: up to
+    /// 132 entries the method answered every QP in 0.1-0.9x the interior
+    /// point's time and never more than 1.1x Lemke's (12.8 ms against
+    /// 48.5 ms over the 468 QPs; `benchmarks/results/solvers.md`, "The
+    /// dual active-set method"). 0: never (with
+    /// [`SolverSettings::auto_dual_active_set_violated_max_dofs`] 0 too).
     pub auto_dual_active_set_max_dofs: usize,
+    /// Under `Auto`, for problems without cones and equality rows above
+    /// [`SolverSettings::auto_dual_active_set_max_dofs`] and up to this many
+    /// entries of `dq`: the dual active-set method when the rows violated
+    /// at `dq = 0` are at most the entries of `dq` (the method's steps grow
+    /// with the rows it adds, each `O(|A|^2)`; the interior point's cost
+    /// does not). Default [`DEFAULT_AUTO_DUAL_ACTIVE_SET_VIOLATED_MAX_DOFS`]:
+    /// on the engine states' QPs of 133-600 entries the rule chose the
+    /// method where it took 0.1-0.9x the interior point's time, and the
+    /// interior point for the pyramids' first passes and the frictional
+    /// piles, where the method took 1.1-10x (`solvers.md`). 0: never.
+    pub auto_dual_active_set_violated_max_dofs: usize,
     /// Augmented Lagrangian settings.
     pub augmented_lagrangian: AugmentedLagrangianSettings,
     /// Interior-point settings.
@@ -362,6 +366,7 @@ impl Default for SolverSettings {
             precision_length: None,
             auto_interior_point_min_rows: DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS,
             auto_dual_active_set_max_dofs: DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS,
+            auto_dual_active_set_violated_max_dofs: DEFAULT_AUTO_DUAL_ACTIVE_SET_VIOLATED_MAX_DOFS,
             augmented_lagrangian: AugmentedLagrangianSettings::default(),
             interior_point: InteriorPointSettings::default(),
             clarabel: ClarabelSettings::default(),
@@ -662,16 +667,18 @@ fn choice_reason(qp: &ProjectionQp, settings: &SolverSettings) -> String {
         (SolverChoice::Auto, SolverKind::Clarabel) if !qp.cones.is_empty() => {
             "auto: friction cones, which only clarabel solves".into()
         }
-        (SolverChoice::Auto, SolverKind::DualActiveSet) => format!(
-            "auto: the dense dual active-set method, at most {} entries of dq",
-            settings.auto_dual_active_set_max_dofs
-        ),
-        (SolverChoice::Auto, SolverKind::Lemke) if small_island_choice(qp, settings).is_some() => {
+        (SolverChoice::Auto, SolverKind::DualActiveSet)
+            if qp.num_dofs() <= settings.auto_dual_active_set_max_dofs =>
+        {
             format!(
-                "auto: Lemke for fewer rows than entries of dq, at most {}",
+                "auto: the dual active-set method, at most {} entries of dq",
                 settings.auto_dual_active_set_max_dofs
             )
         }
+        (SolverChoice::Auto, SolverKind::DualActiveSet) => format!(
+            "auto: the dual active-set method, at most {} entries of dq and no more rows violated",
+            settings.auto_dual_active_set_violated_max_dofs
+        ),
         (SolverChoice::Auto, SolverKind::InteriorPoint) => format!(
             "auto: the interior point on the body-space matrix from {} rows",
             settings.auto_interior_point_min_rows
@@ -702,8 +709,8 @@ fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
         SolverKind::ClosedForm
     } else if n >= settings.auto_augmented_lagrangian_min_rows {
         SolverKind::AugmentedLagrangian
-    } else if let Some(kind) = small_island_choice(qp, settings) {
-        kind
+    } else if dual_active_set_chosen(qp, settings) {
+        SolverKind::DualActiveSet
     } else if n >= settings.auto_interior_point_min_rows && qp.num_equalities == 0 {
         SolverKind::InteriorPoint
     } else if n - qp.num_equalities <= settings.auto_lemke_max_rows {
@@ -713,20 +720,19 @@ fn auto_choice(qp: &ProjectionQp, settings: &SolverSettings) -> SolverKind {
     }
 }
 
-/// `Auto`'s choice for a small island
-/// ([`SolverSettings::auto_dual_active_set_max_dofs`]; no cones, checked by
-/// the caller): the dual active-set method or Lemke, or `None` (equality
-/// rows, more entries of `dq`, or more rows than Lemke's range).
-fn small_island_choice(qp: &ProjectionQp, settings: &SolverSettings) -> Option<SolverKind> {
-    let (rows, dofs) = (qp.num_rows(), qp.num_dofs());
-    if qp.num_equalities > 0 || dofs > settings.auto_dual_active_set_max_dofs {
-        None
-    } else if rows >= dofs || dofs <= DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS {
-        Some(SolverKind::DualActiveSet)
-    } else if rows <= settings.auto_lemke_max_rows {
-        Some(SolverKind::Lemke)
+/// Whether `Auto` takes the dual active-set method (no cones, checked by
+/// the caller; [`SolverSettings::auto_dual_active_set_max_dofs`] and
+/// [`SolverSettings::auto_dual_active_set_violated_max_dofs`]).
+fn dual_active_set_chosen(qp: &ProjectionQp, settings: &SolverSettings) -> bool {
+    let dofs = qp.num_dofs();
+    if qp.num_equalities > 0 {
+        false
+    } else if dofs <= settings.auto_dual_active_set_max_dofs {
+        true
+    } else if dofs <= settings.auto_dual_active_set_violated_max_dofs {
+        qp.b().iter().filter(|&&b| b < 0.0).count() <= dofs
     } else {
-        None
+        false
     }
 }
 

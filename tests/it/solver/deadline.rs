@@ -37,7 +37,8 @@ fn every_solver_stops_when_its_deadline_has_passed_and_ends_the_chain() {
             SolverChoice::AugmentedLagrangian,
             SolverKind::AugmentedLagrangian,
         ),
-        (SolverChoice::Auto, SolverKind::Lemke),
+        (SolverChoice::DualActiveSet, SolverKind::DualActiveSet),
+        (SolverChoice::Auto, SolverKind::DualActiveSet),
     ] {
         let result = solve_projection(&qp, &past_deadline(choice));
         let Err(SolverError::AllSolversFailed(fallbacks)) = result else {

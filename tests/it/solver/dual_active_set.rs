@@ -192,11 +192,10 @@ fn equality_rows_are_not_applicable() {
     assert_ne!(auto.solver, SolverKind::DualActiveSet);
 }
 
-/// `Auto` takes it where the rows are at least the entries of `dq` and
-/// for up to `DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS` entries whatever the
-/// rows, Lemke where the rows are fewer, and beyond
-/// `DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS` entries neither (the interior
-/// point); each answer agrees with clarabel's.
+/// `Auto` takes it for up to `DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS`
+/// entries of `dq` whatever the rows, above that where the rows violated
+/// at `dq = 0` are at most the entries, else the interior point; each
+/// answer agrees with clarabel's.
 #[test]
 fn auto_takes_it_by_size() {
     let settings = SolverSettings::default();
@@ -212,8 +211,10 @@ fn auto_takes_it_by_size() {
         // Six boxes' pyramids: 36 entries, more rows.
         (pyramid(6), SolverKind::DualActiveSet),
         // Six boxes without friction: 36 entries, fewer rows.
-        (frictionless(6), SolverKind::Lemke),
-        // Thirty boxes' pyramids: 180 entries.
+        (frictionless(6), SolverKind::DualActiveSet),
+        // Thirty boxes without friction: 180 entries, fewer rows violated.
+        (frictionless(30), SolverKind::DualActiveSet),
+        // Thirty boxes' pyramids: 180 entries, more rows violated.
         (pyramid(30), SolverKind::InteriorPoint),
     ];
     for (qp, expected) in cases {

@@ -139,6 +139,7 @@ fn auto_takes_the_interior_point_from_its_row_count() {
     let settings = SolverSettings {
         auto_interior_point_min_rows: 41,
         auto_dual_active_set_max_dofs: 0,
+        auto_dual_active_set_violated_max_dofs: 0,
         ..SolverSettings::default()
     };
     for (boxes, expected) in [(2, SolverKind::Lemke), (6, SolverKind::InteriorPoint)] {

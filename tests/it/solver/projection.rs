@@ -14,8 +14,8 @@ use constraint_stabilization::solver::lemke::LemkeStatus;
 use constraint_stabilization::solver::pgs::{PgsSettings, PgsStatus};
 use constraint_stabilization::solver::{
     BodyMetric, CrossCheckOutcome, DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS,
-    DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS, FailureReason, Fallback, JacobianRow, ProjectionQp,
-    ProjectionSolution, SolverChoice, SolverError, SolverKind, SolverSettings,
+    DEFAULT_AUTO_DUAL_ACTIVE_SET_VIOLATED_MAX_DOFS, FailureReason, Fallback, JacobianRow,
+    ProjectionQp, ProjectionSolution, SolverChoice, SolverError, SolverKind, SolverSettings,
     cross_check_projection, solve_projection,
 };
 use dev_support::solver::{StackSpec, random_stacks};
@@ -47,8 +47,9 @@ fn settings(choice: SolverChoice) -> SolverSettings {
 
 /// The solver that must answer `qp` under `choice` when nothing fails: the
 /// named one, or under `Auto` the rule documented in `solver::solve`
-/// (trivial, closed form for one row, the dual active-set method or Lemke
-/// for small islands by rows against entries of `dq`, the interior point
+/// (trivial, closed form for one row, the dual active-set method for
+/// small islands and for larger ones with at most as many violated rows
+/// as entries of `dq`, the interior point
 /// from
 /// `auto_interior_point_min_rows` rows without equalities, Lemke up to
 /// `auto_lemke_max_rows` rows, clarabel above).
@@ -60,18 +61,12 @@ fn first_solver(qp: &ProjectionQp, choice: SolverChoice) -> SolverKind {
         SolverChoice::Auto if qp.rows.len() == 1 => SolverKind::ClosedForm,
         SolverChoice::Auto
             if qp.num_equalities == 0
-                && qp.num_dofs() <= DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS
-                && (qp.rows.len() >= qp.num_dofs()
-                    || qp.num_dofs() <= DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS) =>
+                && (qp.num_dofs() <= DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS
+                    || (qp.num_dofs() <= DEFAULT_AUTO_DUAL_ACTIVE_SET_VIOLATED_MAX_DOFS
+                        && qp.phi.iter().zip(&qp.target).filter(|(p, t)| p < t).count()
+                            <= qp.num_dofs())) =>
         {
             SolverKind::DualActiveSet
-        }
-        SolverChoice::Auto
-            if qp.num_equalities == 0
-                && qp.num_dofs() <= DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS
-                && qp.rows.len() <= SolverSettings::default().auto_lemke_max_rows =>
-        {
-            SolverKind::Lemke
         }
         SolverChoice::Auto
             if qp.rows.len() >= SolverSettings::default().auto_interior_point_min_rows

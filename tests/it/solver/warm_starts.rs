@@ -86,6 +86,8 @@ fn augmented_auto() -> Settings {
 fn interior_auto() -> Settings {
     let mut settings = Settings::default();
     settings.solver.auto_interior_point_min_rows = settings.solver.auto_lemke_max_rows + 1;
+    settings.solver.auto_dual_active_set_max_dofs = 0;
+    settings.solver.auto_dual_active_set_violated_max_dofs = 0;
     settings
 }
 

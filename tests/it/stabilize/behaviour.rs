@@ -14,7 +14,7 @@ use crate::stabilize::support::*;
 use constraint_stabilization::body::{BodyDesc, MassSpec};
 use constraint_stabilization::scene::Scene;
 use constraint_stabilization::solver::{
-    CrossCheckOutcome, DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS, SolverChoice, SolverKind,
+    CrossCheckOutcome, DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS, SolverChoice, SolverKind,
 };
 use constraint_stabilization::stabilizer::IslandOutcome;
 #[cfg(feature = "testbed")]
@@ -242,16 +242,15 @@ fn every_solver_choice_converges_to_the_same_poses() {
 
 /// The solvers that may answer an island of `rows` rows and `bodies`
 /// dynamic bodies under `choice` with no fallback: the named one, or under
-/// `Auto` the closed form for one row, the dual active-set method for up to
-/// `DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS` entries of `dq`, and Lemke or
-/// it above (by rows against entries; the problem may be a region of the
-/// island: fewer bodies).
+/// `Auto` the closed form for one row and the dual active-set method for
+/// up to `DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS` entries of `dq` (the
+/// small scenes here).
 fn expected_solvers(choice: SolverChoice, rows: usize, bodies: usize) -> Vec<SolverKind> {
-    let small = 6 * bodies <= DUAL_ACTIVE_SET_ANY_ROWS_MAX_DOFS;
+    let small = 6 * bodies <= DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS;
     match choice {
         SolverChoice::Auto if rows == 1 => vec![SolverKind::ClosedForm],
         SolverChoice::Auto if small => vec![SolverKind::DualActiveSet],
-        SolverChoice::Auto => vec![SolverKind::Lemke, SolverKind::DualActiveSet],
+        SolverChoice::Auto => vec![SolverKind::DualActiveSet, SolverKind::InteriorPoint],
         SolverChoice::Clarabel => vec![SolverKind::Clarabel],
         SolverChoice::ClarabelDual => vec![SolverKind::ClarabelDual],
         SolverChoice::Lemke => vec![SolverKind::Lemke],

@@ -29,6 +29,7 @@ fn broken(clarabel: bool, lemke: bool, pgs: bool) -> Settings {
     let mut settings = Settings::default();
     let solver = &mut settings.solver;
     solver.auto_dual_active_set_max_dofs = 0;
+    solver.auto_dual_active_set_violated_max_dofs = 0;
     if clarabel {
         solver.clarabel.max_iter = 1;
     }

@@ -33,6 +33,7 @@ fn frictionless_default_reproduces_the_seed_bit_for_bit() {
         settings.near_pair_faces = false;
         settings.solver.auto_interior_point_min_rows = usize::MAX;
         settings.solver.auto_dual_active_set_max_dofs = 0;
+        settings.solver.auto_dual_active_set_violated_max_dofs = 0;
         settings
     };
     let mut stabilizer = Stabilizer::new(settings).expect("valid settings");

@@ -185,6 +185,7 @@ fn lemke_answers_every_island_under_a_heavy_lid() {
         let mut lemke_range = Settings::default();
         lemke_range.solver.auto_interior_point_min_rows = usize::MAX;
         lemke_range.solver.auto_dual_active_set_max_dofs = das_max_dofs;
+        lemke_range.solver.auto_dual_active_set_violated_max_dofs = das_max_dofs;
         let (report, residual) = crate::stabilize::support::stabilize_with(&mut auto, lemke_range);
         println!(
             "{}",
