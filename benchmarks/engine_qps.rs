@@ -35,6 +35,10 @@
 //! `dq`, rows, rows violated at `dq = 0`, and each variant's median time
 //! (ms) and iterations, in `--variants` order.
 //!
+//! With `ENGINE_QPS_ANSWERS=1`, per QP on stderr the reference's and each
+//! variant's `||dq||_M` and smallest slack `min_i (J dq + b)_i`: which
+//! answer is the smaller feasible one where two differ.
+//!
 //! Variants: `clarabel` (the reference: the default settings with
 //! `SolverChoice::Clarabel`), `al` (the augmented Lagrangian, named),
 //! `auto` (the default `Auto`), `auto_no_das` (`Auto` without the dual
@@ -353,6 +357,28 @@ fn compare(args: &Args, name: &str, qps: &[RecordedQp]) {
                 medians.join(" "),
                 steps.join(" ")
             );
+        }
+    }
+    if std::env::var("ENGINE_QPS_ANSWERS").is_ok() {
+        for (q, p) in qps.iter().enumerate() {
+            let b = p.qp.b();
+            let describe = |dq: &DVector<f64>| {
+                let s = p.qp.apply_j(dq) + &b;
+                let min_slack = s.iter().cloned().fold(f64::INFINITY, f64::min);
+                format!(
+                    "norm {:.12e} min slack {:.3e}",
+                    m_norm(&p.qp, dq),
+                    min_slack
+                )
+            };
+            if let Some(r) = &reference[q] {
+                eprintln!("answers {name} qp {q} reference {}", describe(r));
+            }
+            for (v, vname) in args.variants.iter().enumerate() {
+                if let Some(sol) = &last[v][q] {
+                    eprintln!("answers {name} qp {q} {vname} {}", describe(&sol.dq));
+                }
+            }
         }
     }
     let clarabel_time: f64 = times[0].iter().map(|t| common::median(t)).sum();

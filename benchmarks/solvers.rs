@@ -53,8 +53,9 @@ const MAX_ROUNDS: usize = 30;
 /// The O(n^3)-per-pivot variant is only run up to this size (at 100 rows it
 /// is already two orders of magnitude slower).
 const REFACTOR_MAX_N: usize = 100;
-/// The dual active-set method (dense in body space, `O(n^2)` per step) is
-/// only run up to this size (about 75 boxes, 450 entries of `dq`).
+/// The dual active-set method (dense in its active rows, `O(|A|^2)` per
+/// step, and refusing more than 600 entries of `dq`) is only run up to
+/// this size (about 75 boxes, 450 entries of `dq`).
 const DUAL_ACTIVE_SET_MAX_N: usize = 300;
 
 /// The augmented Lagrangian with a dense `H` is only run up to this size
@@ -435,7 +436,7 @@ fn main() {
          problem with every `phi` scaled by 0.9 (as between two passes); so \
          does the interior point on the body-space matrix \
          (`solver::interior_point`). The dual active-set method \
-         (`solver::dual_active_set`, dense in body space) runs up to \
+         (`solver::dual_active_set`, dense in its active rows) runs up to \
          {DUAL_ACTIVE_SET_MAX_N} rows. Every run is in `solvers.csv`.\n\n{table}",
         provenance.markdown(),
         SEED_BASE + SEEDS - 1,

@@ -6,7 +6,7 @@
 //! sleep), and which bodies Rapier keeps awake and why.
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example probes -- settle [--plain] [--seed S] [--perturb E] [--steps N] [--from S] [--to T] [--every K] [--ip-min-rows N] [--das-max-dofs N] [--clarabel-gap G] [--velocity-friction none|change|velocity] [--zero-held-velocities] [--trace BODY FROM TO]
+//! cargo run --release --features rapier,serde --example probes -- settle [--plain] [--seed S] [--perturb E] [--steps N] [--from S] [--to T] [--every K] [--ip-min-rows N] [--das-max-dofs N] [--das] [--clarabel-gap G] [--velocity-friction none|change|velocity] [--zero-held-velocities] [--trace BODY FROM TO]
 //! ```
 //!
 //! Per printed step: bodies asleep; bodies whose own motion in Rapier's
@@ -19,8 +19,10 @@
 //! body's net motion failed the test (and the bodies that failed last),
 //! and the largest horizontal drift from step 150 (the measure of
 //! `examples/with_and_without.rs`) with the body that made it and the steps
-//! in which it moved by more than 0.1 mm. `--ip-min-rows`, `--das-max-dofs` and
-//! `--clarabel-gap` change the solver's answers within the tolerance (as
+//! in which it moved by more than 0.1 mm. `--ip-min-rows`, `--das-max-dofs`,
+//! `--das` (the dual active-set method by the stabilizer's own rule, off
+//! in the bridge's default) and `--clarabel-gap` change the solver's
+//! answers within the tolerance (as
 //! `WITH_AND_WITHOUT_IP_MIN_ROWS` and `WITH_AND_WITHOUT_CLARABEL_GAP`);
 //! `--zero-held-velocities` sets `BridgeSettings::zero_held_velocities`;
 //! `--seed` and `--perturb` build another pile (`pile_world_perturbed`);
@@ -48,6 +50,16 @@ fn bridge(args: &[String]) -> Result<RapierBridge, Box<dyn std::error::Error>> {
     }
     if let Some(dofs) = flag_value(args, "--das-max-dofs") {
         settings.stabilizer.solver.auto_dual_active_set_max_dofs = dofs.parse()?;
+    }
+    if args.iter().any(|a| a == "--das") {
+        // The stabilizer's own rule for the dual active-set method.
+        let own = constraint_stabilization::Settings::default().solver;
+        settings.stabilizer.solver.auto_dual_active_set_max_dofs =
+            own.auto_dual_active_set_max_dofs;
+        settings
+            .stabilizer
+            .solver
+            .auto_dual_active_set_violated_max_dofs = own.auto_dual_active_set_violated_max_dofs;
     }
     if let Some(gap) = flag_value(args, "--clarabel-gap") {
         let gap: f64 = gap.parse()?;
