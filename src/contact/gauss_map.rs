@@ -43,6 +43,14 @@ impl GreatArc {
         pole.dot(&self.from.cross(x)) >= 0.0 && pole.dot(&x.cross(&self.to)) >= 0.0
     }
 
+    /// Whether `below(x . t)` holds at some point `x` of the arc, for a
+    /// threshold test `below` (`v <= b` or `v < b`): the ends first, since
+    /// most arcs a walk tests have an end past the threshold, then the
+    /// arc's minimum ([`GreatArc::min_dot`]).
+    pub fn dips(&self, t: &Vector3<f64>, below: impl Fn(f64) -> bool) -> bool {
+        below(self.from.dot(t)) || below(self.to.dot(t)) || below(self.min_dot(t))
+    }
+
     /// The smallest value of `x . t` over the points `x` of the arc.
     pub fn min_dot(&self, t: &Vector3<f64>) -> f64 {
         let at_ends = self.from.dot(t).min(self.to.dot(t));

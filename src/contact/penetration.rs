@@ -512,20 +512,23 @@ impl Search<'_> {
         }
     }
 
-    /// A lower bound of `d(n)` over the axes on the arc of `edge` of
-    /// `body`: that body's support along them is the edge itself (the arc
-    /// is where the edge supports it), the other body's at least its
-    /// inradius about its centre of mass.
-    fn edge_bound(&self, body: usize, edge: usize) -> f64 {
+    /// Whether the lower bound of `d(n)` over the axes on the arc of
+    /// `edge` of `body` is below `threshold`: that body's support along
+    /// them is the edge itself (the arc is where the edge supports it), the
+    /// other body's at least its inradius about its centre of mass, so the
+    /// bound is the arc's least `n . p` (`p` a point of the edge, or
+    /// `c_b - p` for A) plus that inradius.
+    fn edge_may_beat(&self, body: usize, edge: usize, threshold: f64) -> bool {
         let view = &self.views[body];
         let on_edge = view.point(view.poly.edges()[edge].tail);
         let arc = view.arc(edge);
-        let linear = if body == 1 {
-            arc.min_dot(&on_edge)
+        let t = if body == 1 {
+            on_edge
         } else {
-            arc.min_dot(&(self.centre_b - on_edge))
+            self.centre_b - on_edge
         };
-        linear + self.inradii[1 - body]
+        let inradius = self.inradii[1 - body];
+        arc.dips(&t, |linear| linear + inradius < threshold)
     }
 
     fn consider_face(&mut self, body: usize, face: usize) {
@@ -597,10 +600,11 @@ impl Search<'_> {
         }
         // Only edges whose own bound can still beat the best can span it.
         let promising = |search: &Self, body: usize, found: &[usize]| -> Vec<usize> {
+            let threshold = search.best.depth + search.tie;
             found
                 .iter()
                 .copied()
-                .filter(|&edge| search.edge_bound(body, edge) < search.best.depth + search.tie)
+                .filter(|&edge| search.edge_may_beat(body, edge, threshold))
                 .collect()
         };
         let edges_a = promising(self, 0, &arcs[0]);
@@ -641,7 +645,7 @@ fn arcs_in_cap(view: &View, centre: &Vector3<f64>, limit: f64, starts: &[usize])
     let mut meets = |edge: usize| {
         let first = !tested[edge];
         tested[edge] = true;
-        first && view.arc(edge).min_dot(centre) <= limit
+        first && view.arc(edge).dips(centre, |value| value <= limit)
     };
     let mut found = Vec::new();
     let mut queue = std::collections::VecDeque::new();
