@@ -322,9 +322,9 @@ pub struct SolverSettings {
     /// the rows. Default [`DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS`], by
     /// measurement on every QP of the engine states' calls, frictionless
     /// and with their engines' friction, each solver in alternation: up to
-    /// 132 entries the method answered every QP in 0.1-0.9x the interior
+    /// 132 entries the method answered every QP in 0.03-0.71x the interior
     /// point's time and never more than 1.1x Lemke's (12.8 ms against
-    /// 48.5 ms over the 468 QPs; `benchmarks/results/solvers.md`, "The
+    /// 48.5 ms over the 488 QPs; `benchmarks/results/solvers.md`, "The
     /// dual active-set method"). 0: never (with
     /// [`SolverSettings::auto_dual_active_set_violated_max_dofs`] 0 too).
     pub auto_dual_active_set_max_dofs: usize,
@@ -335,7 +335,7 @@ pub struct SolverSettings {
     /// with the rows it adds, each `O(|A|^2)`; the interior point's cost
     /// does not). Default [`DEFAULT_AUTO_DUAL_ACTIVE_SET_VIOLATED_MAX_DOFS`]:
     /// on the engine states' QPs of 133-600 entries the rule chose the
-    /// method where it took 0.1-0.9x the interior point's time, and the
+    /// method where it took 0.06-0.85x the interior point's time, and the
     /// interior point for the pyramids' first passes and the frictional
     /// piles, where the method took 1.1-10x (`solvers.md`). 0: never.
     pub auto_dual_active_set_violated_max_dofs: usize,
