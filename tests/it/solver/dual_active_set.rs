@@ -194,8 +194,9 @@ fn equality_rows_are_not_applicable() {
 
 /// `Auto` takes it for up to `DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS`
 /// entries of `dq` whatever the rows, above that where the rows violated
-/// at `dq = 0` are at most the entries, else the interior point; each
-/// answer agrees with clarabel's.
+/// at `dq = 0` are at most the entries (up to
+/// `auto_dual_active_set_violated_max_dofs` entries), else the interior
+/// point; each answer agrees with clarabel's.
 #[test]
 fn auto_takes_it_by_size() {
     let settings = SolverSettings::default();
@@ -223,5 +224,17 @@ fn auto_takes_it_by_size() {
         assert_eq!(solution.solver, expected, "{context}");
         let clarabel = solve_with(&qp, &tight_clarabel(), &context);
         assert_close(&qp, &solution, &clarabel, &context);
+    }
+    // The rule above 132 entries is its setting's: below the column's
+    // entries (or 0), the rules by rows take it (Lemke: fewer than 41 rows).
+    let column = frictionless(30);
+    for violated_max_dofs in [0, column.num_dofs() - 1] {
+        let bounded = SolverSettings {
+            auto_dual_active_set_violated_max_dofs: violated_max_dofs,
+            ..SolverSettings::default()
+        };
+        let context = format!("violated rule up to {violated_max_dofs} entries");
+        let solution = solve_with(&column, &bounded, &context);
+        assert_eq!(solution.solver, SolverKind::Lemke, "{context}");
     }
 }
