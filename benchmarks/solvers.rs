@@ -194,8 +194,10 @@ fn run_once(p: &Problem, method: Method) -> Result<Candidate, Failure> {
         ),
         Method::InteriorPoint => interior_point(p, None),
         Method::InteriorPointWarm => interior_point(p, Some(&p.warm)),
-        Method::DualActiveSet => dual_active_set::solve(&p.qp, &p.metric, ACCEPTANCE_TOL, None)
-            .map_err(|e| (format!("{e:?}"), None)),
+        Method::DualActiveSet => {
+            dual_active_set::solve(&p.qp, &p.metric, ACCEPTANCE_TOL, None, None)
+                .map_err(|e| (format!("{e:?}"), None))
+        }
         Method::BuildA => {
             let a = lcp();
             Ok(Candidate {

@@ -70,7 +70,11 @@ fn poses(world: &PhysicsWorld) -> Vec<nalgebra::Isometry3<f64>> {
         .collect()
 }
 
-pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
+/// The loop probes' `--steps N` (default [`DEFAULT_STEPS`]) and `--scenes
+/// A,B` (default the four scenes of [`world_of`]).
+pub(crate) fn steps_and_scenes(
+    args: &[String],
+) -> Result<(usize, String), std::num::ParseIntError> {
     let value = |flag: &str| {
         args.iter()
             .position(|a| a == flag)
@@ -79,6 +83,11 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     let steps = value("--steps").map_or(Ok(DEFAULT_STEPS), |s| s.parse())?;
     let names = value("--scenes")
         .unwrap_or_else(|| "pile_200,pyramid_55,compound_pile_60,mixed_pile_60".into());
+    Ok((steps, names))
+}
+
+pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
+    let (steps, names) = steps_and_scenes(&args)?;
     println!(
         "| scene | steps | calls that ran the stabilizer: with / without | queries per call (median): with / without | certified / reused per call (median) | narrow ms (median): with / without | call ms (median): with / without | Rapier step ms (median: all / awake) | narrow / awake step: with / without | poses identical |\n|---|---|---|---|---|---|---|---|---|---|"
     );

@@ -26,7 +26,9 @@
 //!   (issue 21), [`certificates_loop`];
 //! - `passes`: passes per call in the Rapier loop with and without
 //!   `Settings::keep_penetrated_pairs`, and the input of the longest call
-//!   (issue 21), [`passes_probe`].
+//!   (issue 21), [`passes_probe`];
+//! - `warm`: the solver's warm starts against cold solves on the states of
+//!   a Rapier run, interleaved (issue 21), [`warm_loop`].
 //!
 //! Each probe reads the arguments after its name as it documents them.
 
@@ -42,10 +44,11 @@ mod rest_probe;
 mod settle_probe;
 mod slide_probe;
 mod thrown_probe;
+mod warm_loop;
 
 /// The probes' names, as the first argument.
 const PROBES: &str =
-    "slide | rest | settle | thrown | polish | friction | curved | certificates | passes";
+    "slide | rest | settle | thrown | polish | friction | curved | certificates | passes | warm";
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -64,6 +67,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some("curved") => curved_speed::run(args),
         Some("certificates") => certificates_loop::run(args),
         Some("passes") => passes_probe::run(args),
+        Some("warm") => warm_loop::run(args),
         other => Err(format!("usage: probes <{PROBES}> [ARGS...] (got {other:?})").into()),
     }
 }

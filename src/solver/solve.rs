@@ -339,6 +339,14 @@ pub struct SolverSettings {
     /// interior point for the pyramids' first passes and the frictional
     /// piles, where the method took 1.1-10x (`solvers.md`). 0: never.
     pub auto_dual_active_set_violated_max_dofs: usize,
+    /// Start the warm-startable solvers (the dual active-set method, the
+    /// interior point, the augmented Lagrangian) from the multipliers they
+    /// are given (the stabilizer's: the last answers of the same pairs, in
+    /// earlier passes and calls). Default true. A warm start changes
+    /// where a solver starts, never what it accepts (the minimizer in
+    /// `dq` is unique): false makes every solve independent of history,
+    /// as when comparing warm and cold (`probes warm`).
+    pub warm_starts: bool,
     /// Augmented Lagrangian settings.
     pub augmented_lagrangian: AugmentedLagrangianSettings,
     /// Interior-point settings.
@@ -367,6 +375,7 @@ impl Default for SolverSettings {
             auto_interior_point_min_rows: DEFAULT_AUTO_INTERIOR_POINT_MIN_ROWS,
             auto_dual_active_set_max_dofs: DEFAULT_AUTO_DUAL_ACTIVE_SET_MAX_DOFS,
             auto_dual_active_set_violated_max_dofs: DEFAULT_AUTO_DUAL_ACTIVE_SET_VIOLATED_MAX_DOFS,
+            warm_starts: true,
             augmented_lagrangian: AugmentedLagrangianSettings::default(),
             interior_point: InteriorPointSettings::default(),
             clarabel: ClarabelSettings::default(),
@@ -473,6 +482,7 @@ fn solve_validated(
 ) -> Result<ProjectionSolution, SolverError> {
     let metric = qp.validate()?;
     check_zero_rows(qp, settings.tol_residual)?;
+    let warm = warm.filter(|_| settings.warm_starts);
     let pyramid_qp = (!qp.cones.is_empty()).then(|| qp.pyramid().0);
     let pyramid = pyramid_qp.as_ref().map(|pyramid_qp| Problem {
         qp: pyramid_qp,
@@ -509,7 +519,9 @@ fn solve_validated(
                 let warm_started = warm.is_some()
                     && matches!(
                         kind,
-                        SolverKind::AugmentedLagrangian | SolverKind::InteriorPoint
+                        SolverKind::AugmentedLagrangian
+                            | SolverKind::InteriorPoint
+                            | SolverKind::DualActiveSet
                     );
                 log::debug!(
                     "  answered by {kind:?} ({}): {} iterations, {} factorizations",
@@ -897,7 +909,7 @@ impl Problem<'_> {
                     .map_err(FailureReason::InteriorPoint)
             }
             SolverKind::DualActiveSet => {
-                dual_active_set::solve(self.qp, self.metric, s.tol_residual, s.deadline)
+                dual_active_set::solve(self.qp, self.metric, s.tol_residual, s.deadline, self.warm)
                     .map_err(FailureReason::DualActiveSet)
             }
             SolverKind::Clarabel => {

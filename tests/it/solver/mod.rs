@@ -8,6 +8,7 @@ mod deadline;
 mod dense_cholesky;
 mod dense_limit;
 mod dual_active_set;
+mod dual_active_set_warm;
 mod equality_elimination;
 mod equality_rows;
 mod exact_engine_states;

@@ -30,9 +30,15 @@
 //! rows below it moved up and rotations of neighbouring columns, `L <- L
 //! G`, restore the triangle) and steps toward `p` again. When `a_p` is a
 //! combination of the active rows (`delta <= DEPENDENT_REL^2 w_pp`,
-//! [`DEPENDENT_REL`]) only the multipliers move (`t = t_part`), and a row
-//! is dropped: redundant contact rows (four corners on a face) are
-//! handled so, the active rows always independent. When, in addition, no
+//! [`DEPENDENT_REL`]) the step is partial (`t = t_part`), and a row is
+//! dropped: redundant contact rows (four corners on a face) are handled
+//! so, the active rows always independent. `dq` still moves by `t z`, the
+//! part of `a_p` outside their span (at rounding, or at most
+//! `DEPENDENT_REL` of it), so that `M dq = N_A u + u_p a_p` holds in every
+//! step: without it the multipliers drift from `dq`'s by that part (a
+//! stationarity of 2e-4 was seen after a warm start on a friction
+//! pyramid). The multipliers returned are those of the final `dq` on the
+//! final active set, `W_A u = N_A^T dq` (two triangular solves). When, in addition, no
 //! `r_j` is positive, no step exists: `a_p` is a non-positive combination
 //! of tight rows, which certifies that the rows cannot all hold; that is
 //! reported as [`DualActiveSetFailure::Infeasible`] and left to the solvers
@@ -43,7 +49,7 @@
 //! **Cost.** `M` is block diagonal, so `M^-1 a_i` has a row's twelve
 //! entries and `w` costs a 6-product per shared body. A step costs
 //! `O(q^2)` for the two triangular solves (`q = |A|`), `12 q` for `z`,
-//! `12 m` to measure the inactive rows after a primal step, `O(q (q - k))`
+//! `12 m` to measure the inactive rows after a step, `O(q (q - k))`
 //! to drop row `k`; the number of steps is about the size of the final
 //! active set plus the drops. This is Goldfarb and Idnani's step in the
 //! range space: their null-space form keeps `L^-T Q` (`n x n`), whose
@@ -56,6 +62,14 @@
 //! rows on 30-42 entries of `dq`), where the interior point's 16-20
 //! factorizations cost more (`benchmarks/results/solvers.md`).
 //!
+//! **Warm start** (`warm`): the rows whose multipliers mattered in a
+//! neighbouring problem's answer (the last pass's or call's) are the first
+//! active set, made dual feasible; the steps continue from there. It is
+//! taken when at most as many rows left it for a negative multiplier as
+//! stayed; else the method starts cold (a later pass corrects the
+//! linearization's error, whose rows push and pull unlike the first
+//! pass's).
+//!
 //! **Order.** The most violated row, measured in `M^-1` lengths
 //! (`s_i / |a_i|_{M^-1}`), is added first. A row counts as violated while
 //! `s_i < -VIOLATION_OF_ACCEPTANCE tol_residual L` (`L` the acceptance
@@ -64,12 +78,18 @@
 
 use std::time::Instant;
 
-use nalgebra::{DVector, Vector6};
+use nalgebra::DVector;
 
 use super::metric::BlockMetric;
 use super::outcome::Candidate;
 use super::projection::ProjectionQp;
 use super::residuals::acceptance_length;
+use factor::ActiveFactor;
+use packed_row::{PackedRow, packed_rows};
+
+mod factor;
+mod packed_row;
+mod warm;
 
 /// A row is a combination of the active rows, at rounding, when the part
 /// of it outside their span is at most this fraction of its length, both
@@ -110,14 +130,17 @@ pub enum DualActiveSetFailure {
     Deadline,
 }
 
-/// Solves `qp` (module docs). `Candidate::iterations` counts the steps,
-/// `Candidate::factorizations` is 0 (the factor is updated, never made
-/// again).
+/// Solves `qp` (module docs), from the multipliers `warm` when given (one
+/// per row; of another length they are ignored). `Candidate::iterations`
+/// counts the steps and the warm start's drops, `Candidate::factorizations`
+/// is 1 when a warm start built the factor, else 0 (the factor is updated,
+/// never made again).
 pub fn solve(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
     tol_residual: f64,
     deadline: Option<Instant>,
+    warm: Option<&DVector<f64>>,
 ) -> Result<Candidate, DualActiveSetFailure> {
     if qp.num_equalities > 0 || !qp.cones.is_empty() || qp.num_dofs() > MAX_DOFS {
         return Err(DualActiveSetFailure::NotApplicable);
@@ -142,13 +165,38 @@ pub fn solve(
     let violated_below = -VIOLATION_OF_ACCEPTANCE * tol_residual * acceptance_length(qp);
     let mut factor = ActiveFactor::new(n.min(m));
     let mut dq = DVector::zeros(n);
-    let b_rows = b.clone();
-    let mut slack = b;
     let mut active: Vec<usize> = Vec::new();
     let mut u: Vec<f64> = Vec::new();
-    let mut is_active = vec![false; m];
-    let limit = STEPS_PER_SIZE * (m + n);
     let mut steps = 0;
+    let mut factorizations = 0;
+    if let Some(warm) = warm.filter(|w| w.len() == m) {
+        let start = warm::start(warm, &rows, &scaled, &diagonal, &b, &mut factor);
+        if start.u.iter().all(|x| x.is_finite()) && start.drops <= start.active.len() {
+            for (&j, &uj) in start.active.iter().zip(&start.u) {
+                scaled[j].add_to(uj, dq.as_mut_slice());
+            }
+            (active, u, steps) = (start.active, start.u, start.drops);
+            factorizations = usize::from(!active.is_empty());
+        } else {
+            factor = ActiveFactor::new(n.min(m));
+        }
+    }
+    let mut is_active = vec![false; m];
+    for &j in &active {
+        is_active[j] = true;
+    }
+    let b_rows = b.clone();
+    // The rows measured at the start (`dq = 0`: `s = b`).
+    let mut slack = match active.is_empty() {
+        true => b,
+        false => DVector::from_iterator(
+            m,
+            rows.iter()
+                .zip(b.iter())
+                .map(|(row, &b_i)| row.dot(dq.as_slice()) + b_i),
+        ),
+    };
+    let limit = STEPS_PER_SIZE * (m + n);
     let mut column = Vec::with_capacity(n.min(m));
     // The most violated row, in M^-1 lengths; none: the answer.
     while let Some(p) = most_violated(&slack, &inverse_lengths, &is_active, violated_below) {
@@ -193,22 +241,22 @@ pub fn solve(
                 *uj -= t * rj;
             }
             u_p += t;
-            if !dependent {
-                // z = M^-1 (a_p - N_A r): moves s_p by delta per unit,
-                // keeps the active rows tight.
-                let mut z = DVector::zeros(n);
-                scaled[p].add_to(1.0, z.as_mut_slice());
-                for (&j, &rj) in active.iter().zip(&r) {
-                    scaled[j].add_to(-rj, z.as_mut_slice());
-                }
-                dq.axpy(t, &z, 1.0);
-                // s <- s + t J z on the inactive rows (the active ones
-                // stay at 0; a dropped row is measured again).
-                let z_slice = z.as_slice();
-                for ((s_i, row), &on) in slack.iter_mut().zip(&rows).zip(&is_active) {
-                    if !on {
-                        *s_i += t * row.dot(z_slice);
-                    }
+            // z = M^-1 (a_p - N_A r): moves s_p by delta per unit, keeps
+            // the active rows tight. In a dependent step it is the part of
+            // a_p outside span(N_A), below DEPENDENT_REL of it, and moving
+            // along it keeps M dq = N_A u + u_p a_p exact.
+            let mut z = DVector::zeros(n);
+            scaled[p].add_to(1.0, z.as_mut_slice());
+            for (&j, &rj) in active.iter().zip(&r) {
+                scaled[j].add_to(-rj, z.as_mut_slice());
+            }
+            dq.axpy(t, &z, 1.0);
+            // s <- s + t J z on the inactive rows (the active ones stay at
+            // 0; a dropped row is measured again).
+            let z_slice = z.as_slice();
+            for ((s_i, row), &on) in slack.iter_mut().zip(&rows).zip(&is_active) {
+                if !on {
+                    *s_i += t * row.dot(z_slice);
                 }
             }
             match drop {
@@ -229,6 +277,12 @@ pub fn solve(
             }
         }
     }
+    // The multipliers of `dq` on the final active set, `W_A u = N_A^T dq`:
+    // a dependent step moves `u` along `r` with `N_A r = a_p` only to
+    // within `DEPENDENT_REL`, so the iterated `u` drifts from `dq`'s by
+    // that much per such step; `dq` moves only by exact steps.
+    let n_a_dq: Vec<f64> = active.iter().map(|&j| rows[j].dot(dq.as_slice())).collect();
+    let u = factor.solve_upper(&factor.solve_lower(&n_a_dq));
     let mut lambda = DVector::zeros(m);
     for (&i, &ui) in active.iter().zip(&u) {
         lambda[i] = ui.max(0.0);
@@ -240,7 +294,7 @@ pub fn solve(
         dq,
         lambda,
         iterations: steps,
-        factorizations: 0,
+        factorizations,
     })
 }
 
@@ -264,177 +318,4 @@ fn most_violated(
         }
     }
     best.map(|(_, i)| i)
-}
-
-/// A row's gradient (or `M^-1` times it) as at most two blocks of six
-/// entries of `dq` (a contact's two bodies; an absent second block is
-/// zeros at the first block's offset).
-struct PackedRow {
-    offsets: [usize; 2],
-    blocks: [Vector6<f64>; 2],
-}
-
-impl PackedRow {
-    /// `a^T v` for a dense `v`.
-    fn dot(&self, v: &[f64]) -> f64 {
-        self.offsets
-            .iter()
-            .zip(&self.blocks)
-            .map(|(&offset, g)| Vector6::from_column_slice(&v[offset..offset + 6]).dot(g))
-            .sum()
-    }
-
-    /// `a^T x` for another packed row: the blocks of the bodies both have.
-    fn dot_packed(&self, other: &PackedRow) -> f64 {
-        let mut sum = 0.0;
-        for (&offset, g) in self.offsets.iter().zip(&self.blocks) {
-            for (&other_offset, h) in other.offsets.iter().zip(&other.blocks) {
-                if offset == other_offset {
-                    sum += g.dot(h);
-                }
-            }
-        }
-        sum
-    }
-
-    /// `v <- v + c a`.
-    fn add_to(&self, c: f64, v: &mut [f64]) {
-        for (&offset, g) in self.offsets.iter().zip(&self.blocks) {
-            for (x, gi) in v[offset..offset + 6].iter_mut().zip(g.iter()) {
-                *x += c * gi;
-            }
-        }
-    }
-
-    /// `M^-1 a` (`M` block diagonal, so the same bodies).
-    fn scaled(&self, metric: &[BlockMetric]) -> PackedRow {
-        PackedRow {
-            offsets: self.offsets,
-            // A row of no body (zero blocks at offset 0) of a problem with
-            // no body has no metric block: zeros.
-            blocks: [0, 1].map(|slot| {
-                metric
-                    .get(self.offsets[slot] / 6)
-                    .map_or_else(Vector6::zeros, |block| block.apply_inv(&self.blocks[slot]))
-            }),
-        }
-    }
-}
-
-/// The rows packed; `None` when a row has more than two bodies (not a
-/// contact's: the other solvers take that problem).
-fn packed_rows(qp: &ProjectionQp) -> Option<Vec<PackedRow>> {
-    qp.rows
-        .iter()
-        .map(|row| {
-            let mut packed = PackedRow {
-                offsets: [0; 2],
-                blocks: [Vector6::zeros(); 2],
-            };
-            match row.blocks.as_slice() {
-                [] => {}
-                [(k, g)] => {
-                    packed.offsets = [6 * k, 6 * k];
-                    packed.blocks[0] = *g;
-                }
-                [(k, g), (l, h)] => {
-                    packed.offsets = [6 * k, 6 * l];
-                    packed.blocks = [*g, *h];
-                }
-                _ => return None,
-            }
-            Some(packed)
-        })
-        .collect()
-}
-
-/// The lower Cholesky factor `L` of `W_A = N_A^T M^-1 N_A`, the active
-/// rows' Delassus matrix, dense and row-major in a square of `capacity`
-/// (at most `min(n, m)` independent rows are ever active).
-struct ActiveFactor {
-    capacity: usize,
-    l: Vec<f64>,
-    /// `1 / L_ii` (the solves multiply: a division per entry was a fifth
-    /// of a step).
-    inverse_diagonal: Vec<f64>,
-}
-
-impl ActiveFactor {
-    fn new(capacity: usize) -> Self {
-        Self {
-            capacity,
-            l: vec![0.0; capacity * capacity],
-            inverse_diagonal: vec![0.0; capacity],
-        }
-    }
-
-    fn at(&self, i: usize, j: usize) -> f64 {
-        self.l[i * self.capacity + j]
-    }
-
-    /// `y = L^-1 w` (`q = w.len()`).
-    fn solve_lower(&self, w: &[f64]) -> Vec<f64> {
-        let mut y = w.to_vec();
-        for i in 0..y.len() {
-            let row = &self.l[i * self.capacity..i * self.capacity + i + 1];
-            let sum: f64 = row[..i].iter().zip(&y[..i]).map(|(a, b)| a * b).sum();
-            y[i] = (y[i] - sum) * self.inverse_diagonal[i];
-        }
-        y
-    }
-
-    /// `r = L^-T y`, by columns of `L^T` (rows of `L`).
-    fn solve_upper(&self, y: &[f64]) -> Vec<f64> {
-        let mut r = y.to_vec();
-        for i in (0..r.len()).rev() {
-            let row = &self.l[i * self.capacity..i * self.capacity + i + 1];
-            r[i] *= self.inverse_diagonal[i];
-            let ri = r[i];
-            for (rj, lij) in r[..i].iter_mut().zip(&row[..i]) {
-                *rj -= lij * ri;
-            }
-        }
-        r
-    }
-
-    /// Appends the row `[y^T, pivot]` (the new row's column of `W_A` was
-    /// `w = L y`, its diagonal `|y|^2 + pivot^2`).
-    fn append(&mut self, y: &[f64], pivot: f64) {
-        let q = y.len();
-        let row = &mut self.l[q * self.capacity..q * self.capacity + q + 1];
-        row[..q].copy_from_slice(y);
-        row[q] = pivot;
-        self.inverse_diagonal[q] = 1.0 / pivot;
-    }
-
-    /// Removes active row `k` of `q`: the rows after it move up one,
-    /// which leaves one entry above the diagonal in each of them; a
-    /// rotation of columns `(j, j + 1)` (`L <- L G`, so `L L^T` keeps)
-    /// zeroes it, row by row.
-    fn remove(&mut self, k: usize, q: usize) {
-        let cap = self.capacity;
-        for i in k..q - 1 {
-            let (upper, lower) = self.l.split_at_mut((i + 1) * cap);
-            upper[i * cap..i * cap + i + 2].copy_from_slice(&lower[..i + 2]);
-        }
-        for j in 0..q {
-            self.l[(q - 1) * cap + j] = 0.0;
-        }
-        for j in k..q - 1 {
-            let (x, y) = (self.at(j, j), self.at(j, j + 1));
-            if y == 0.0 {
-                continue;
-            }
-            let h = (x * x + y * y).sqrt();
-            let (c, s) = (x / h, y / h);
-            for i in j..q - 1 {
-                let (a, b) = (self.at(i, j), self.at(i, j + 1));
-                self.l[i * cap + j] = c * a + s * b;
-                self.l[i * cap + j + 1] = -s * a + c * b;
-            }
-        }
-        for i in k..q - 1 {
-            self.inverse_diagonal[i] = 1.0 / self.at(i, i);
-        }
-    }
 }
