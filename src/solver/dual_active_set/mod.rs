@@ -65,10 +65,11 @@
 //! **Warm start** (`warm`): the rows whose multipliers mattered in a
 //! neighbouring problem's answer (the last pass's or call's) are the first
 //! active set, made dual feasible; the steps continue from there. It is
-//! taken when at most as many rows left it for a negative multiplier as
-//! stayed; else the method starts cold (a later pass corrects the
+//! taken when more than half of those rows are violated at `dq = 0` and
+//! no more of them left it for a negative multiplier than stayed; else
+//! the method starts cold (a later pass of a call corrects the
 //! linearization's error, whose rows push and pull unlike the first
-//! pass's).
+//! pass's: `warm`'s module docs).
 //!
 //! **Order.** The most violated row, measured in `M^-1` lengths
 //! (`s_i / |a_i|_{M^-1}`), is added first. A row counts as violated while
@@ -169,8 +170,10 @@ pub fn solve(
     let mut u: Vec<f64> = Vec::new();
     let mut steps = 0;
     let mut factorizations = 0;
-    if let Some(warm) = warm.filter(|w| w.len() == m) {
-        let start = warm::start(warm, &rows, &scaled, &diagonal, &b, &mut factor);
+    let start = warm
+        .filter(|w| w.len() == m)
+        .and_then(|warm| warm::start(warm, &rows, &scaled, &diagonal, &b, &mut factor));
+    if let Some(start) = start {
         if start.u.iter().all(|x| x.is_finite()) && start.drops <= start.active.len() {
             for (&j, &uj) in start.active.iter().zip(&start.u) {
                 scaled[j].add_to(uj, dq.as_mut_slice());

@@ -4,13 +4,12 @@
 //! first active set.
 //!
 //! The rows `W` with a warm multiplier that matters
-//! ([`WARM_ACTIVE_SHARE`]), largest share first, enter
-//! `A` as in a full step: row `p` appends `[y^T, sqrt(delta)]` to `L`
-//! (`y = L^-1 N_A^T M^-1 a_p`, `delta = w_pp - |y|^2`), and a row whose
-//! part outside the span of `N_A` is at most [`super::DEPENDENT_REL`] of
-//! its length is left out, so the active rows stay independent. The
-//! minimizer of `1/2 dq^T M dq` with the rows of `A` held as equalities
-//! (`a_i^T dq + b_i = 0`) is
+//! ([`WARM_ACTIVE_SHARE`]), largest share first, enter `A` as in a full
+//! step: row `p` appends `[y^T, sqrt(delta)]` to `L` (`y = L^-1 N_A^T
+//! M^-1 a_p`, `delta = w_pp - |y|^2`), and a row whose part outside the
+//! span of `N_A` is at most [`super::DEPENDENT_REL`] of its length is left
+//! out, so the active rows stay independent. The minimizer of `1/2 dq^T M
+//! dq` with the rows of `A` held as equalities (`a_i^T dq + b_i = 0`) is
 //!
 //! ```text
 //! dq = M^-1 N_A u,    W_A u = -b_A    (L y = -b_A, L^T u = y)
@@ -24,6 +23,21 @@
 //! to the same minimizer: the dual value of any dual-feasible point is at
 //! most the optimum's, and every step raises it. When the warm start
 //! already satisfies every row, the method returns it with no step.
+//!
+//! **When.** Between two calls on an engine's consecutive states the
+//! rows press as they did; between the passes of one call they do not:
+//! a later pass corrects the linearization's error, and the rows its
+//! first pass held tight hold or pull about as often as they push. On
+//! the engine states the second passes' warm sets were mostly dropped
+//! again (the pyramids: 130 of 170 rows), so that the warm start made
+//! whole calls 6-14 % more instructions than cold starts. A warm set
+//! whose rows are at most half violated at `dq = 0` (`b_i < 0`) is
+//! therefore not taken (`start` returns `None`): every such set that was
+//! dropped above was one, and the calls then cost 0.94-1.005x the
+//! instructions of cold starts (callgrind, one thread, `probes friction
+//! FILE 0` on seven engine states; 0.87x on the Rapier heavy stack with
+//! friction). The caller also starts cold when more rows were dropped
+//! than kept.
 //!
 //! **Cost.** Building `L` from `|W|` rows costs about `|W|^3 / 3`
 //! (the triangular solves of the appends) and one measure of every row
@@ -54,8 +68,10 @@ pub(super) struct WarmStart {
     pub drops: usize,
 }
 
-/// Builds `factor` (empty on entry) on the rows of `warm` with a positive
-/// multiplier and returns the dual-feasible active set (module docs).
+/// Builds `factor` (empty on entry) on the rows of `warm` with a
+/// multiplier that matters and returns the dual-feasible active set, or
+/// `None` (the factor untouched) when at most half of those rows are
+/// violated at `dq = 0` (module docs).
 /// `diagonal` holds `w_ii = a_i^T M^-1 a_i`; a row no body moves
 /// (`w_ii = 0`) never enters.
 pub(super) fn start(
@@ -65,7 +81,7 @@ pub(super) fn start(
     diagonal: &[f64],
     b: &DVector<f64>,
     factor: &mut ActiveFactor,
-) -> WarmStart {
+) -> Option<WarmStart> {
     // Each row's share of `|dq|_M`: `lambda_i |a_i|_{M^-1}`.
     let share = |i: usize| warm[i] * diagonal[i].sqrt();
     let largest = (0..rows.len()).map(share).fold(0.0, f64::max);
@@ -73,6 +89,12 @@ pub(super) fn start(
         .filter(|&i| diagonal[i] > 0.0 && share(i) > WARM_ACTIVE_SHARE * largest)
         .collect();
     candidates.sort_by(|&i, &j| share(j).total_cmp(&share(i)));
+    // Mostly rows that hold at `dq = 0`: a later pass's correction (module
+    // docs), left to a cold start.
+    let violated = candidates.iter().filter(|&&i| b[i] < 0.0).count();
+    if 2 * violated <= candidates.len() {
+        return None;
+    }
     let mut active: Vec<usize> = Vec::with_capacity(candidates.len().min(factor.capacity));
     let mut column = Vec::with_capacity(factor.capacity);
     for p in candidates {
@@ -94,7 +116,7 @@ pub(super) fn start(
         let u = factor.solve_upper(&factor.solve_lower(&minus_b));
         let negative: Vec<usize> = (0..u.len()).filter(|&k| u[k] < 0.0).collect();
         if negative.is_empty() {
-            return WarmStart { active, u, drops };
+            return Some(WarmStart { active, u, drops });
         }
         // Last first, so that the positions before stay valid.
         for &k in negative.iter().rev() {
