@@ -172,17 +172,19 @@ pub fn solve(
     let mut factorizations = 0;
     let start = warm
         .filter(|w| w.len() == m)
-        .and_then(|warm| warm::start(warm, &rows, &scaled, &diagonal, &b, &mut factor));
-    if let Some(start) = start {
-        if start.u.iter().all(|x| x.is_finite()) && start.drops <= start.active.len() {
+        .and_then(|warm| warm::start(warm, &rows, &scaled, &diagonal, &b, &mut factor, deadline));
+    match start {
+        Some(start)
+            if start.u.iter().all(|x| x.is_finite()) && start.drops <= start.active.len() =>
+        {
             for (&j, &uj) in start.active.iter().zip(&start.u) {
                 scaled[j].add_to(uj, dq.as_mut_slice());
             }
             (active, u, steps) = (start.active, start.u, start.drops);
             factorizations = usize::from(!active.is_empty());
-        } else {
-            factor = ActiveFactor::new(n.min(m));
         }
+        Some(_) => factor = ActiveFactor::new(n.min(m)),
+        None => {}
     }
     let mut is_active = vec![false; m];
     for &j in &active {

@@ -45,6 +45,8 @@
 //! every row and a search for the most violated one per step, and the
 //! drops and re-adds of rows that a cold order picks up too early.
 
+use std::time::Instant;
+
 use nalgebra::DVector;
 
 use super::DEPENDENT_REL;
@@ -70,8 +72,10 @@ pub(super) struct WarmStart {
 
 /// Builds `factor` (empty on entry) on the rows of `warm` with a
 /// multiplier that matters and returns the dual-feasible active set, or
-/// `None` (the factor untouched) when at most half of those rows are
-/// violated at `dq = 0` (module docs).
+/// `None`, with the factor empty, when at most half of those rows are
+/// violated at `dq = 0` (module docs) or when `deadline` passes while the
+/// factor is built (the caller then starts cold, and its steps stop at
+/// the deadline).
 /// `diagonal` holds `w_ii = a_i^T M^-1 a_i`; a row no body moves
 /// (`w_ii = 0`) never enters.
 pub(super) fn start(
@@ -81,6 +85,7 @@ pub(super) fn start(
     diagonal: &[f64],
     b: &DVector<f64>,
     factor: &mut ActiveFactor,
+    deadline: Option<Instant>,
 ) -> Option<WarmStart> {
     // Each row's share of `|dq|_M`: `lambda_i |a_i|_{M^-1}`.
     let share = |i: usize| warm[i] * diagonal[i].sqrt();
@@ -100,6 +105,10 @@ pub(super) fn start(
     for p in candidates {
         if active.len() == factor.capacity {
             break;
+        }
+        if deadline.is_some_and(|d| Instant::now() >= d) {
+            *factor = ActiveFactor::new(factor.capacity);
+            return None;
         }
         column.clear();
         column.extend(active.iter().map(|&j| rows[j].dot_packed(&scaled[p])));

@@ -2,7 +2,8 @@
 //! solver asked to run after it stops with the typed outcome
 //! `FailureReason::DeadlinePassed` (Lemke before a pivot, PGS before a
 //! sweep, clarabel by its time limit, the augmented Lagrangian before a
-//! Newton step) and ends the fallback chain; the `O(1)` closed form still
+//! Newton step, the dual active-set method before a step or while its
+//! warm start is built) and ends the fallback chain; the `O(1)` closed form still
 //! answers. No timing is asserted: the deadline is already past.
 
 use std::time::Instant;
@@ -11,7 +12,7 @@ use constraint_stabilization::solver::lemke::{self, LemkeSettings, LemkeStatus};
 use constraint_stabilization::solver::pgs::{self, PgsSettings, PgsStatus};
 use constraint_stabilization::solver::{
     FailureReason, Fallback, SolverChoice, SolverError, SolverKind, SolverSettings,
-    projection_to_lcp, solve_projection,
+    projection_to_lcp, solve_projection, solve_projection_warm,
 };
 use dev_support::solver::{StackSpec, random_stacks};
 
@@ -55,7 +56,21 @@ fn every_solver_stops_when_its_deadline_has_passed_and_ends_the_chain() {
         );
     }
     // Without a deadline the same problem is solved.
-    assert!(solve_projection(&qp, &SolverSettings::default()).is_ok());
+    let answer = solve_projection(&qp, &SolverSettings::default()).expect("solved");
+    // Warm-started from that answer (which its warm start would return
+    // with no step), the method still stops.
+    let past = past_deadline(SolverChoice::DualActiveSet);
+    let result = solve_projection_warm(&qp, &past, Some(&answer.lambda));
+    let Err(SolverError::AllSolversFailed(fallbacks)) = result else {
+        panic!("warm: {result:?}");
+    };
+    assert_eq!(
+        fallbacks,
+        vec![Fallback {
+            solver: SolverKind::DualActiveSet,
+            reason: FailureReason::DeadlinePassed
+        }]
+    );
 }
 
 #[test]
