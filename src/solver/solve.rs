@@ -411,7 +411,10 @@ pub struct ProjectionSolution {
     /// dense Lemke path.
     pub factorizations: usize,
     /// The solver that answered started from given multipliers
-    /// ([`solve_projection_warm`]).
+    /// ([`solve_projection_warm`]): the augmented Lagrangian and the
+    /// interior point whenever they are given (they measure them first),
+    /// the dual active-set method when it took them (it refuses a warm
+    /// set whose rows mostly hold at `dq = 0`).
     pub warm_started: bool,
     /// The problem had friction cones and the solver that answered takes
     /// linear rows only: `dq` is the answer of the cones' pyramid, and the
@@ -516,13 +519,14 @@ fn solve_validated(
     for kind in order {
         match problem.run_checked(kind) {
             Ok((candidate, residuals)) => {
+                // The dual active-set method builds its one factor only
+                // from a warm start it takes (`dual_active_set::warm`).
                 let warm_started = warm.is_some()
-                    && matches!(
-                        kind,
-                        SolverKind::AugmentedLagrangian
-                            | SolverKind::InteriorPoint
-                            | SolverKind::DualActiveSet
-                    );
+                    && match kind {
+                        SolverKind::AugmentedLagrangian | SolverKind::InteriorPoint => true,
+                        SolverKind::DualActiveSet => candidate.factorizations > 0,
+                        _ => false,
+                    };
                 log::debug!(
                     "  answered by {kind:?} ({}): {} iterations, {} factorizations",
                     if warm_started { "warm" } else { "cold" },

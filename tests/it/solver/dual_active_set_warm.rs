@@ -3,7 +3,8 @@
 //! own answer it takes no step; started from any multipliers (another
 //! problem's, random ones of either sign, the wrong length, values that
 //! are not finite) it ends at the cold answer, checked against clarabel
-//! at 1e-12 and Lemke.
+//! at 1e-12 and Lemke; a warm set of rows that hold at `dq = 0` is
+//! refused and reported cold.
 
 use super::friction_cone::pushed_column;
 use super::interior_point_friction::{named, tight_clarabel};
@@ -120,6 +121,34 @@ fn multipliers_of_another_length_start_cold() {
         assert_eq!(warm.iterations, cold.iterations, "{context}");
         assert_agree(&qp, &warm.dq, &cold.dq, &context);
     }
+}
+
+/// Multipliers only on rows that hold at `dq = 0` (a later pass's warm
+/// set, module docs of `warm.rs`): the warm start is refused, the method
+/// starts cold and reports so (no factor, not warm-started).
+#[test]
+fn a_warm_set_of_rows_that_hold_is_refused() {
+    let mut tested = 0;
+    for (context, qp) in problems() {
+        let warm = DVector::from_fn(qp.num_rows(), |i, _| {
+            if qp.phi[i] - qp.target[i] >= 0.0 {
+                1.0
+            } else {
+                0.0
+            }
+        });
+        if warm.iter().all(|&x| x == 0.0) {
+            continue;
+        }
+        let answer = warm_answer(&qp, &warm, &context);
+        let cold = cold_answer(&qp, &context);
+        assert!(!answer.warm_started, "{context}");
+        assert_eq!(answer.factorizations, 0, "{context}");
+        assert_eq!(answer.iterations, cold.iterations, "{context}");
+        assert_agree(&qp, &answer.dq, &cold.dq, &context);
+        tested += 1;
+    }
+    assert!(tested > 0, "no problem has a row that holds at dq = 0");
 }
 
 proptest! {
