@@ -1,6 +1,8 @@
 //! The solver's warm starts: the multipliers of the last answer of every
 //! body pair, kept across the passes of a call and across calls, for the
-//! augmented Lagrangian ([`crate::solver::solve_projection_warm`]).
+//! solvers that take them (the dual active-set method, the interior point,
+//! the augmented Lagrangian; [`crate::solver::solve_projection_warm`],
+//! [`crate::solver::SolverSettings::warm_starts`]).
 //!
 //! **Key.** The multipliers of one part pair are kept as one vector, in the
 //! order of the projection QP: the pair's contact rows, then its friction

@@ -191,7 +191,8 @@ pub fn solve(
         is_active[j] = true;
     }
     let b_rows = b.clone();
-    // The rows measured at the start (`dq = 0`: `s = b`).
+    // The rows measured at the start: `s = J dq + b`, which is `b` from
+    // `dq = 0` (no warm start).
     let mut slack = match active.is_empty() {
         true => b,
         false => DVector::from_iterator(
