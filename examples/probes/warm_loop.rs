@@ -23,10 +23,13 @@
 //! minimizer is unique in `dq`, so one pass's answers differ by the
 //! solvers' tolerances; a call stops once its depth is within its
 //! tolerance, so two calls can stop a pass apart, and their results then
-//! differ by about that tolerance.
+//! differ by about that tolerance. On stderr, per scene and variant:
+//! the passes summed over the calls, and per solver that answered its
+//! islands, warm-started islands, iterations and factorizations.
 
 use crate::certificates_loop::{steps_and_scenes, world_of};
 
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 use constraint_stabilization::rapier_bridge::{BridgeSettings, RapierBridge};
@@ -43,6 +46,10 @@ struct Calls {
     iterations: Vec<f64>,
     islands: usize,
     warm_islands: usize,
+    passes: usize,
+    /// Per solver that answered: islands, warm-started islands,
+    /// iterations, factorizations (summed over the calls).
+    by_solver: BTreeMap<String, [usize; 4]>,
 }
 
 impl Calls {
@@ -53,7 +60,16 @@ impl Calls {
             iterations += island.solver_iterations;
             islands += 1;
             warm += usize::from(island.warm_started);
+            let kind = island
+                .solver
+                .map_or("none".to_string(), |k| format!("{k:?}"));
+            let sums = self.by_solver.entry(kind).or_default();
+            sums[0] += 1;
+            sums[1] += usize::from(island.warm_started);
+            sums[2] += island.solver_iterations;
+            sums[3] += island.factorizations;
         }
+        self.passes += report.passes;
         self.call_ms.push(ms);
         self.iterations.push(iterations as f64);
         self.islands += islands;
@@ -142,6 +158,14 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
             }
         }
         let [warm, cold] = &calls;
+        for (label, variant) in [("warm", warm), ("cold", cold)] {
+            eprintln!("{name}, {label}: passes {}", variant.passes);
+            for (kind, [islands, warm_islands, iterations, factorizations]) in &variant.by_solver {
+                eprintln!(
+                    "{name}, {label}, {kind}: islands {islands}, warm-started {warm_islands}, iterations {iterations}, factorizations {factorizations}"
+                );
+            }
+        }
         println!(
             "| {name} | {steps} | {} / {} | {:.3} / {:.3} | {:.0} / {:.0} | {} of {} | {worst_difference:.1e} | {worst_over_tolerance:.2} | {other_passes} | {} / {} |",
             warm.call_ms.len(),
