@@ -52,15 +52,25 @@ impl GreatArc {
     }
 
     /// The smallest value of `x . t` over the points `x` of the arc.
+    ///
+    /// With the pole `p = from x to` (not normalized), the part of `t` in
+    /// the arc's plane is `t_p = t - p (p . t) / (p . p)`, and `x . t =
+    /// x . t_p` is least on the circle at `-t_p / |t_p|`, where it is
+    /// `-|t_p|`. Whether that point is on the arc does not depend on its
+    /// length, so `-t_p` is tested as it is: one square root in all.
     pub fn min_dot(&self, t: &Vector3<f64>) -> f64 {
         let at_ends = self.from.dot(t).min(self.to.dot(t));
-        let Some(pole) = self.pole().try_normalize(0.0) else {
+        let pole = self.pole();
+        let pole_squared = pole.norm_squared();
+        if pole_squared <= 0.0 || !pole_squared.is_finite() {
             return at_ends;
-        };
-        // On the circle, x . t = x . t_in_plane, least at -t_in_plane/|.|.
-        let t_in_plane = t - pole * pole.dot(t);
-        match t_in_plane.try_normalize(0.0) {
-            Some(towards) if self.contains(&-towards) => -t_in_plane.norm(),
+        }
+        let t_in_plane = t - pole * (pole.dot(t) / pole_squared);
+        let nearest = -t_in_plane;
+        let on_arc = pole.dot(&self.from.cross(&nearest)) >= 0.0
+            && pole.dot(&nearest.cross(&self.to)) >= 0.0;
+        match t_in_plane.norm() {
+            length if length > 0.0 && on_arc => -length,
             _ => at_ends,
         }
     }

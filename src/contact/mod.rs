@@ -65,7 +65,8 @@ pub use island_contacts::{IslandContacts, SceneGeometry, shape_pair};
 pub use manifold::{ContactPoint, Manifold};
 pub use memo::{PosedQuery, QueryMemo};
 pub use penetration::{
-    ContactAxis, Penetration, PenetrationFeatures, minimum_translation, widest_separation,
+    ARC_SCAN_MAX_EDGES, ContactAxis, Penetration, PenetrationFeatures, minimum_translation,
+    widest_separation,
 };
 pub use round::RoundAnswer;
 pub use scene_parts::SceneParts;
@@ -200,12 +201,19 @@ pub fn query(
     if let (Some(radii), Some(contact)) = (radii, round::closed_form(a, b)) {
         return Ok(closed_form_query(radii, contact));
     }
-    let result = match vclip.query(a.shape, &a.pose, b.shape, &b.pose, warm_start) {
+    // The exact search needs only some vertex–face pair as its start (its
+    // cap holds the answer from any upper bound): V-Clip's face refinement
+    // tightens the cap, which pays only where the search walks it (a body
+    // of more than `ARC_SCAN_MAX_EDGES` edges); below, it cost more than
+    // it saved (`benchmarks/results/call_cost.md`, twenty-first session).
+    let walked = |shape: &ConvexPolyhedron| shape.edges().len() > ARC_SCAN_MAX_EDGES;
+    let refine = vclip.settings.refine_face && (walked(a.shape) || walked(b.shape));
+    let posed =
+        |warm_start| vclip.query_refining(a.shape, &a.pose, b.shape, &b.pose, warm_start, refine);
+    let result = match posed(warm_start) {
         // A warm start is a hint: one that does not fit these shapes is
         // dropped and the query starts cold.
-        Err(VClipError::InvalidWarmStart { .. }) => {
-            vclip.query(a.shape, &a.pose, b.shape, &b.pose, None)?
-        }
+        Err(VClipError::InvalidWarmStart { .. }) => posed(None)?,
         answer => answer?,
     };
     let penetration = match &result.outcome {

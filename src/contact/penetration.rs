@@ -32,7 +32,11 @@
 //!    moving to arcs that share a face (an end) or a vertex (a cell). Every
 //!    face whose normal lies in the cap and every crossing pair of visited
 //!    arcs is evaluated, `d(n)` by hill-climbing the two supports (warm from
-//!    the last support vertex), and the least is kept.
+//!    the last support vertex), and the least is kept. A body of at most
+//!    [`ARC_SCAN_MAX_EDGES`] edges has every arc tested against the cap
+//!    instead of walked: on boxes and small hulls the cap holds about half
+//!    of the arcs, and the walk's bookkeeping costs more than the tests it
+//!    saves.
 //!
 //! **It terminates**: each arc is visited once, each candidate evaluated
 //! once, and each support climb strictly increases its objective.
@@ -62,6 +66,8 @@
 //! [`EDGE_PARALLEL_SINE`]) are skipped: their cross product is too short to
 //! give a direction, and the facet they span is a sliver between the facets
 //! of the neighbouring faces, which are evaluated.
+
+use std::cell::Cell;
 
 use nalgebra::{Isometry3, Matrix3, Vector3};
 
@@ -116,6 +122,15 @@ pub const FACE_ALIGNMENT_COS: f64 = 0.995_004_165_278_025_8;
 /// The absolute part of the face preference, relative to the pair's scale
 /// (the smaller circumradius).
 pub const FACE_PREFERENCE_ABSOLUTE_RELATIVE: f64 = 1e-6;
+
+/// Bodies with at most this many edges have every arc tested against the
+/// cap instead of walked from the seed: on the piles' boxes and small
+/// hulls the cap holds about half of the arcs, and the walk's bookkeeping
+/// (a mark per edge, a queue, eight to fourteen neighbours per arc found)
+/// cost more than testing the arcs it skips (`arcs_in_cap`; measured with
+/// callgrind on the Rapier pile of 1,000 mid-settle:
+/// `benchmarks/results/contact_depth.md`).
+pub const ARC_SCAN_MAX_EDGES: usize = 48;
 
 /// Which features realize the minimum translation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -212,16 +227,52 @@ impl Penetration {
 
 /// One body seen from A's frame. `sign` is +1 for B (its Gauss map) and -1
 /// for A (the mirrored map, so that both maps hold the axis `n` itself).
+/// A's frame is its own: `rotation` is `None` for A, and its images,
+/// directions and points are its own vectors (no product with the
+/// identity).
 struct View<'a> {
     poly: &'a ConvexPolyhedron,
-    rotation: Matrix3<f64>,
+    rotation: Option<Matrix3<f64>>,
     translation: Vector3<f64>,
     sign: f64,
+    /// The face images computed so far (NaN: not yet): every arc reads
+    /// the images of its two faces, and a face borders several arcs that
+    /// the walk and the edge pairs test.
+    images: Vec<Cell<Vector3<f64>>>,
 }
 
-impl View<'_> {
+impl<'a> View<'a> {
+    fn new(
+        poly: &'a ConvexPolyhedron,
+        rotation: Option<Matrix3<f64>>,
+        translation: Vector3<f64>,
+        sign: f64,
+    ) -> Self {
+        View {
+            poly,
+            rotation,
+            translation,
+            sign,
+            images: vec![Cell::new(Vector3::repeat(f64::NAN)); poly.faces().len()],
+        }
+    }
+
+    /// `v` in A's frame (a direction of the body's own frame).
+    fn rotate(&self, v: &Vector3<f64>) -> Vector3<f64> {
+        match &self.rotation {
+            Some(rotation) => rotation * v,
+            None => *v,
+        }
+    }
+
     fn image(&self, face: usize) -> Vector3<f64> {
-        self.rotation * self.poly.faces()[face].plane.normal * self.sign
+        let cached = self.images[face].get();
+        if !cached.x.is_nan() {
+            return cached;
+        }
+        let image = self.rotate(&self.poly.faces()[face].plane.normal) * self.sign;
+        self.images[face].set(image);
+        image
     }
 
     fn arc(&self, edge: usize) -> GreatArc {
@@ -233,14 +284,18 @@ impl View<'_> {
     }
 
     fn direction(&self, edge: usize) -> Vector3<f64> {
-        self.rotation * self.poly.edges()[edge].direction
+        self.rotate(&self.poly.edges()[edge].direction)
     }
 
     /// `max_v dir . v` over the body's vertices (A's frame), by hill
     /// climbing from `start`.
     fn support(&self, dir: &Vector3<f64>, start: usize) -> (usize, f64) {
+        let dir_body = match &self.rotation {
+            Some(rotation) => rotation.tr_mul(dir),
+            None => *dir,
+        };
         let plane = Plane {
-            normal: -self.rotation.tr_mul(dir),
+            normal: -dir_body,
             offset: 0.0,
         };
         let (vertex, height) = descend(self.poly, &plane, start);
@@ -249,13 +304,22 @@ impl View<'_> {
 
     /// Vertex `v` in A's frame.
     fn point(&self, v: usize) -> Vector3<f64> {
-        self.rotation * self.poly.vertices()[v].coords + self.translation
+        self.rotate(&self.poly.vertices()[v].coords) + self.translation
     }
 
     /// The edges around vertex `v` and, for a face, its boundary.
     fn edges_at_vertex(&self, v: usize) -> &[usize] {
         self.poly.vertex_edges(v)
     }
+}
+
+/// An edge that may span the best axis, with its arc and direction in
+/// A's frame: every edge of one body is tested against every edge of the
+/// other, so each is computed once.
+struct EdgeImage {
+    edge: usize,
+    arc: GreatArc,
+    direction: Vector3<f64>,
 }
 
 /// A candidate axis, evaluated.
@@ -399,18 +463,13 @@ fn search_from(
 ) -> Penetration {
     let b_in_a = pose_a.inv_mul(pose_b);
     let views = [
-        View {
-            poly: poly_a,
-            rotation: Matrix3::identity(),
-            translation: Vector3::zeros(),
-            sign: -1.0,
-        },
-        View {
-            poly: poly_b,
-            rotation: b_in_a.rotation.to_rotation_matrix().into_inner(),
-            translation: b_in_a.translation.vector,
-            sign: 1.0,
-        },
+        View::new(poly_a, None, Vector3::zeros(), -1.0),
+        View::new(
+            poly_b,
+            Some(b_in_a.rotation.to_rotation_matrix().into_inner()),
+            b_in_a.translation.vector,
+            1.0,
+        ),
     ];
     let (face_body, seed_face) = seed;
     let seed_features = face_features(face_body, seed_face);
@@ -585,8 +644,15 @@ impl Search<'_> {
     /// `face` of body `face_body`.
     fn walk_cap(&mut self, face_body: usize, face: usize) {
         let limit = self.best.depth - self.radii;
+        let scanned = self
+            .views
+            .each_ref()
+            .map(|view| view.poly.edges().len() <= ARC_SCAN_MAX_EDGES);
         let arcs: [Vec<usize>; 2] = std::array::from_fn(|body| {
             let view = &self.views[body];
+            if scanned[body] {
+                return scan_arcs_in_cap(view, &self.centre_b, limit);
+            }
             let mut starts: Vec<usize> = view.edges_at_vertex(self.best.supports[body]).to_vec();
             if body == face_body {
                 starts.extend_from_slice(&view.poly.faces()[face].edges);
@@ -594,45 +660,77 @@ impl Search<'_> {
             arcs_in_cap(view, &self.centre_b, limit, &starts)
         });
         for (body, body_arcs) in arcs.iter().enumerate() {
-            for face in faces_in_cap(&self.views[body], body_arcs, &self.centre_b, limit) {
+            let faces = if scanned[body] {
+                scan_faces_in_cap(&self.views[body], &self.centre_b, limit)
+            } else {
+                faces_in_cap(&self.views[body], body_arcs, &self.centre_b, limit)
+            };
+            for face in faces {
                 self.consider_face(body, face);
             }
         }
         // Only edges whose own bound can still beat the best can span it.
-        let promising = |search: &Self, body: usize, found: &[usize]| -> Vec<usize> {
+        let promising = |search: &Self, body: usize, found: &[usize]| -> Vec<EdgeImage> {
             let threshold = search.best.depth + search.tie;
+            let view = &search.views[body];
             found
                 .iter()
                 .copied()
                 .filter(|&edge| search.edge_may_beat(body, edge, threshold))
+                .map(|edge| EdgeImage {
+                    edge,
+                    arc: view.arc(edge),
+                    direction: view.direction(edge),
+                })
                 .collect()
         };
         let edges_a = promising(self, 0, &arcs[0]);
         let edges_b = promising(self, 1, &arcs[1]);
-        for &edge_a in &edges_a {
-            for &edge_b in &edges_b {
-                if let Some(normal) = self.crossing(edge_a, edge_b) {
-                    self.consider_edges(edge_a, edge_b, normal);
+        for edge_a in &edges_a {
+            for edge_b in &edges_b {
+                if let Some(normal) = crossing(edge_a, edge_b) {
+                    self.consider_edges(edge_a.edge, edge_b.edge, normal);
                 }
             }
         }
     }
+}
 
-    /// The axis where the arcs of `edge_a` (mirrored) and `edge_b` cross.
-    fn crossing(&self, edge_a: usize, edge_b: usize) -> Option<Vector3<f64>> {
-        let cross = self.views[0]
-            .direction(edge_a)
-            .cross(&self.views[1].direction(edge_b));
-        let sine = cross.norm();
-        if sine < EDGE_PARALLEL_SINE {
-            return None;
-        }
-        let axis = cross / sine;
-        let (arc_a, arc_b) = (self.views[0].arc(edge_a), self.views[1].arc(edge_b));
-        [axis, -axis]
-            .into_iter()
-            .find(|n| arc_a.contains(n) && arc_b.contains(n))
+/// The axis where the arcs of `edge_a` (A's, mirrored) and `edge_b` cross.
+fn crossing(edge_a: &EdgeImage, edge_b: &EdgeImage) -> Option<Vector3<f64>> {
+    let cross = edge_a.direction.cross(&edge_b.direction);
+    let sine = cross.norm();
+    if sine < EDGE_PARALLEL_SINE {
+        return None;
     }
+    let axis = cross / sine;
+    [axis, -axis]
+        .into_iter()
+        .find(|n| edge_a.arc.contains(n) && edge_b.arc.contains(n))
+}
+
+/// Every arc of `view` that meets the cap `n . centre <= limit`, ascending,
+/// each arc tested in turn (bodies of at most [`ARC_SCAN_MAX_EDGES`]
+/// edges).
+///
+/// The arcs that meet the cap are connected (module docs), so the scan
+/// finds the walk's arcs ([`arcs_in_cap`]); where rounding would
+/// disconnect one, the scan also finds it, and an extra arc only adds
+/// candidates, each evaluated exactly: the least depth found can only be
+/// the same or smaller.
+fn scan_arcs_in_cap(view: &View, centre: &Vector3<f64>, limit: f64) -> Vec<usize> {
+    (0..view.poly.edges().len())
+        .filter(|&edge| view.arc(edge).dips(centre, |value| value <= limit))
+        .collect()
+}
+
+/// Every face of `view` whose axis lies in the cap, ascending: the faces
+/// [`faces_in_cap`] takes from the scanned arcs (a face in the cap is an
+/// end, inside the cap, of each of its arcs, so all of them were found).
+fn scan_faces_in_cap(view: &View, centre: &Vector3<f64>, limit: f64) -> Vec<usize> {
+    (0..view.poly.faces().len())
+        .filter(|&face| view.image(face).dot(centre) <= limit)
+        .collect()
 }
 
 /// The arcs of `view` that meet the cap `n . centre <= limit`, reachable
@@ -647,8 +745,8 @@ fn arcs_in_cap(view: &View, centre: &Vector3<f64>, limit: f64, starts: &[usize])
         tested[edge] = true;
         first && view.arc(edge).dips(centre, |value| value <= limit)
     };
-    let mut found = Vec::new();
-    let mut queue = std::collections::VecDeque::new();
+    let mut found = Vec::with_capacity(poly.edges().len());
+    let mut queue = std::collections::VecDeque::with_capacity(poly.edges().len());
     for &edge in starts {
         if meets(edge) {
             queue.push_back(edge);

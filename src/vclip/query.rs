@@ -90,6 +90,24 @@ impl VClip {
         pose_b: &Isometry3<f64>,
         warm_start: Option<FeaturePair>,
     ) -> Result<VClipResult, VClipError> {
+        let refine = self.settings.refine_face;
+        self.query_refining(poly_a, pose_a, poly_b, pose_b, warm_start, refine)
+    }
+
+    /// [`VClip::query`], with the face refinement of a penetration's
+    /// deepest vertex–face pair on or off for this query
+    /// ([`VClipSettings::refine_face`] is the default of `query`): the
+    /// narrow phase, whose exact depth search only needs some vertex–face
+    /// pair as its start, asks for it where it pays.
+    pub fn query_refining(
+        &self,
+        poly_a: &ConvexPolyhedron,
+        pose_a: &Isometry3<f64>,
+        poly_b: &ConvexPolyhedron,
+        pose_b: &Isometry3<f64>,
+        warm_start: Option<FeaturePair>,
+        refine: bool,
+    ) -> Result<VClipResult, VClipError> {
         let pose_a = &normalized_pose(pose_a, BodyRole::A)?;
         let pose_b = &normalized_pose(pose_b, BodyRole::B)?;
         let start = warm_start.unwrap_or_else(FeaturePair::cold);
@@ -103,10 +121,10 @@ impl VClip {
         Ok(match self.walk(&pair, start.to_array(), 0, cap) {
             WalkEnd::Done(features, iterations) => self.done(&pair, poses, features, iterations),
             WalkEnd::Penetration(witness, features, iterations) => {
-                self.penetrating(&pair, poses, witness, features, iterations)
+                penetrating(&pair, poses, witness, features, iterations, refine)
             }
             WalkEnd::Cycle(states, iterations) => {
-                self.resolve_cycle(&pair, poses, &states, iterations, cap)
+                self.resolve_cycle(&pair, poses, &states, iterations, cap, refine)
             }
             WalkEnd::Cap => {
                 log::debug!("v-clip: iteration cap {cap} reached; exhaustive fallback");
@@ -158,30 +176,30 @@ enum WalkEnd {
     Cap,
 }
 
-impl VClip {
-    fn penetrating(
-        &self,
-        pair: &Pair,
-        poses: [&Isometry3<f64>; 2],
-        witness: Witness,
-        features: [Feature; 2],
-        iterations: usize,
-    ) -> VClipResult {
-        let deepest = deepest_vertex(pair, poses, witness, self.settings.refine_face);
-        VClipResult {
-            outcome: Outcome::Penetrating(deepest),
-            final_pair: FeaturePair::from_array(features),
-            iterations,
-            fallback: None,
-            resolved_cycle: false,
-        }
+/// The answer of a walk that found a penetration: the deepest vertex–face
+/// pair from its witness, refined or not.
+fn penetrating(
+    pair: &Pair,
+    poses: [&Isometry3<f64>; 2],
+    witness: Witness,
+    features: [Feature; 2],
+    iterations: usize,
+    refine: bool,
+) -> VClipResult {
+    let deepest = deepest_vertex(pair, poses, witness, refine);
+    VClipResult {
+        outcome: Outcome::Penetrating(deepest),
+        final_pair: FeaturePair::from_array(features),
+        iterations,
+        fallback: None,
+        resolved_cycle: false,
     }
 }
 
 impl VClip {
     /// The answer after a repeated state: the remembered pair of smallest
     /// distance that passes Theorem 1 up to the tie tolerance, else the
-    /// exhaustive fallback.
+    /// exhaustive fallback (`refine`: as in [`VClip::query_refining`]).
     fn resolve_cycle(
         &self,
         pair: &Pair,
@@ -189,6 +207,7 @@ impl VClip {
         states: &[[Feature; 2]],
         iterations: usize,
         cap: usize,
+        refine: bool,
     ) -> VClipResult {
         let tol = self.settings.tie_tolerance * pair_scale(pair);
         let mut candidates: Vec<([Feature; 2], [Point3<f64>; 2], f64)> = states
@@ -210,7 +229,7 @@ impl VClip {
                 resolved_cycle: true,
                 ..self.finish(pair, poses, features, points, iterations)
             },
-            None => self.tolerant_walk(pair, poses, states, iterations, cap),
+            None => self.tolerant_walk(pair, poses, states, iterations, cap, refine),
         }
     }
 
@@ -224,6 +243,7 @@ impl VClip {
         states: &[[Feature; 2]],
         iterations: usize,
         cap: usize,
+        refine: bool,
     ) -> VClipResult {
         let tolerant = Pair {
             polys: pair.polys,
@@ -234,7 +254,7 @@ impl VClip {
         let result = match self.walk(&tolerant, start, iterations, cap) {
             WalkEnd::Done(features, iterations) => self.done(pair, poses, features, iterations),
             WalkEnd::Penetration(witness, features, iterations) => {
-                self.penetrating(pair, poses, witness, features, iterations)
+                penetrating(pair, poses, witness, features, iterations, refine)
             }
             WalkEnd::Cycle(..) | WalkEnd::Cap => {
                 log::debug!("v-clip: the tolerant walk did not end; exhaustive fallback");

@@ -322,3 +322,44 @@ fn forced_fallback_is_correct_and_reported() {
     }
     assert!(seen[0] > 50 && seen[1] > 50, "{seen:?}");
 }
+
+/// `VClip::query_refining` with the refinement on or off gives exactly the
+/// answer of an engine whose `refine_face` setting is that value (the
+/// narrow phase turns the refinement off per query), whatever the
+/// engine's own setting: the same outcome, features and iterations, bit
+/// for bit, on penetrating and separated random pairs.
+#[test]
+fn refining_per_query_is_the_setting_per_query() {
+    let engines = [false, true].map(|refine_face| {
+        VClip::new(VClipSettings {
+            refine_face,
+            ..VClipSettings::default()
+        })
+    });
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    let mut penetrating = 0;
+    for _ in 0..400 {
+        let (n, m) = (rng.random_range(4..=40), rng.random_range(4..=40));
+        let a = random_hull_varied(&mut rng, n, 1.0);
+        let radius_b = rng.random_range(0.3..1.5);
+        let b = random_hull_varied(&mut rng, m, radius_b);
+        let (pose_a, pose_b) = (random_pose(&mut rng, 0.8), random_pose(&mut rng, 0.8));
+        for refine in [false, true] {
+            let expected = engines[usize::from(refine)]
+                .query(&a, &pose_a, &b, &pose_b, None)
+                .unwrap();
+            for engine in &engines {
+                let answer = engine
+                    .query_refining(&a, &pose_a, &b, &pose_b, None, refine)
+                    .unwrap();
+                assert_eq!(answer, expected, "refine {refine}");
+            }
+            penetrating += usize::from(matches!(expected.outcome, Outcome::Penetrating(_)));
+        }
+    }
+    // Both kinds of answer were compared.
+    assert!(
+        (100..800).contains(&penetrating),
+        "{penetrating} penetrating"
+    );
+}
