@@ -50,7 +50,9 @@
 //! Run: `cargo bench --bench contact_depth` (writes
 //! `benchmarks/results/contact_depth.md`), or
 //! `cargo bench --bench contact_depth -- --quick` for a smoke run (few
-//! rounds and box pairs, prints only).
+//! rounds and box pairs, prints only); `-- --only PREFIX` keeps the
+//! families whose name starts with `PREFIX` (prints only: for instruction
+//! counts of one family under callgrind).
 
 #[path = "common/mod.rs"]
 mod common;
@@ -468,9 +470,17 @@ fn main() {
     let start = Instant::now();
     let vclip = VClip::default();
 
+    let args: Vec<String> = std::env::args().collect();
+    let only = args
+        .windows(2)
+        .find(|w| w[0] == "--only")
+        .map(|w| w[1].clone());
     let mut families = coherence_families(&vclip);
     families.push(box_pairs(&vclip, BOX_PAIRS[which]));
     families.push(pile(&vclip));
+    if let Some(prefix) = &only {
+        families.retain(|family| family.name.starts_with(prefix.as_str()));
+    }
     let setup_seconds = start.elapsed().as_secs_f64();
 
     // One warm-up round, then `rounds` rounds. In each round a family's
@@ -569,7 +579,7 @@ fn main() {
         methods = METHODS.join(", "),
     );
     println!("{report}");
-    if !quick {
+    if !quick && only.is_none() {
         let path = common::results_dir().join("contact_depth.md");
         std::fs::write(&path, &report).expect("write the result file");
         println!("written to {}", path.display());

@@ -128,8 +128,13 @@ pub const FACE_PREFERENCE_ABSOLUTE_RELATIVE: f64 = 1e-6;
 /// hulls the cap holds about half of the arcs, and the walk's bookkeeping
 /// (a mark per edge, a queue, eight to fourteen neighbours per arc found)
 /// cost more than testing the arcs it skips (`arcs_in_cap`; measured with
-/// callgrind on the Rapier pile of 1,000 mid-settle:
-/// `benchmarks/results/contact_depth.md`).
+/// callgrind on the engine states and the Rapier pile of 1,000
+/// mid-settle: `benchmarks/results/call_cost.md`, twenty-first session).
+/// Larger bodies keep the walk: a round body of many faces (the
+/// 642-vertex sphere of `benchmarks/contact_depth.rs`) has a tight cap
+/// that holds few of its arcs. The engine states' hulls have up to 22
+/// vertices (about 60 edges); where between 48 and the sphere's 1,920
+/// edges the scan starts to lose was not measured.
 pub const ARC_SCAN_MAX_EDGES: usize = 48;
 
 /// Which features realize the minimum translation.
@@ -235,9 +240,11 @@ struct View<'a> {
     rotation: Option<Matrix3<f64>>,
     translation: Vector3<f64>,
     sign: f64,
-    /// The face images computed so far (NaN: not yet): every arc reads
-    /// the images of its two faces, and a face borders several arcs that
-    /// the walk and the edge pairs test.
+    /// The face images computed so far (NaN: not yet), on a body of at
+    /// most [`ARC_SCAN_MAX_EDGES`] edges (empty above): every arc reads the
+    /// images of its two faces, and a face borders several arcs that the
+    /// scan and the edge pairs test. A large body's walk reads few of its
+    /// faces, fewer than a cache of all of them would cost to set up.
     images: Vec<Cell<Vector3<f64>>>,
 }
 
@@ -253,7 +260,10 @@ impl<'a> View<'a> {
             rotation,
             translation,
             sign,
-            images: vec![Cell::new(Vector3::repeat(f64::NAN)); poly.faces().len()],
+            images: match poly.edges().len() <= ARC_SCAN_MAX_EDGES {
+                true => vec![Cell::new(Vector3::repeat(f64::NAN)); poly.faces().len()],
+                false => Vec::new(),
+            },
         }
     }
 
@@ -266,12 +276,14 @@ impl<'a> View<'a> {
     }
 
     fn image(&self, face: usize) -> Vector3<f64> {
-        let cached = self.images[face].get();
-        if !cached.x.is_nan() {
+        let cell = self.images.get(face);
+        if let Some(cached) = cell.map(Cell::get).filter(|c| !c.x.is_nan()) {
             return cached;
         }
         let image = self.rotate(&self.poly.faces()[face].plane.normal) * self.sign;
-        self.images[face].set(image);
+        if let Some(cell) = cell {
+            cell.set(image);
+        }
         image
     }
 
