@@ -65,7 +65,7 @@ pub use island_contacts::{IslandContacts, SceneGeometry, shape_pair};
 pub use manifold::{ContactPoint, Manifold};
 pub use memo::{PosedQuery, QueryMemo};
 pub use penetration::{
-    ARC_SCAN_MAX_EDGES, ContactAxis, Penetration, PenetrationFeatures, minimum_translation,
+    ContactAxis, Penetration, PenetrationFeatures, minimum_translation, scans_cap,
     widest_separation,
 };
 pub use round::RoundAnswer;
@@ -206,8 +206,7 @@ pub fn query(
     // tightens the cap, which pays only where the search walks it (a body
     // of more than `ARC_SCAN_MAX_EDGES` edges); below, it cost more than
     // it saved (`benchmarks/results/call_cost.md`, twenty-first session).
-    let walked = |shape: &ConvexPolyhedron| shape.edges().len() > ARC_SCAN_MAX_EDGES;
-    let refine = vclip.settings.refine_face && (walked(a.shape) || walked(b.shape));
+    let refine = vclip.settings.refine_face && !(scans_cap(a.shape) && scans_cap(b.shape));
     let posed =
         |warm_start| vclip.query_refining(a.shape, &a.pose, b.shape, &b.pose, warm_start, refine);
     let result = match posed(warm_start) {

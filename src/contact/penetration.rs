@@ -137,6 +137,12 @@ pub const FACE_PREFERENCE_ABSOLUTE_RELATIVE: f64 = 1e-6;
 /// edges the scan starts to lose was not measured.
 pub const ARC_SCAN_MAX_EDGES: usize = 48;
 
+/// Whether the search tests every arc of `poly` against its cap (at most
+/// [`ARC_SCAN_MAX_EDGES`] edges) rather than walking it.
+pub fn scans_cap(poly: &ConvexPolyhedron) -> bool {
+    poly.edges().len() <= ARC_SCAN_MAX_EDGES
+}
+
 /// Which features realize the minimum translation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum PenetrationFeatures {
@@ -260,7 +266,7 @@ impl<'a> View<'a> {
             rotation,
             translation,
             sign,
-            images: match poly.edges().len() <= ARC_SCAN_MAX_EDGES {
+            images: match scans_cap(poly) {
                 true => vec![Cell::new(Vector3::repeat(f64::NAN)); poly.faces().len()],
                 false => Vec::new(),
             },
@@ -656,10 +662,7 @@ impl Search<'_> {
     /// `face` of body `face_body`.
     fn walk_cap(&mut self, face_body: usize, face: usize) {
         let limit = self.best.depth - self.radii;
-        let scanned = self
-            .views
-            .each_ref()
-            .map(|view| view.poly.edges().len() <= ARC_SCAN_MAX_EDGES);
+        let scanned = self.views.each_ref().map(|view| scans_cap(view.poly));
         let arcs: [Vec<usize>; 2] = std::array::from_fn(|body| {
             let view = &self.views[body];
             if scanned[body] {
