@@ -24,7 +24,9 @@
 //! Orientation is inherited: triangles are counter-clockwise seen from
 //! outside, so boundary half-edges of a face are too.
 
-use std::collections::{HashMap, HashSet, VecDeque};
+use std::collections::VecDeque;
+
+use super::index_maps::{IndexMap, IndexSet};
 
 use nalgebra::{Point3, Vector3};
 
@@ -84,7 +86,7 @@ pub(crate) fn polygon_faces(
 /// For each triangle and each of its edges `i` (from corner `i` to
 /// `i + 1`), the triangle across that edge.
 fn triangle_neighbours(triangles: &[[usize; 3]]) -> Result<Vec<[usize; 3]>, GeometryError> {
-    let mut owner: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut owner: IndexMap<(usize, usize), usize> = IndexMap::default();
     for (t, tri) in triangles.iter().enumerate() {
         for i in 0..3 {
             if owner.insert((tri[i], tri[(i + 1) % 3]), t).is_some() {
@@ -168,8 +170,8 @@ fn convex_pieces(
     neighbours: &[[usize; 3]],
     convex: impl Fn(&[usize]) -> Option<Vec<usize>>,
 ) -> Vec<Vec<usize>> {
-    let in_group: HashSet<usize> = group.iter().copied().collect();
-    let mut assigned: HashSet<usize> = HashSet::new();
+    let in_group: IndexSet<usize> = group.iter().copied().collect();
+    let mut assigned: IndexSet<usize> = IndexSet::default();
     let mut pieces = Vec::new();
     for &seed in group {
         if !assigned.insert(seed) {
@@ -223,13 +225,13 @@ fn is_convex_polygon(
 /// The boundary of a group of triangles as one counter-clockwise cycle, or
 /// `None` when it is not a single simple cycle.
 fn boundary_cycle(triangles: &[[usize; 3]], group: &[usize]) -> Option<Vec<usize>> {
-    let mut inside: HashSet<(usize, usize)> = HashSet::new();
+    let mut inside: IndexSet<(usize, usize)> = IndexSet::default();
     for &t in group {
         for i in 0..3 {
             inside.insert((triangles[t][i], triangles[t][(i + 1) % 3]));
         }
     }
-    let mut next: HashMap<usize, usize> = HashMap::new();
+    let mut next: IndexMap<usize, usize> = IndexMap::default();
     for &(a, b) in &inside {
         if !inside.contains(&(b, a)) && next.insert(a, b).is_some() {
             return None;
@@ -250,7 +252,7 @@ fn boundary_cycle(triangles: &[[usize; 3]], group: &[usize]) -> Option<Vec<usize
 
 /// Removes from every cycle the vertices that lie on exactly two faces.
 fn drop_edge_points(cycles: &mut [Vec<usize>]) -> Result<(), GeometryError> {
-    let mut face_count: HashMap<usize, usize> = HashMap::new();
+    let mut face_count: IndexMap<usize, usize> = IndexMap::default();
     for cycle in cycles.iter() {
         for &v in cycle {
             *face_count.entry(v).or_default() += 1;
@@ -270,7 +272,7 @@ fn drop_edge_points(cycles: &mut [Vec<usize>]) -> Result<(), GeometryError> {
 /// Renumbers the vertices used by `cycles` as `0..n`.
 fn compact(cycles: Vec<Vec<usize>>) -> HullFaces {
     let mut vertices = Vec::new();
-    let mut new_index: HashMap<usize, usize> = HashMap::new();
+    let mut new_index: IndexMap<usize, usize> = IndexMap::default();
     let faces = cycles
         .into_iter()
         .map(|cycle| {

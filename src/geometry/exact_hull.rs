@@ -23,7 +23,7 @@
 //! visible triangle, else dropped (inside). Expected `O(n log n)` for points
 //! in general position, `O(n²)` worst case.
 
-use std::collections::HashMap;
+use super::index_maps::IndexMap;
 
 use nalgebra::Point3;
 use robust::{Coord3D, orient3d};
@@ -49,7 +49,7 @@ struct Hull<'a> {
     points: &'a [Point3<f64>],
     triangles: Vec<Triangle>,
     /// Directed edge `(a, b)` -> the alive triangle that traverses it.
-    edge_owner: HashMap<(usize, usize), usize>,
+    edge_owner: IndexMap<(usize, usize), usize>,
 }
 
 /// Counter-clockwise (seen from outside) triangles of the convex hull of
@@ -94,7 +94,7 @@ impl<'a> Hull<'a> {
         let mut hull = Hull {
             points,
             triangles: Vec::new(),
-            edge_owner: HashMap::new(),
+            edge_owner: IndexMap::default(),
         };
         for skip in 0..4 {
             let others: Vec<usize> = (0..4).filter(|&i| i != skip).map(|i| simplex[i]).collect();
@@ -182,7 +182,7 @@ impl<'a> Hull<'a> {
     /// in the direction the visible triangle traverses them.
     fn visible_region(&self, p: usize, start: usize) -> Result<VisibleRegion, GeometryError> {
         let mut visible = vec![start];
-        let mut is_visible: HashMap<usize, bool> = HashMap::from([(start, true)]);
+        let mut is_visible: IndexMap<usize, bool> = IndexMap::from_iter([(start, true)]);
         let mut horizon = Vec::new();
         let mut k = 0;
         while k < visible.len() {

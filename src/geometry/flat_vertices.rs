@@ -17,7 +17,7 @@
 //! Bumps above [`FLAT_VERTEX_TOLERANCE`] stay: they are the corners of
 //! solids at least that thin, which V-Clip must handle anyway.
 
-use std::collections::HashSet;
+use super::index_maps::IndexSet;
 
 use nalgebra::{Point3, Vector3};
 
@@ -60,7 +60,7 @@ pub(crate) fn flat_vertices(
         }
     }
     let min_cosine = FLAT_VERTEX_MAX_ANGLE.cos();
-    let mut protected: HashSet<usize> = HashSet::new();
+    let mut protected: IndexSet<usize> = IndexSet::default();
     let mut dropped = Vec::new();
     for v in 0..count {
         let Some(n) = normal_sum[v].try_normalize(0.0) else {

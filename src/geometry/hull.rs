@@ -44,7 +44,7 @@
 //! (many coplanar points) it can return a non-convex triangle mesh. Exact
 //! predicates cannot produce either.
 
-use std::collections::HashSet;
+use super::index_maps::IndexSet;
 
 use nalgebra::Point3;
 
@@ -204,7 +204,7 @@ fn polygon_hull(
 /// checked by [`ConvexPolyhedron::from_faces`] already.
 fn inner_points(points: &[Point3<f64>], hull_points: &[Point3<f64>]) -> Vec<Point3<f64>> {
     let bits = |p: &Point3<f64>| p.coords.map(f64::to_bits);
-    let vertices: HashSet<_> = hull_points.iter().map(bits).collect();
+    let vertices: IndexSet<_> = hull_points.iter().map(bits).collect();
     points
         .iter()
         .filter(|p| !vertices.contains(&bits(p)))

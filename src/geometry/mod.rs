@@ -35,6 +35,7 @@ mod exact_hull;
 mod features;
 mod flat_vertices;
 mod hull;
+mod index_maps;
 mod mass;
 mod parry_bridge;
 mod plane;

@@ -16,7 +16,7 @@
 //!
 //! All shapes are centred on the origin, which is also their centre of mass.
 
-use std::collections::HashMap;
+use super::index_maps::IndexMap;
 use std::f64::consts::TAU;
 
 use nalgebra::{Point3, Vector3};
@@ -148,7 +148,7 @@ fn subdivide(
     faces: &[Vec<usize>],
     radius: f64,
 ) -> Vec<Vec<usize>> {
-    let mut midpoints: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut midpoints: IndexMap<(usize, usize), usize> = IndexMap::default();
     let mut midpoint = |a: usize, b: usize, vertices: &mut Vec<Point3<f64>>| {
         *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
             let middle = (vertices[a].coords + vertices[b].coords) * 0.5;

@@ -40,7 +40,7 @@
 //! rounding `ε M` itself approaches the flatness tolerance: at `M = 1e8 L`
 //! it is `2.2e-8 L`.
 
-use std::collections::HashSet;
+use super::index_maps::IndexSet;
 
 use nalgebra::Point3;
 
@@ -79,8 +79,8 @@ pub(crate) fn thin_face_vertices(
         .filter(|(width, _)| *width < min_width)
         .collect();
     thin.sort_by(|x, y| x.0.total_cmp(&y.0));
-    let mut protected: HashSet<usize> = HashSet::new();
-    let mut dropped: HashSet<usize> = HashSet::new();
+    let mut protected: IndexSet<usize> = IndexSet::default();
+    let mut dropped: IndexSet<usize> = IndexSet::default();
     for (_, cycle) in thin {
         let (a, b) = diametral_pair(&corners_of(cycle));
         let (a, b) = (cycle[a], cycle[b]);

@@ -9,7 +9,7 @@
 //! it `a -> b`; that face is its `left_face`, the twin's face its
 //! `right_face`. Euler's formula `V - E + F = 2` then rules out handles.
 
-use std::collections::HashMap;
+use super::index_maps::IndexMap;
 
 use super::GeometryError;
 
@@ -40,7 +40,7 @@ pub(crate) fn build_topology(
 ) -> Result<Topology, GeometryError> {
     let half_edges = index_half_edges(vertex_count, faces)?;
     let mut edges = Vec::new();
-    let mut edge_of_half_edge: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut edge_of_half_edge: IndexMap<(usize, usize), usize> = IndexMap::default();
     let mut face_edges = Vec::with_capacity(faces.len());
     for (f, cycle) in faces.iter().enumerate() {
         let mut cycle_edges = Vec::with_capacity(cycle.len());
@@ -86,8 +86,8 @@ fn cycle_steps(cycle: &[usize]) -> impl Iterator<Item = (usize, usize)> + '_ {
 fn index_half_edges(
     vertex_count: usize,
     faces: &[Vec<usize>],
-) -> Result<HashMap<(usize, usize), usize>, GeometryError> {
-    let mut half_edges = HashMap::new();
+) -> Result<IndexMap<(usize, usize), usize>, GeometryError> {
+    let mut half_edges = IndexMap::default();
     for (f, cycle) in faces.iter().enumerate() {
         if cycle.len() < 3 {
             return Err(GeometryError::InvalidTopology(format!(
