@@ -26,11 +26,10 @@
 
 use std::collections::VecDeque;
 
-use super::index_maps::{IndexMap, IndexSet};
-
 use nalgebra::{Point3, Vector3};
 
 use super::GeometryError;
+use super::index_maps::{IndexMap, IndexSet};
 use super::plane::triangle_area_vector;
 
 /// Adjacent hull triangles are one face when every vertex of one is within

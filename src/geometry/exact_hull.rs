@@ -23,12 +23,11 @@
 //! visible triangle, else dropped (inside). Expected `O(n log n)` for points
 //! in general position, `O(n²)` worst case.
 
-use super::index_maps::IndexMap;
-
 use nalgebra::Point3;
 use robust::{Coord3D, orient3d};
 
 use super::GeometryError;
+use super::index_maps::IndexMap;
 
 /// A triangle of the hull under construction.
 #[derive(Debug, Clone)]

@@ -17,11 +17,10 @@
 //! Bumps above [`FLAT_VERTEX_TOLERANCE`] stay: they are the corners of
 //! solids at least that thin, which V-Clip must handle anyway.
 
-use super::index_maps::IndexSet;
-
 use nalgebra::{Point3, Vector3};
 
 use super::coplanar::HullFaces;
+use super::index_maps::IndexSet;
 use super::thin_faces::THIN_FACE_TOLERANCE;
 
 /// Vertices less than `FLAT_VERTEX_TOLERANCE * max(L, M)` above their

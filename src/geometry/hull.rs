@@ -44,13 +44,12 @@
 //! (many coplanar points) it can return a non-convex triangle mesh. Exact
 //! predicates cannot produce either.
 
-use super::index_maps::IndexSet;
-
 use nalgebra::Point3;
 
 use super::coplanar::{COPLANAR_TOLERANCE, HullFaces, polygon_faces};
 use super::exact_hull::hull_triangles;
 use super::flat_vertices::flat_vertices;
+use super::index_maps::IndexSet;
 use super::thin_faces::{THIN_FACE_TOLERANCE, thin_face_vertices};
 use super::{ConvexPolyhedron, GeometryError};
 

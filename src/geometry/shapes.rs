@@ -16,11 +16,11 @@
 //!
 //! All shapes are centred on the origin, which is also their centre of mass.
 
-use super::index_maps::IndexMap;
 use std::f64::consts::TAU;
 
 use nalgebra::{Point3, Vector3};
 
+use super::index_maps::IndexMap;
 use super::{ConvexPolyhedron, GeometryError};
 
 /// Largest accepted `subdivisions` of [`ConvexPolyhedron::geodesic_sphere`]

@@ -40,12 +40,11 @@
 //! rounding `ε M` itself approaches the flatness tolerance: at `M = 1e8 L`
 //! it is `2.2e-8 L`.
 
-use super::index_maps::IndexSet;
-
 use nalgebra::Point3;
 
 use super::coplanar::HullFaces;
 use super::hull::FLATNESS_TOLERANCE;
+use super::index_maps::IndexSet;
 
 /// Faces narrower than `THIN_FACE_TOLERANCE * max(L, M)` are removed by
 /// dropping their inner vertices; see the module doc. Ten times the

@@ -9,9 +9,8 @@
 //! it `a -> b`; that face is its `left_face`, the twin's face its
 //! `right_face`. Euler's formula `V - E + F = 2` then rules out handles.
 
-use super::index_maps::IndexMap;
-
 use super::GeometryError;
+use super::index_maps::IndexMap;
 
 /// Edge endpoints and faces, before any geometry is attached.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
