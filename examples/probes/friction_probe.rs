@@ -13,7 +13,7 @@
 //! `solver=NAME`: `SolverSettings::choice` (`auto`, `lemke`, ...);
 //! `lemke-max=N`: `Auto` takes Lemke up to N rows, the interior point
 //! above. `rows=NAME`: `Settings::friction_rows` (`all`, `implied`,
-//! `generated`). `repeat=N`: the call N more times on fresh copies of the scene, for a
+//! `generated`). `target=REL`: `Settings::target_margin_relative`. `repeat=N`: the call N more times on fresh copies of the scene, for a
 //! profiler, and their median time.
 
 use std::time::Instant;
@@ -40,6 +40,9 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     }
     if args.iter().any(|a| a == "polish") {
         settings.solver.clarabel.polish_above = 0.0;
+    }
+    if let Some(rel) = args.iter().find_map(|a| a.strip_prefix("target=")) {
+        settings.target_margin_relative = rel.parse()?;
     }
     if let Some(name) = args.iter().find_map(|a| a.strip_prefix("rows=")) {
         settings.friction_rows = constraint_stabilization::FrictionRows::ALL

@@ -161,6 +161,7 @@ pub use error::BridgeError;
 pub use joints::{JointReadReport, JointSkipReason, RapierJoint, SkippedJoint};
 pub use report::{BridgeReport, SkipReason, SkippedCollider, SyncReport, WriteBackRoundOff};
 pub use settings::{
-    BridgeSettings, CouplingMode, FAST_BODY_REACH_FRACTION, closed_contact_allowance,
+    BRIDGE_TARGET_MARGIN_RELATIVE, BridgeSettings, CouplingMode, FAST_BODY_REACH_FRACTION,
+    closed_contact_allowance,
 };
 pub use world::{GRAVITY_Z_UP, SceneWorld, world_from_scene};

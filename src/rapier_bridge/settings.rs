@@ -201,6 +201,16 @@ pub struct BridgeSettings {
 /// fast body for [`BridgeSettings::hold_struck_bodies`].
 pub const FAST_BODY_REACH_FRACTION: f64 = 2.0;
 
+/// The stabilizer's target margin under [`BridgeSettings::default`],
+/// relative to `L`: one tolerance, the gap with which the bridge's coupling
+/// modes and its rest were measured (`benchmarks/results/coupling.md`),
+/// rather than the stabilizer's own default
+/// ([`crate::settings::DEFAULT_TARGET_MARGIN_RELATIVE`]). Under
+/// [`CouplingMode::ClosedContacts`] the accepted depth is the target margin
+/// plus two tolerances ([`closed_contact_allowance`]), so a larger margin
+/// would leave contacts sunk deeper between steps.
+pub const BRIDGE_TARGET_MARGIN_RELATIVE: f64 = 1e-6;
+
 impl Default for BridgeSettings {
     /// The default coupling, and the stabilizer's default settings but
     /// for the dual active-set method, which is off
@@ -210,9 +220,14 @@ impl Default for BridgeSettings {
     /// settled within issue 22's limits (asleep by step 176, drift at most
     /// 1 mm) with it off and 6 with it on (`benchmarks/results/
     /// call_cost.md`, eighteenth session); its answers are the same
-    /// minimizer within the tolerance, but the settle follows them.
+    /// minimizer within the tolerance, but the settle follows them. The
+    /// target margin stays at [`BRIDGE_TARGET_MARGIN_RELATIVE`] for the
+    /// same reason.
     fn default() -> Self {
-        let mut stabilizer = Settings::default();
+        let mut stabilizer = Settings {
+            target_margin_relative: BRIDGE_TARGET_MARGIN_RELATIVE,
+            ..Settings::default()
+        };
         stabilizer.solver.auto_dual_active_set_max_dofs = 0;
         stabilizer.solver.auto_dual_active_set_violated_max_dofs = 0;
         BridgeSettings::with_stabilizer(stabilizer)

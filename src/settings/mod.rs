@@ -110,8 +110,8 @@ pub struct Settings {
     pub contact_margin_absolute: Option<f64>,
     /// Gap that the linearized constraints aim for, relative to `L`, so that
     /// the second-order error of the linearization (rotations) rarely leaves
-    /// a penetration above the tolerance. Default 1e-6 (equal to the
-    /// tolerance).
+    /// a penetration above the tolerance. Default
+    /// [`DEFAULT_TARGET_MARGIN_RELATIVE`] (1e-5, ten tolerances).
     pub target_margin_relative: f64,
     /// Absolute target margin; overrides the relative one. Default none.
     pub target_margin_absolute: Option<f64>,
@@ -276,6 +276,20 @@ pub struct Settings {
     pub vclip: VClipSettings,
 }
 
+/// Default of [`Settings::target_margin_relative`]: the rows aim at a gap
+/// of `1e-5 L`, ten default tolerances. A pass's step turns bodies, and a
+/// row linearized at the start of the pass misses the second-order part of
+/// that motion (about `r theta^2 / 2` at a lever `r`): with the gap of one
+/// tolerance (`1e-6 L`) the pyramids of the engine states ended their
+/// first pass 4-7 tolerances deep and needed a second pass for it, and so
+/// did the last passes of the Bullet thrown box and jumble and the Rapier
+/// pile of 200. At `1e-5 L` those passes are gone and no engine state
+/// needs one more; at `2e-5 L` and above the bins took a pass more or less
+/// as the larger gaps moved their contacts
+/// (`benchmarks/results/call_cost.md`, twenty-third session). The cost is
+/// a gap of `1e-5 L` on the contacts a call corrects.
+pub const DEFAULT_TARGET_MARGIN_RELATIVE: f64 = 1e-5;
+
 /// Default of [`Settings::joint_rotation_weight`].
 pub const DEFAULT_JOINT_ROTATION_WEIGHT: f64 = 300.0;
 
@@ -294,7 +308,7 @@ impl Default for Settings {
             tolerance_absolute: None,
             contact_margin_relative: 1e-2,
             contact_margin_absolute: None,
-            target_margin_relative: 1e-6,
+            target_margin_relative: DEFAULT_TARGET_MARGIN_RELATIVE,
             target_margin_absolute: None,
             allowed_penetration: 0.0,
             time_budget: None,

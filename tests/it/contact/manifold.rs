@@ -193,7 +193,7 @@ fn crossed_edges_are_separated_by_the_mass_weighted_split_of_the_depth() {
     let mut stabilizer = Stabilizer::new(Settings::default()).expect("valid settings");
     let report = stabilizer.stabilize(&mut scene).expect("solvable");
     assert_eq!(report.status, Status::Converged);
-    let lift = depth + report.tolerance; // the default target margin equals the tolerance
+    let lift = depth + Settings::default().target_margin_relative * report.scale;
     let moved: Vec<Vector3<f64>> = scene
         .bodies()
         .iter()

@@ -19,7 +19,7 @@ fn respecting_bridge() -> RapierBridge {
     RapierBridge::with_settings(BridgeSettings {
         coupling: CouplingMode::RespectAllowedPenetration,
         collider_friction: false,
-        ..BridgeSettings::with_stabilizer(Settings::default())
+        ..BridgeSettings::default()
     })
     .expect("valid settings")
 }
@@ -120,7 +120,7 @@ fn velocity_consistency_removes_the_approach_velocity() {
 fn velocity_bridge() -> RapierBridge {
     RapierBridge::with_settings(BridgeSettings {
         coupling: CouplingMode::VelocityConsistency,
-        ..BridgeSettings::with_stabilizer(Settings::default())
+        ..BridgeSettings::default()
     })
     .expect("valid settings")
 }
@@ -128,7 +128,7 @@ fn velocity_bridge() -> RapierBridge {
 fn closed_bridge() -> RapierBridge {
     RapierBridge::with_settings(BridgeSettings {
         coupling: CouplingMode::ClosedContacts,
-        ..BridgeSettings::with_stabilizer(Settings::default())
+        ..BridgeSettings::default()
     })
     .expect("valid settings")
 }

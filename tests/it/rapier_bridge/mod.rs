@@ -20,7 +20,6 @@ mod wedged;
 mod world_from_scene;
 mod worlds;
 
-use constraint_stabilization::Settings;
 use constraint_stabilization::rapier_bridge::{
     BridgeReport, BridgeSettings, CouplingMode, RapierBridge, SkipReason, pose_to_f64,
 };
@@ -68,7 +67,7 @@ fn bridge() -> RapierBridge {
     RapierBridge::with_settings(BridgeSettings {
         coupling: CouplingMode::PositionsOnly,
         collider_friction: false,
-        ..BridgeSettings::with_stabilizer(Settings::default())
+        ..BridgeSettings::default()
     })
     .expect("default settings are valid")
 }

@@ -12,5 +12,8 @@ fn relative_lengths_scale_and_absolute_ones_override() {
     settings.allowed_penetration = 1e-4;
     let lengths = settings.resolve(2.0);
     assert_eq!(lengths.tolerance, 1e-3 + 1e-4);
-    assert_eq!(lengths.target_margin, 2e-6 - 1e-4);
+    assert_eq!(
+        lengths.target_margin,
+        2.0 * settings.target_margin_relative - 1e-4
+    );
 }
