@@ -140,6 +140,34 @@ impl PackedRows {
         out
     }
 
+    /// The entries of the weighted Gram matrix `sum_i d_i g_i g_i^T` of a
+    /// group of two bodies that the lower triangle of `H` takes: the lower
+    /// triangles of its diagonal blocks and its upper-right block `(k, l)`,
+    /// 78 of the 144 (the others stay zero). Each entry is accumulated as
+    /// [`PackedRows::gram`] accumulates it (`(d_i g_ij) g_ik`), so the
+    /// two agree bit for bit on these entries; for a group of one body,
+    /// [`PackedRows::gram`].
+    pub(crate) fn gram_for_lower(&self, group: &RowGroup, d: &[f64]) -> Gram {
+        if group.bodies.1.is_none() {
+            return self.gram(group, d);
+        }
+        let mut gram = Gram::zeros();
+        for &i in &group.rows {
+            if d[i] == 0.0 {
+                continue;
+            }
+            let g = &self.gradients[i];
+            let (first, second) = (g.fixed_rows::<6>(0), g.fixed_rows::<6>(6));
+            gram.fixed_view_mut::<6, 6>(0, 0)
+                .syger(d[i], &first, &first, 1.0);
+            gram.fixed_view_mut::<6, 6>(0, 6)
+                .ger(d[i], &first, &second, 1.0);
+            gram.fixed_view_mut::<6, 6>(6, 6)
+                .syger(d[i], &second, &second, 1.0);
+        }
+        gram
+    }
+
     /// The weighted Gram matrix `sum_i d_i g_i g_i^T` of `group` (module
     /// docs); only the top-left 6x6 block is meaningful for a group of one
     /// body.

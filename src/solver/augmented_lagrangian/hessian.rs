@@ -245,8 +245,8 @@ impl<'a> NewtonMatrix<'a> {
         d: &[f64],
     ) -> Result<(), FactorizationFailed> {
         self.factor = None;
-        let grams = packed.groups.iter().map(|group| packed.gram(group, d));
         let factor = if self.dense {
+            let grams = packed.groups.iter().map(|group| packed.gram(group, d));
             let mut h = DMatrix::zeros(self.dofs, self.dofs);
             for (k, b) in metric.iter().enumerate() {
                 let mut view = h.fixed_view_mut::<6, 6>(6 * k, 6 * k);
@@ -279,8 +279,8 @@ impl<'a> NewtonMatrix<'a> {
                     }
                 }
             }
-            for (base, gram) in bases.iter().zip(grams) {
-                scatter_gram(values, base, &gram);
+            for (base, group) in bases.iter().zip(&packed.groups) {
+                scatter_gram(values, base, &packed.gram_for_lower(group, d));
             }
             self.factor_sparse_values()?;
             Factor::Sparse
@@ -488,7 +488,8 @@ fn group_bases(pattern: &BlockPattern, packed: &PackedRows) -> Vec<GroupBase> {
         .collect()
 }
 
-/// Adds a group's Gram matrix to the sparse lower triangle.
+/// Adds a group's Gram matrix (the entries of
+/// [`PackedRows::gram_for_lower`]) to the sparse lower triangle.
 fn scatter_gram(values: &mut [f64], base: &GroupBase, gram: &Gram) {
     for c in 0..6 {
         for r in c..6 {

@@ -223,16 +223,20 @@ pub(super) fn direction(
 
 /// The largest `alpha` with `s + alpha ds >= 0` and
 /// `lambda + alpha dlambda >= 0` on the moved rows (infinite when no
-/// entry decreases).
+/// entry decreases): the least ratio `x_i / -dx_i` over the decreasing
+/// entries. A ratio is divided out only when it beats the least so far
+/// (`x_i < alpha (-dx_i)`, which holds for every decreasing entry while
+/// `alpha` is infinite), so most rows cost a product, not a division.
 pub(super) fn max_step(it: &Iterate, dir: &Direction, moved: &[bool]) -> f64 {
     let mut alpha = f64::INFINITY;
+    let mut limit = |x: f64, dx: f64| {
+        if dx < 0.0 && x < alpha * -dx {
+            alpha = x / -dx;
+        }
+    };
     for i in (0..moved.len()).filter(|&i| moved[i]) {
-        if dir.s[i] < 0.0 {
-            alpha = alpha.min(-it.s[i] / dir.s[i]);
-        }
-        if dir.lambda[i] < 0.0 {
-            alpha = alpha.min(-it.lambda[i] / dir.lambda[i]);
-        }
+        limit(it.s[i], dir.s[i]);
+        limit(it.lambda[i], dir.lambda[i]);
     }
     alpha
 }
