@@ -280,14 +280,15 @@ pub struct Settings {
 /// of `1e-5 L`, ten default tolerances. A pass's step turns bodies, and a
 /// row linearized at the start of the pass misses the second-order part of
 /// that motion (about `r theta^2 / 2` at a lever `r`): with the gap of one
-/// tolerance (`1e-6 L`) the pyramids of the engine states ended their
-/// first pass 4-7 tolerances deep and needed a second pass for it, and so
-/// did the last passes of the Bullet thrown box and jumble and the Rapier
-/// pile of 200. At `1e-5 L` those passes are gone and no engine state
-/// needs one more; at `2e-5 L` and above the bins took a pass more or less
-/// as the larger gaps moved their contacts
-/// (`benchmarks/results/call_cost.md`, twenty-third session). The cost is
-/// a gap of `1e-5 L` on the contacts a call corrects.
+/// tolerance (`1e-6 L`) the MuJoCo and Rapier pyramids of the engine
+/// states ended their first pass 4-7 tolerances deep and needed a second
+/// pass for it, and the last passes of the Bullet thrown box and jumble
+/// and of the Rapier pile of 200 were such residuals too. At `1e-5 L`
+/// those passes are gone and no engine state needs one more; at `2e-5 L`
+/// and above the MuJoCo bin took one pass fewer but the Bullet bin and
+/// the MuJoCo hull pile one more (`benchmarks/results/call_cost.md`,
+/// twenty-third session). The cost is a gap of `1e-5 L` on the contacts a
+/// call corrects.
 pub const DEFAULT_TARGET_MARGIN_RELATIVE: f64 = 1e-5;
 
 /// Default of [`Settings::joint_rotation_weight`].
