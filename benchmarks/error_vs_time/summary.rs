@@ -296,7 +296,7 @@ fn parameters() -> String {
          (`dev_support::sat`).\n\n\
          - **Library** (`Stabilizer::stabilize`, fresh stabilizer, default settings but \
          for the solver, the pass limit and the tolerance; the target margin stays at \
-         its default `1e-6 L`, so that a looser tolerance stops earlier): per solver (`auto`, `clarabel`, `lemke`, `pgs`), a \
+         its default `{margin:e} L`, so that a looser tolerance stops earlier): per solver (`auto`, `clarabel`, `lemke`, `pgs`), a \
          *passes* line (pass limits {passes:?}, then unlimited), and for `auto` a *tol* \
          line (tolerances {tols:?} L, unlimited passes; for the other solvers it would \
          double a run that already takes most of an hour). Forced Lemke is left out where \
@@ -311,6 +311,7 @@ fn parameters() -> String {
          steps of one run; the time is the steps' and the zeroing's. Changes velocities \
          (they are zeroed). Rapier's default integration parameters: `{rapier}`.\n",
         slow = crate::SLOW_RUN_SECONDS,
+        margin = constraint_stabilization::settings::DEFAULT_TARGET_MARGIN_RELATIVE,
         passes = methods::PASS_LIMITS,
         tols = methods::TOLERANCES,
         sweeps = methods::ITERATIONS,
