@@ -153,6 +153,21 @@ impl BodyMap {
     }
 
     pub(crate) fn plan(&self, read: &[ReadCollider]) -> Plan {
+        // The common case, a world whose colliders did not change since
+        // the last call, read in the same order: nothing to remove or
+        // append, known without the index below.
+        let unchanged = read.len() == self.entries.len()
+            && self
+                .entries
+                .iter()
+                .zip(read)
+                .all(|(entry, r)| entry.collider == r.collider && entry.same_as(r));
+        if unchanged {
+            return Plan {
+                remove: Vec::new(),
+                append: Vec::new(),
+            };
+        }
         let read_index: HashMap<ColliderHandle, usize> = read
             .iter()
             .enumerate()

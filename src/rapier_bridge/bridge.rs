@@ -174,7 +174,19 @@ impl RapierBridge {
         self.scene
             .remove_joints(&all)
             .map_err(|e| BridgeError::Stabilize(e.into()))?;
+        let fixed = self.scene.fixed_flags();
+        let is_fixed = |body: usize| fixed.get(body).copied().unwrap_or(false);
         for (handle, joint) in joints {
+            // Told apart before the scene's validation, whose error (a
+            // formatted message) would cost more than the rest of a call
+            // on a sleeping figure.
+            if is_fixed(joint.body_a) && is_fixed(joint.body_b) {
+                report.skipped.push(SkippedJoint {
+                    joint: RapierJoint::Impulse(handle),
+                    reason: JointSkipReason::BothBodiesFixed,
+                });
+                continue;
+            }
             match self.scene.add_joint(joint) {
                 Ok(_) => report.read += 1,
                 Err(error) => report.skipped.push(SkippedJoint {

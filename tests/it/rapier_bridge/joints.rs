@@ -151,3 +151,54 @@ fn the_velocity_coupling_removes_relative_velocity_along_locked_axes() {
     }
     assert!(projected > 0, "no call projected a joint's velocity");
 }
+
+/// A figure that falls asleep: once the bridge holds its sleeping bodies
+/// still, its joints join two fixed bodies and are skipped for that
+/// reason (never as invalid), and read again while the figure is awake.
+#[test]
+fn joints_between_bodies_held_asleep_are_skipped_as_both_fixed() {
+    let mut world = joint_scenes::ragdoll_world();
+    let joints = world.impulse_joints.len();
+    let mut bridge = default_bridge();
+    let mut skipped_as_fixed = 0;
+    for step in 0..STEPS_TO_SLEEP {
+        world.step();
+        let report = bridge
+            .stabilize_world(&mut world)
+            .expect("the call succeeds");
+        assert!(
+            !report
+                .joints
+                .skipped
+                .iter()
+                .any(|s| matches!(s.reason, JointSkipReason::Invalid(_))),
+            "step {step}: {:?}",
+            report.joints.skipped
+        );
+        assert_eq!(
+            report.joints.read + report.joints.skipped.len(),
+            joints,
+            "step {step}"
+        );
+        if report.stabilizer.is_some() {
+            // Some body is awake: every joint is read.
+            assert_eq!(report.joints.read, joints, "step {step}");
+        } else if report.joints.read == 0 {
+            assert!(
+                report
+                    .joints
+                    .skipped
+                    .iter()
+                    .all(|s| s.reason == JointSkipReason::BothBodiesFixed),
+                "step {step}: {:?}",
+                report.joints.skipped
+            );
+            skipped_as_fixed += 1;
+        }
+    }
+    assert!(skipped_as_fixed > 0, "the figure never slept");
+}
+
+/// Steps within which the ragdoll of `joint_scenes` falls asleep under the
+/// bridge (it sleeps from about step 60 in the loop of `with_and_without`).
+const STEPS_TO_SLEEP: usize = 300;
