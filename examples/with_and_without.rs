@@ -429,6 +429,17 @@ struct Call {
     narrow_ms: f64,
 }
 
+/// `field` as one CSV field (RFC 4180): in double quotes, its own quotes
+/// doubled, when it holds a comma, a quote or a line break (a run name
+/// such as "closed contacts, no resting calls"); else as it is.
+fn csv_field(field: &str) -> String {
+    if field.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", field.replace('"', "\"\""))
+    } else {
+        field.to_string()
+    }
+}
+
 /// One call of `bridge` on the world after its step, timed.
 fn call(bridge: &mut RapierBridge, world: &mut PhysicsWorld) -> Call {
     let t = Instant::now();
@@ -594,8 +605,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let _ = writeln!(
                     csv,
                     "{},{},{},{:.6e},{:.6e},{:.4},{:.4},{},{:.6},{:.6e},{},{:.4}",
-                    scene.name,
-                    run.name(),
+                    csv_field(scene.name),
+                    csv_field(&run.name()),
                     r.step,
                     r.depth,
                     r.call_tolerance,
@@ -650,8 +661,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let _ = writeln!(
                     joint_csv,
                     "{},{},{},{:.6e},{stretch},{:.6e},{status},{resolved},{tolerance:.6e},{round_off:.6e},{:.4},{call_ms:.4}",
-                    scene.name,
-                    run.name(),
+                    csv_field(scene.name),
+                    csv_field(&run.name()),
                     r.step,
                     r.separation,
                     r.depth,
