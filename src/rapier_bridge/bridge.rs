@@ -53,6 +53,7 @@ use super::settings::{
 use super::sleep::{SleepClock, overlap_groups};
 use super::wedged::{RELEASE_ROUNDS, held_near_left_islands};
 use crate::body::{BodyDesc, MassSpec};
+use crate::joints::JointError;
 use crate::scene::{Scene, SceneError};
 use crate::settings::{ResolvedLengths, Settings};
 use crate::stabilizer::{BodyVelocity, Stabilizer, VelocityReport};
@@ -174,26 +175,25 @@ impl RapierBridge {
         self.scene
             .remove_joints(&all)
             .map_err(|e| BridgeError::Stabilize(e.into()))?;
-        let fixed = self.scene.fixed_flags();
-        let is_fixed = |body: usize| fixed.get(body).copied().unwrap_or(false);
         for (handle, joint) in joints {
-            // Told apart before the scene's validation, whose error (a
-            // formatted message) would cost more than the rest of a call
-            // on a sleeping figure.
-            if is_fixed(joint.body_a) && is_fixed(joint.body_b) {
-                report.skipped.push(SkippedJoint {
-                    joint: RapierJoint::Impulse(handle),
-                    reason: JointSkipReason::BothBodiesFixed,
-                });
-                continue;
-            }
-            match self.scene.add_joint(joint) {
-                Ok(_) => report.read += 1,
-                Err(error) => report.skipped.push(SkippedJoint {
-                    joint: RapierJoint::Impulse(handle),
-                    reason: JointSkipReason::Invalid(error.to_string()),
-                }),
-            }
+            let reason = match self.scene.add_joint(joint) {
+                Ok(_) => {
+                    report.read += 1;
+                    continue;
+                }
+                // Both bodies held still (asleep) or static: a reason of its
+                // own, without the message that every call on a sleeping
+                // figure would otherwise format for each of its joints.
+                Err(SceneError::Joint {
+                    source: JointError::BothFixed { .. },
+                    ..
+                }) => JointSkipReason::BothBodiesFixed,
+                Err(error) => JointSkipReason::Invalid(error.to_string()),
+            };
+            report.skipped.push(SkippedJoint {
+                joint: RapierJoint::Impulse(handle),
+                reason,
+            });
         }
         Ok(report)
     }
