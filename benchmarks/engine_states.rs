@@ -53,9 +53,7 @@
 //! (0 or 1) and `ENGINE_STATES_AL_MIN_ROWS` set the augmented Lagrangian's
 //! `max_rows_changed_without_factorization`, `supernodal` and `Auto`'s
 //! `auto_augmented_lagrangian_min_rows`; `ENGINE_STATES_IP_MIN_ROWS` sets
-//! `auto_interior_point_min_rows`; `ENGINE_STATES_BLOCK_FACTOR` (0 or 1)
-//! sets `block_factor` of the interior point and the augmented Lagrangian
-//! (the body-space factor by 6x6 blocks, or faer's).
+//! `auto_interior_point_min_rows`.
 
 mod common;
 
@@ -239,10 +237,6 @@ fn call_settings() -> Settings {
     }
     if let Some(rows) = number("ENGINE_STATES_IP_MIN_ROWS") {
         settings.solver.auto_interior_point_min_rows = rows;
-    }
-    if let Some(flag) = number("ENGINE_STATES_BLOCK_FACTOR") {
-        settings.solver.interior_point.block_factor = flag != 0;
-        settings.solver.augmented_lagrangian.block_factor = flag != 0;
     }
     settings
 }

@@ -210,9 +210,7 @@ impl KeptAnalysis {
 /// (here a triangle's pattern, mirrored): `(order, inverse)`,
 /// `order[i]` the original index placed at `i`; `None` when faer fails
 /// (out of memory, or an index overflow).
-pub(crate) fn amd_order(
-    pattern: SymbolicSparseColMatRef<'_, usize>,
-) -> Option<(Vec<usize>, Vec<usize>)> {
+fn amd_order(pattern: SymbolicSparseColMatRef<'_, usize>) -> Option<(Vec<usize>, Vec<usize>)> {
     let n = pattern.nrows();
     let scratch = amd::order_maybe_unsorted_scratch::<usize>(n, pattern.compute_nnz());
     let mut workspace = MemBuffer::try_new(scratch).ok()?;

@@ -34,7 +34,6 @@
 //! can cross-check two solvers (`cross_check`).
 
 pub mod augmented_lagrangian;
-pub mod block_cholesky;
 pub mod clarabel_qp;
 pub(crate) mod closed_form;
 pub(crate) mod cone_residuals;

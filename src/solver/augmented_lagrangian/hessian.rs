@@ -2,9 +2,8 @@
 //! augmented Lagrangian (module docs of [`super`]), assembled per 6x6 body
 //! block and factored by Cholesky: dense (nalgebra) up to
 //! [`super::AugmentedLagrangianSettings::dense_max_dofs`] entries of `dq`,
-//! sparse above: by 6x6 body blocks (`super::super::block_cholesky`, the
-//! default) or faer's supernodal/simplicial `L L^T`, both with an AMD
-//! ordering.
+//! sparse (faer's supernodal/simplicial `L L^T` with an AMD ordering)
+//! above.
 //!
 //! The sparse pattern is that of `M + sum_i J_i^T J_i` over **every** row,
 //! active or not: the pattern is then fixed for the whole solve, the
@@ -21,7 +20,6 @@ use faer::sparse::linalg::cholesky::LltRef;
 use faer::{Conj, MatMut, Par};
 use nalgebra::{DMatrix, DVector, Matrix6};
 
-use super::super::block_cholesky::BlockSymbolic;
 use super::super::dense_cholesky::DenseCholesky;
 use super::super::kept_analyses::{AnalysisKind, KeptAnalyses, KeptAnalysis};
 use super::super::metric::BlockMetric;
@@ -119,31 +117,15 @@ impl BlockPattern {
     }
 }
 
-/// The sparse values of `H` and the factor that every numeric
+/// The sparse symbolic analysis and the buffers that every numeric
 /// factorization and solve of one problem reuses.
 struct SparseFactor {
+    /// The symbolic analysis, kept by the caller's store or made for this
+    /// problem alone.
+    analysis: Arc<KeptAnalysis>,
     /// Values of `H`'s lower triangle in the pattern's order.
     values: Vec<f64>,
-    analysis: SparseAnalysis,
-}
-
-/// The analysis and values of the sparse factor, by layout.
-enum SparseAnalysis {
-    /// By 6x6 body blocks.
-    Blocks {
-        symbolic: BlockSymbolic,
-        /// The blocks of `L` (meaningless before a factorization).
-        factor_values: Vec<f64>,
-    },
-    /// faer's supernodal or simplicial factor.
-    Faer(Box<FaerFactor>),
-}
-
-/// faer's factor: its symbolic analysis, kept by the caller's store or made
-/// for this problem alone, and its buffers.
-struct FaerFactor {
-    analysis: Arc<KeptAnalysis>,
-    /// `H`'s values in the order of `P H P^T`, the analysis's order
+    /// The same values in the order of `P H P^T`, the analysis's order
     /// applied (`super::super::kept_analyses`).
     permuted: Vec<f64>,
     /// Values of the factor `L` (empty before the first factorization).
@@ -163,7 +145,7 @@ enum Factor {
 pub(crate) struct NewtonMatrix<'a> {
     dofs: usize,
     dense: bool,
-    layout: SparseLayout,
+    supernodal: bool,
     pattern: Option<BlockPattern>,
     /// The caller's store of analyses, asked on the first sparse
     /// factorization (a solve that needs none, a warm start accepted as
@@ -185,48 +167,23 @@ struct GroupBase {
     kl: Option<[usize; 6]>,
 }
 
-/// How the sparse factor of `H` is laid out.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum SparseLayout {
-    /// By 6x6 body blocks (`super::super::block_cholesky`).
-    Blocks,
-    /// faer's supernodal factor.
-    Supernodal,
-    /// faer's choice between its supernodal and simplicial factors.
-    Auto,
-}
-
-impl SparseLayout {
-    /// The layout a solver's two settings choose: blocks when
-    /// `block_factor`, else faer's supernodal one when `supernodal`, else
-    /// faer's choice.
-    pub(crate) fn from_settings(block_factor: bool, supernodal: bool) -> Self {
-        match (block_factor, supernodal) {
-            (true, _) => SparseLayout::Blocks,
-            (false, true) => SparseLayout::Supernodal,
-            (false, false) => SparseLayout::Auto,
-        }
-    }
-}
-
 /// Why `H` could not be factored (rounding made a pivot non-positive, or
 /// faer ran out of memory): the solver gives up on the problem.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct FactorizationFailed;
 
 impl<'a> NewtonMatrix<'a> {
-    /// The matrix of `qp`, dense when `6 n_bodies <= dense_max_dofs`, else
-    /// sparse with the factor `layout`.
+    /// The matrix of `qp`, dense when `6 n_bodies <= dense_max_dofs`; the
+    /// sparse factor supernodal when `supernodal` (dense 6x6 kernels on
+    /// the blocks of a body), else left to faer's flop-ratio choice.
     ///
-    /// With a store `kept`, faer's symbolic analysis of the sparse pattern
-    /// is taken from it on the first factorization, or made then and kept
-    /// there for the next problems of the same pattern
-    /// (`super::super::kept_analyses`); the block layout's analysis is made
-    /// per problem (an ordering of the bodies, not of their 6 entries each).
+    /// With a store `kept`, the sparse pattern's symbolic analysis is taken
+    /// from it on the first factorization, or made then and kept there for
+    /// the next problems of the same pattern (`super::super::kept_analyses`).
     pub(crate) fn new(
         qp: &ProjectionQp,
         dense_max_dofs: usize,
-        layout: SparseLayout,
+        supernodal: bool,
         kept: Option<&'a KeptAnalyses>,
     ) -> Self {
         let dofs = qp.num_dofs();
@@ -234,7 +191,7 @@ impl<'a> NewtonMatrix<'a> {
         Self {
             dofs,
             dense,
-            layout,
+            supernodal,
             pattern: (!dense).then(|| BlockPattern::new(qp)),
             store: kept,
             sparse: None,
@@ -332,41 +289,19 @@ impl<'a> NewtonMatrix<'a> {
         Ok(())
     }
 
-    /// The symbolic analysis of the sparse pattern and the value buffers,
-    /// once.
+    /// The symbolic analysis of the sparse pattern, once.
     fn prepare_sparse(&mut self) -> Result<(), FactorizationFailed> {
         if self.sparse.is_some() {
             return Ok(());
         }
         let pattern = self.pattern.as_ref().ok_or(FactorizationFailed)?;
-        let values = vec![0.0; pattern.row_idx.len()];
-        let analysis = match self.layout {
-            SparseLayout::Blocks => {
-                let symbolic =
-                    BlockSymbolic::new(&pattern.neighbours, &pattern.col_ptr, &pattern.row_idx)
-                        .ok_or(FactorizationFailed)?;
-                let factor_values = vec![0.0; symbolic.len_val()];
-                SparseAnalysis::Blocks {
-                    symbolic,
-                    factor_values,
-                }
-            }
-            SparseLayout::Supernodal | SparseLayout::Auto => {
-                let kind = match self.layout {
-                    SparseLayout::Supernodal => AnalysisKind::Supernodal,
-                    _ => AnalysisKind::Auto,
-                };
-                let analysis = match self.store {
-                    Some(store) => store.analysis(kind, &pattern.col_ptr, &pattern.row_idx),
-                    None => {
-                        KeptAnalysis::new(kind, &pattern.col_ptr, &pattern.row_idx).map(Arc::new)
-                    }
-                }
-                .ok_or(FactorizationFailed)?;
-                FaerFactor::buffers(analysis, pattern.row_idx.len())?
-            }
-        };
-        self.sparse = Some(SparseFactor { values, analysis });
+        let kind = analysis_kind(self.supernodal);
+        let analysis = match self.store {
+            Some(store) => store.analysis(kind, &pattern.col_ptr, &pattern.row_idx),
+            None => KeptAnalysis::new(kind, &pattern.col_ptr, &pattern.row_idx).map(Arc::new),
+        }
+        .ok_or(FactorizationFailed)?;
+        self.sparse = Some(SparseFactor::buffers(analysis, pattern.row_idx.len())?);
         Ok(())
     }
 
@@ -375,34 +310,25 @@ impl<'a> NewtonMatrix<'a> {
         let Some(sparse) = self.sparse.as_mut() else {
             return Err(FactorizationFailed);
         };
-        match &mut sparse.analysis {
-            SparseAnalysis::Blocks {
-                symbolic,
-                factor_values,
-            } => match symbolic.factorize(&sparse.values, factor_values) {
-                true => Ok(()),
-                false => Err(FactorizationFailed),
-            },
-            SparseAnalysis::Faer(faer) => {
-                faer.analysis
-                    .permute_values(&sparse.values, &mut faer.permuted);
-                let matrix = SparseColMatRef::new(faer.analysis.permuted_pattern(), &faer.permuted);
-                let stack = MemStack::new(&mut faer.workspace);
-                faer.analysis
-                    .symbolic()
-                    .factorize_numeric_llt(
-                        &mut faer.factor_values,
-                        matrix,
-                        faer.analysis.permuted_side(),
-                        LltRegularization::default(),
-                        Par::Seq,
-                        stack,
-                        Default::default(),
-                    )
-                    .map(|_| ())
-                    .map_err(|_| FactorizationFailed)
-            }
-        }
+        sparse
+            .analysis
+            .permute_values(&sparse.values, &mut sparse.permuted);
+        let matrix = SparseColMatRef::new(sparse.analysis.permuted_pattern(), &sparse.permuted);
+        let stack = MemStack::new(&mut sparse.workspace);
+        sparse
+            .analysis
+            .symbolic()
+            .factorize_numeric_llt(
+                &mut sparse.factor_values,
+                matrix,
+                sparse.analysis.permuted_side(),
+                LltRegularization::default(),
+                Par::Seq,
+                stack,
+                Default::default(),
+            )
+            .map(|_| ())
+            .map_err(|_| FactorizationFailed)
     }
 
     fn sparse_factor(
@@ -451,135 +377,56 @@ impl<'a> NewtonMatrix<'a> {
     pub(crate) fn solve(&mut self, rhs: &DVector<f64>) -> Option<DVector<f64>> {
         match self.factor.as_ref()? {
             Factor::Dense(chol) => Some(chol.solve(rhs)),
-            Factor::Sparse => match self.sparse.as_mut()? {
-                SparseFactor {
-                    values,
-                    analysis:
-                        SparseAnalysis::Blocks {
-                            symbolic,
-                            factor_values,
-                        },
-                } => Some(refined_block_solve(
-                    symbolic,
-                    factor_values,
-                    self.pattern.as_ref()?,
-                    values,
-                    rhs,
-                )),
-                SparseFactor {
-                    analysis: SparseAnalysis::Faer(faer),
-                    ..
-                } => {
-                    // `H x = rhs` as `(P H P^T) (P x) = P rhs`.
-                    let order = faer.analysis.order();
-                    let mut x_permuted: Vec<f64> = order.iter().map(|&i| rhs[i]).collect();
-                    let n = x_permuted.len();
-                    let llt = LltRef::new(faer.analysis.symbolic(), &faer.factor_values);
-                    llt.solve_in_place_with_conj(
-                        Conj::No,
-                        MatMut::from_column_major_slice_mut(&mut x_permuted, n, 1),
-                        Par::Seq,
-                        MemStack::new(&mut faer.workspace),
-                    );
-                    let mut x = DVector::zeros(n);
-                    for (&i, value) in order.iter().zip(x_permuted) {
-                        x[i] = value;
-                    }
-                    Some(x)
+            Factor::Sparse => {
+                let sparse = self.sparse.as_mut()?;
+                // `H x = rhs` as `(P H P^T) (P x) = P rhs`.
+                let order = sparse.analysis.order();
+                let mut x_permuted: Vec<f64> = order.iter().map(|&i| rhs[i]).collect();
+                let n = x_permuted.len();
+                let llt = LltRef::new(sparse.analysis.symbolic(), &sparse.factor_values);
+                llt.solve_in_place_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(&mut x_permuted, n, 1),
+                    Par::Seq,
+                    MemStack::new(&mut sparse.workspace),
+                );
+                let mut x = DVector::zeros(n);
+                for (&i, value) in order.iter().zip(x_permuted) {
+                    x[i] = value;
                 }
-            },
+                Some(x)
+            }
         }
     }
 }
 
-impl FaerFactor {
-    /// faer's factor for the symbolic analysis `analysis` of a pattern of
-    /// `nonzeros` entries, with the buffers of its factorizations and
-    /// solves.
-    fn buffers(
-        analysis: Arc<KeptAnalysis>,
-        nonzeros: usize,
-    ) -> Result<SparseAnalysis, FactorizationFailed> {
+impl SparseFactor {
+    /// The buffers of the numeric factorizations and solves for the
+    /// symbolic analysis `analysis` of a pattern of `nonzeros` entries.
+    fn buffers(analysis: Arc<KeptAnalysis>, nonzeros: usize) -> Result<Self, FactorizationFailed> {
         let symbolic = analysis.symbolic();
         let workspace_size = symbolic
             .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
             .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         let workspace = MemBuffer::try_new(workspace_size).map_err(|_| FactorizationFailed)?;
-        Ok(SparseAnalysis::Faer(Box::new(Self {
+        Ok(Self {
             factor_values: vec![0.0; symbolic.len_val()],
+            values: vec![0.0; nonzeros],
             permuted: vec![0.0; nonzeros],
             analysis,
             workspace,
-        })))
+        })
     }
 }
 
-/// Iterative refinement of the block solve stops once the residual
-/// `||H x - rhs||_inf` is at most this fraction of `||rhs||_inf`. On the
-/// interior point's last iterations `H` spans twelve and more decades
-/// (`D = Lambda S^-1`): one solve with the block factor then left residuals
-/// up to 2e-6 of the right-hand side on friction pyramids of pushed columns,
-/// where faer's left 3e-13, and the iteration stalled; refined, the
-/// residuals are faer's or smaller (`benchmarks/results/call_cost.md`).
-const REFINEMENT_RESIDUAL_REL: f64 = 1e-14;
-
-/// Refinement steps at most (each one product with `H` and one solve):
-/// where rounding keeps the residual above the target, the refinement
-/// stops there.
-const MAX_REFINEMENTS: usize = 2;
-
-/// `H^-1 rhs` with the block factor, refined (`x += H^-1 (rhs - H x)`)
-/// while the residual is above [`REFINEMENT_RESIDUAL_REL`], at most
-/// [`MAX_REFINEMENTS`] times, keeping the answer of smallest residual.
-fn refined_block_solve(
-    symbolic: &BlockSymbolic,
-    factor_values: &[f64],
-    pattern: &BlockPattern,
-    values: &[f64],
-    rhs: &DVector<f64>,
-) -> DVector<f64> {
-    let n = rhs.len();
-    let mut x = DVector::zeros(n);
-    symbolic.solve(factor_values, rhs.as_slice(), x.as_mut_slice());
-    let target = REFINEMENT_RESIDUAL_REL * rhs.amax();
-    let mut residual = rhs - lower_symmetric_apply(pattern, values, &x);
-    let mut size = residual.amax();
-    let mut correction = DVector::zeros(n);
-    for _ in 0..MAX_REFINEMENTS {
-        // NaN is no reason to refine: only a residual above the target.
-        if size.partial_cmp(&target) != Some(std::cmp::Ordering::Greater) {
-            break;
-        }
-        symbolic.solve(
-            factor_values,
-            residual.as_slice(),
-            correction.as_mut_slice(),
-        );
-        let refined = &x + &correction;
-        let refined_residual = rhs - lower_symmetric_apply(pattern, values, &refined);
-        let refined_size = refined_residual.amax();
-        if refined_size.partial_cmp(&size) != Some(std::cmp::Ordering::Less) {
-            break;
-        }
-        (x, residual, size) = (refined, refined_residual, refined_size);
+/// The layout of the sparse factor: supernodal (dense 6x6 kernels on the
+/// blocks of a body) or left to faer's flop-ratio choice.
+fn analysis_kind(supernodal: bool) -> AnalysisKind {
+    if supernodal {
+        AnalysisKind::Supernodal
+    } else {
+        AnalysisKind::Auto
     }
-    x
-}
-
-/// `H x` from the lower triangle of `H` in the pattern's compressed
-/// columns.
-fn lower_symmetric_apply(pattern: &BlockPattern, values: &[f64], x: &DVector<f64>) -> DVector<f64> {
-    let mut out = DVector::zeros(x.len());
-    for j in 0..x.len() {
-        let column = pattern.col_ptr[j]..pattern.col_ptr[j + 1];
-        for (&i, &value) in pattern.row_idx[column.clone()].iter().zip(&values[column]) {
-            out[i] += value * x[j];
-            if i != j {
-                out[j] += value * x[i];
-            }
-        }
-    }
-    out
 }
 
 /// Calls `add(k, l, block)` for the 6x6 blocks `(k, l)`, `k >= l`, of `H`:

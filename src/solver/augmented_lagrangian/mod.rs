@@ -92,7 +92,7 @@ use super::outcome::Candidate;
 use super::projection::ProjectionQp;
 use super::projection_lcp::dq_from_lambda;
 use super::residuals::{m_apply, m_inner, projection_residuals, row_diagonal};
-use hessian::{NewtonMatrix, SparseLayout};
+use hessian::NewtonMatrix;
 use line_search::{Direction, exact_step};
 
 /// Settings of the augmented Lagrangian solver.
@@ -132,13 +132,6 @@ pub struct AugmentedLagrangianSettings {
     /// true, chosen by measurement (`benchmarks/results/solvers.md`: the
     /// box bins 143-184 ms a call against 212-290 ms).
     pub supernodal: bool,
-    /// The sparse factor of `H` by 6x6 body blocks
-    /// (`crate::solver::block_cholesky`) instead of faer's
-    /// (`supernodal` then chooses faer's layout). Default true, chosen by
-    /// measurement: 0.58-0.70x the call on the box bins and the Rapier
-    /// pyramid (`benchmarks/results/call_cost.md`, "The body-space factor
-    /// by 6x6 blocks").
-    pub block_factor: bool,
     /// Only answers certified as the exact minimizer (`exact`: the
     /// equality-constrained QP of the found active set solved to rounding,
     /// its KKT conditions verified to `1e-9` of the correction) are
@@ -159,7 +152,6 @@ impl Default for AugmentedLagrangianSettings {
             stop_fraction: 1e-3,
             max_rows_changed_without_factorization: 0,
             supernodal: true,
-            block_factor: true,
             exact_only: true,
         }
     }
@@ -229,12 +221,8 @@ pub fn solve(
         }
         previous = acceptance;
     }
-    let mut newton = NewtonMatrix::new(
-        qp,
-        settings.dense_max_dofs,
-        SparseLayout::from_settings(settings.block_factor, settings.supernodal),
-        start.kept,
-    );
+    let mut newton =
+        NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal, start.kept);
     let mut tried = None;
     if warm_given
         && let Some(answer) =

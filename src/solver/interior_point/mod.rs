@@ -92,7 +92,7 @@ use std::time::Instant;
 use nalgebra::DVector;
 
 use super::augmented_lagrangian::Start;
-use super::augmented_lagrangian::hessian::{NewtonMatrix, SparseLayout};
+use super::augmented_lagrangian::hessian::NewtonMatrix;
 use super::metric::BlockMetric;
 use super::outcome::Candidate;
 use super::packed_rows::PackedRows;
@@ -122,13 +122,6 @@ pub struct InteriorPointSettings {
     /// The sparse factor is supernodal (as the augmented Lagrangian's)
     /// rather than left to faer's flop-ratio choice. Default true.
     pub supernodal: bool,
-    /// The sparse factor of `H` by 6x6 body blocks
-    /// (`crate::solver::block_cholesky`) instead of faer's
-    /// (`supernodal` then chooses faer's layout). Default true, chosen by
-    /// measurement: 0.58-0.70x the call on the box bins and the Rapier
-    /// pyramid (`benchmarks/results/call_cost.md`, "The body-space factor
-    /// by 6x6 blocks").
-    pub block_factor: bool,
     /// `H` is assembled from the rows grouped by body pair and `J v`,
     /// `J^T v` read packed gradients (`super::packed_rows`), where every
     /// row has at most two bodies. Default true; false: the general
@@ -157,7 +150,6 @@ impl Default for InteriorPointSettings {
             step_fraction: 0.99,
             dense_max_dofs: 96,
             supernodal: true,
-            block_factor: true,
             packed_rows: true,
             infeasible_radius: INFEASIBLE_RADIUS_REL,
             centrality_correctors: 0,
@@ -207,12 +199,8 @@ pub fn solve(
         "interior point: stop target {target:.2e} (relaxation {:.2e})",
         start.relaxation
     );
-    let mut newton = NewtonMatrix::new(
-        qp,
-        settings.dense_max_dofs,
-        SparseLayout::from_settings(settings.block_factor, settings.supernodal),
-        start.kept,
-    );
+    let mut newton =
+        NewtonMatrix::new(qp, settings.dense_max_dofs, settings.supernodal, start.kept);
     let mut factorizations = 0;
     if let Some(warm) = start.warm {
         // The method of multipliers of the warm finish has a rounding floor

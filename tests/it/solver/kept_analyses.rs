@@ -71,12 +71,7 @@ fn the_kind_is_part_of_the_key() {
 #[test]
 fn the_interior_point_takes_its_analysis_from_the_store() {
     let kept = KeptAnalyses::default();
-    // faer's factor of `H` (the block factor's analysis is made per problem
-    // and never stored: below).
-    let settings = InteriorPointSettings {
-        block_factor: false,
-        ..InteriorPointSettings::default()
-    };
+    let settings = InteriorPointSettings::default();
     for (seed, rows) in [(1, 120), (2, 160), (3, 240)] {
         let qp = random_stacks(&StackSpec::new(rows, seed));
         assert!(qp.num_dofs() > settings.dense_max_dofs, "sparse path");
@@ -99,31 +94,7 @@ fn the_interior_point_takes_its_analysis_from_the_store() {
         }
     }
     assert!(kept.bytes() > 0);
-    // The block factor: the same answers within rounding, the store
-    // untouched.
-    let before = kept.len();
-    let blocks = InteriorPointSettings::default();
-    assert!(blocks.block_factor);
-    let qp = random_stacks(&StackSpec::new(160, 2));
-    let metric = qp.validate().expect("valid problem");
-    let start = Start {
-        warm: None,
-        tolerance: 1e-6,
-        relaxation: 1.0,
-        deadline: None,
-        kept: Some(&kept),
-    };
-    let by_blocks = interior_point::solve(&qp, &metric, &blocks, &start).expect("solved");
-    let by_faer = interior_point::solve(&qp, &metric, &settings, &start).expect("solved");
-    let scale = by_faer.dq.amax();
-    assert!((by_blocks.dq - by_faer.dq).amax() <= BLOCK_AGREEMENT_TOL * scale);
-    assert_eq!(kept.len(), before);
 }
-
-/// The interior point's answers with the block factor of `H` and with
-/// faer's, relative to the correction: both certified to a duality gap of
-/// 1e-12 of the energy (a distance of at most about 1.4e-6).
-const BLOCK_AGREEMENT_TOL: f64 = 1e-6;
 
 /// A kept analysis factors `P A P^T` in its own order (the order applied
 /// once, `KeptAnalysis::permute_values`): for random sparse symmetric

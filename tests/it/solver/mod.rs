@@ -4,7 +4,6 @@
 mod acceptance;
 mod active_set_oracle;
 mod augmented_lagrangian;
-mod block_cholesky;
 mod deadline;
 mod dense_cholesky;
 mod dense_limit;
