@@ -229,9 +229,13 @@ impl RapierBridge {
         parameters: &IntegrationParameters,
     ) -> Result<BridgeReport, BridgeError> {
         let sync = self.sync(bodies, colliders)?;
-        let joints = self.sync_joints(impulse_joints, multibody_joints)?;
+        // The joints after this call's holds of sleeping bodies: a joint is
+        // skipped as joining two fixed bodies by the holds of the call that
+        // solves it (one part of a held figure woken: its joints are read
+        // in the call that releases it).
         let (asleep, woken) =
             self.hold_sleeping(bodies, f64::from(parameters.allowed_linear_error()));
+        let joints = self.sync_joints(impulse_joints, multibody_joints)?;
         let previous = std::mem::take(&mut self.last_output);
         let sleepers = match self.settings.sleep_held_groups && self.clock.has_pending() {
             true => {

@@ -9,7 +9,7 @@ mod joint_scenes;
 use constraint_stabilization::rapier_bridge::{
     BridgeSettings, JointSkipReason, RapierBridge, RapierJoint,
 };
-use joint_scenes::{chain_stretch, chain_world, largest_joint_separation};
+use joint_scenes::{chain_stretch, chain_world, joint_separation, largest_joint_separation};
 use rapier3d::prelude::*;
 
 /// Rapier steps of a chain test (2 s at 60 Hz: the chain's first swing).
@@ -198,6 +198,63 @@ fn joints_between_bodies_held_asleep_are_skipped_as_both_fixed() {
     }
     assert!(skipped_as_fixed > 0, "the figure never slept");
 }
+
+/// A figure held asleep, then one of its parts woken and pulled off its
+/// joint: the call that releases the part reads the part's joints (the
+/// holds of that call, not the last call's, decide which joints join two
+/// fixed bodies) and takes the separation away.
+#[test]
+fn a_part_woken_from_a_held_figure_keeps_its_joints_in_the_call_that_wakes_it() {
+    let mut world = joint_scenes::ragdoll_world();
+    let mut bridge = default_bridge();
+    let asleep = (0..STEPS_TO_SLEEP).any(|_| {
+        world.step();
+        let report = bridge
+            .stabilize_world(&mut world)
+            .expect("the call succeeds");
+        report.joints.read == 0 && !report.joints.skipped.is_empty()
+    });
+    assert!(asleep, "the figure never slept");
+    let part = world
+        .impulse_joints
+        .iter()
+        .next()
+        .map(|(_, joint)| joint.body2())
+        .expect("the ragdoll has joints");
+    let body = &mut world.bodies[part];
+    let mut pose = *body.position();
+    pose.translation.x += PULL;
+    body.set_position(pose, true);
+    body.wake_up(true);
+    // The pulled part's own joints (the others, between parts still
+    // asleep, keep Rapier's separation: skipped as joining two fixed
+    // bodies).
+    let of_part = |world: &PhysicsWorld| {
+        world
+            .impulse_joints
+            .iter()
+            .filter(|(_, joint)| joint.body1() == part || joint.body2() == part)
+            .map(|(_, joint)| joint_separation(world, joint))
+            .fold(0.0, f64::max)
+    };
+    let before = of_part(&world);
+    assert!(before >= 0.5 * f64::from(PULL), "pulled by {before}");
+    let report = bridge
+        .stabilize_world(&mut world)
+        .expect("the call succeeds");
+    assert!(report.joints.read > 0, "{:?}", report.joints.skipped);
+    let after = of_part(&world);
+    assert!(after <= WOKEN_JOINT_TOL, "separation {before} -> {after}");
+}
+
+/// How far the woken part is pulled off its joint (m; the ragdoll's parts
+/// are 0.1-0.25 m long).
+const PULL: f32 = 0.02;
+
+/// A joint the call read ends at most this far apart (m): the stabilizer's
+/// joint tolerance is far below it, and the poses written back in f32
+/// round at about 1e-7 m; unread, the joint stays about [`PULL`] apart.
+const WOKEN_JOINT_TOL: f64 = 1e-4;
 
 /// Steps within which the ragdoll of `joint_scenes` falls asleep under the
 /// bridge (it sleeps from about step 60 in the loop of `with_and_without`).
