@@ -53,8 +53,8 @@ pub enum JointSkipReason {
     /// One of its bodies has no collider in the scene.
     BodyNotInScene(RigidBodyHandle),
     /// Both of its bodies are fixed in the scene (static, or held still
-    /// as asleep by the bridge): a correction moves neither, so the joint
-    /// has nothing to keep.
+    /// as asleep by the bridge in this call): a correction moves neither,
+    /// so the joint has nothing to keep.
     BothBodiesFixed,
     /// The scene rejected it (the message says why).
     Invalid(String),
