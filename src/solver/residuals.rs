@@ -306,20 +306,29 @@ pub fn length_scale(b: &DVector<f64>) -> f64 {
     b.amax().max(f64::MIN_POSITIVE)
 }
 
+/// What [`projection_residuals`] computes once for its measures: the
+/// problem's `b` and row diagonal `a_i = J_i M^-1 J_i^T`, and the row
+/// values `w = J dq + b` of the candidate.
+struct CandidateRows<'a> {
+    b: &'a DVector<f64>,
+    a: &'a [f64],
+    w: &'a DVector<f64>,
+}
+
 /// The acceptance measures of `dq` (module docs): feasibility relative to
 /// `l_accept`, the relative duality gap, and its square root; with the
-/// cones' terms (`super::cone_residuals`).
+/// cones' terms (`super::cone_residuals`). `v = M^-1 J^T lambda_+` for the
+/// projected multipliers `lambda_+`.
 fn acceptance_measures(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
     dq: &DVector<f64>,
-    lambda: &DVector<f64>,
-    w: &DVector<f64>,
+    (lambda_plus, v): (&DVector<f64>, &DVector<f64>),
+    rows: &CandidateRows,
     cones: &[ConeAtCandidate],
     l_accept: f64,
 ) -> (f64, f64, f64) {
-    let b = qp.b();
-    let a = row_diagonal(qp, metric);
+    let CandidateRows { b, a, w } = *rows;
     let feasibility = cones
         .iter()
         .map(ConeAtCandidate::infeasibility)
@@ -330,9 +339,7 @@ fn acceptance_measures(
         )
         .fold(0.0, f64::max)
         / l_accept;
-    let lambda_plus = projected_multipliers(qp, lambda);
-    let v = m_inv(metric, &qp.apply_jt(&lambda_plus));
-    let stationarity_energy = 0.5 * m_inner(metric, &(dq - &v), &(dq - &v)).max(0.0);
+    let stationarity_energy = 0.5 * m_inner(metric, &(dq - v), &(dq - v)).max(0.0);
     // Equality rows: w_E moved to 0 in the relaxed problem (module docs).
     let complementarity_energy: f64 = lambda_plus
         .iter()
@@ -417,8 +424,20 @@ pub fn projection_residuals(
         0.0
     };
     let displacement = m_norm(metric, dq);
+    // The multipliers projected onto their cones; where nothing changes
+    // (the usual case), their correction is the one just computed.
+    let lambda_plus = projected_multipliers(qp, lambda);
+    let v = match lambda_plus == *lambda {
+        true => dq_dual,
+        false => m_inv(metric, &qp.apply_jt(&lambda_plus)),
+    };
+    let rows = CandidateRows {
+        b: &b,
+        a: &a,
+        w: &w,
+    };
     let (feasibility, duality_gap, optimality) =
-        acceptance_measures(qp, metric, dq, lambda, &w, &cones, l);
+        acceptance_measures(qp, metric, dq, (&lambda_plus, &v), &rows, &cones, l);
     ProjectionResiduals {
         feasibility,
         duality_gap,
