@@ -339,7 +339,8 @@ fn acceptance_measures(
         )
         .fold(0.0, f64::max)
         / l_accept;
-    let stationarity_energy = 0.5 * m_inner(metric, &(dq - v), &(dq - v)).max(0.0);
+    let stationarity_gap = dq - v;
+    let stationarity_energy = 0.5 * m_inner(metric, &stationarity_gap, &stationarity_gap).max(0.0);
     // Equality rows: w_E moved to 0 in the relaxed problem (module docs).
     let complementarity_energy: f64 = lambda_plus
         .iter()
