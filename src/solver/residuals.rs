@@ -307,28 +307,35 @@ pub fn length_scale(b: &DVector<f64>) -> f64 {
 }
 
 /// What [`projection_residuals`] computes once for its measures: the
-/// problem's `b` and row diagonal `a_i = J_i M^-1 J_i^T`, and the row
-/// values `w = J dq + b` of the candidate.
-struct CandidateRows<'a> {
+/// problem's `b` and row diagonal `a_i = J_i M^-1 J_i^T`, the candidate's
+/// row values `w = J dq + b`, its multipliers projected onto their cones
+/// `lambda_+`, and `v = M^-1 J^T lambda_+`.
+struct CandidateTerms<'a> {
     b: &'a DVector<f64>,
     a: &'a [f64],
     w: &'a DVector<f64>,
+    lambda_plus: &'a DVector<f64>,
+    v: &'a DVector<f64>,
 }
 
 /// The acceptance measures of `dq` (module docs): feasibility relative to
 /// `l_accept`, the relative duality gap, and its square root; with the
-/// cones' terms (`super::cone_residuals`). `v = M^-1 J^T lambda_+` for the
-/// projected multipliers `lambda_+`.
+/// cones' terms (`super::cone_residuals`).
 fn acceptance_measures(
     qp: &ProjectionQp,
     metric: &[BlockMetric],
     dq: &DVector<f64>,
-    (lambda_plus, v): (&DVector<f64>, &DVector<f64>),
-    rows: &CandidateRows,
+    terms: &CandidateTerms,
     cones: &[ConeAtCandidate],
     l_accept: f64,
 ) -> (f64, f64, f64) {
-    let CandidateRows { b, a, w } = *rows;
+    let CandidateTerms {
+        b,
+        a,
+        w,
+        lambda_plus,
+        v,
+    } = *terms;
     let feasibility = cones
         .iter()
         .map(ConeAtCandidate::infeasibility)
@@ -432,13 +439,15 @@ pub fn projection_residuals(
         true => dq_dual,
         false => m_inv(metric, &qp.apply_jt(&lambda_plus)),
     };
-    let rows = CandidateRows {
+    let terms = CandidateTerms {
         b: &b,
         a: &a,
         w: &w,
+        lambda_plus: &lambda_plus,
+        v: &v,
     };
     let (feasibility, duality_gap, optimality) =
-        acceptance_measures(qp, metric, dq, (&lambda_plus, &v), &rows, &cones, l);
+        acceptance_measures(qp, metric, dq, &terms, &cones, l);
     ProjectionResiduals {
         feasibility,
         duality_gap,
