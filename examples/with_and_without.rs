@@ -369,6 +369,15 @@ impl Run {
             settings.stabilizer.solver.clarabel.tol_gap = gap;
             settings.stabilizer.solver.clarabel.tol_feas = gap;
         }
+        // `WITH_AND_WITHOUT_TARGET_MARGIN=REL`: the stabilizer's
+        // `target_margin_relative` (the bridge's default is
+        // `BRIDGE_TARGET_MARGIN_RELATIVE`; measurements of issue 21).
+        if let Some(rel) = std::env::var("WITH_AND_WITHOUT_TARGET_MARGIN")
+            .ok()
+            .and_then(|v| v.parse().ok())
+        {
+            settings.stabilizer.target_margin_relative = rel;
+        }
         // `WITH_AND_WITHOUT_KEEP_PAIRS=1` (or `0`):
         // `Settings::keep_penetrated_pairs` on (off; measurements of issue 21).
         if let Ok(keep) = std::env::var("WITH_AND_WITHOUT_KEEP_PAIRS") {

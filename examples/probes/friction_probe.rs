@@ -13,7 +13,8 @@
 //! `solver=NAME`: `SolverSettings::choice` (`auto`, `lemke`, ...);
 //! `lemke-max=N`: `Auto` takes Lemke up to N rows, the interior point
 //! above. `rows=NAME`: `Settings::friction_rows` (`all`, `implied`,
-//! `generated`). `target=REL`: `Settings::target_margin_relative`. `repeat=N`: the call N more times on fresh copies of the scene, for a
+//! `generated`). `target=REL`: `Settings::target_margin_relative`. `push=F`:
+//! `LineSearchSettings::new_penetration_fraction`. `repeat=N`: the call N more times on fresh copies of the scene, for a
 //! profiler, and their median time.
 
 use std::time::Instant;
@@ -43,6 +44,15 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
     }
     if let Some(rel) = args.iter().find_map(|a| a.strip_prefix("target=")) {
         settings.target_margin_relative = rel.parse()?;
+    }
+    if let Some(fraction) = args.iter().find_map(|a| a.strip_prefix("push=")) {
+        settings.line_search.new_penetration_fraction = fraction.parse()?;
+    }
+    if let Some(fraction) = args.iter().find_map(|a| a.strip_prefix("ip-step=")) {
+        settings.solver.interior_point.step_fraction = fraction.parse()?;
+    }
+    if let Some(count) = args.iter().find_map(|a| a.strip_prefix("ipc=")) {
+        settings.solver.interior_point.centrality_correctors = count.parse()?;
     }
     if let Some(name) = args.iter().find_map(|a| a.strip_prefix("rows=")) {
         settings.friction_rows = constraint_stabilization::FrictionRows::ALL
@@ -82,6 +92,7 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
         report.depth_before,
         report.depth_after
     );
+    print_correction(&input, &scene);
     for (p, pass) in report.pass_reports.iter().enumerate() {
         for island in &pass.solved {
             println!(
@@ -96,4 +107,28 @@ pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// The size of the call's correction: the largest translation of a centre
+/// of mass, the largest rotation, and the mass-weighted translation norm
+/// `sqrt(sum_i m_i |dx_i|^2)` over the moving bodies.
+fn print_correction(
+    before: &constraint_stabilization::Scene,
+    after: &constraint_stabilization::Scene,
+) {
+    let (mut largest_dx, mut largest_angle, mut weighted) = (0.0_f64, 0.0_f64, 0.0_f64);
+    for (a, b) in before.bodies().iter().zip(after.bodies()) {
+        let Some(mass) = a.mass() else { continue };
+        let dx = (b.com_world() - a.com_world()).norm();
+        let angle = a.com_pose().rotation.angle_to(&b.com_pose().rotation);
+        largest_dx = largest_dx.max(dx);
+        largest_angle = largest_angle.max(angle);
+        weighted += mass.mass * dx * dx;
+    }
+    println!(
+        "correction: largest translation {:.4e} m, largest rotation {:.4e} rad, sqrt(sum m dx^2) {:.17e}",
+        largest_dx,
+        largest_angle,
+        weighted.sqrt()
+    );
 }

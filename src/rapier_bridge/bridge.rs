@@ -89,6 +89,13 @@ impl RapierBridge {
     /// A bridge with validated stabilizer settings, the default coupling
     /// ([`super::CouplingMode::ClosedContacts`], with the colliders'
     /// friction) and an empty scene.
+    ///
+    /// The stabilizer settings are taken as given: `Settings::default()`
+    /// here is not [`BridgeSettings::default`]'s stabilizer, which keeps the
+    /// target margin at [`super::BRIDGE_TARGET_MARGIN_RELATIVE`] and the
+    /// dual active-set method off (the settings with which the bridge's
+    /// coupling and rest were measured). For the bridge's defaults use
+    /// [`RapierBridge::with_settings`]`(BridgeSettings::default())`.
     pub fn new(settings: Settings) -> Result<Self, BridgeError> {
         Self::with_settings(BridgeSettings::with_stabilizer(settings))
     }

@@ -105,14 +105,19 @@ impl PackedRows {
         })
     }
 
-    /// `J dq` into `out` (length the rows).
+    /// `J dq` into `out` (length the rows). Each row's value is the
+    /// sequential sum of its twelve (or six) products from zero, as
+    /// nalgebra's `dot` sums vectors of six.
     pub(crate) fn apply_j_into(&self, dq: &DVector<f64>, out: &mut DVector<f64>) {
-        for (i, (&(k, l), g)) in self.bodies.iter().zip(&self.gradients).enumerate() {
-            let mut value = g.fixed_rows::<6>(0).dot(&dq.fixed_rows::<6>(6 * k));
+        let (dq_blocks, _) = dq.as_slice().as_chunks::<6>();
+        let out = out.as_mut_slice();
+        for ((value, &(k, l)), g) in out.iter_mut().zip(&self.bodies).zip(&self.gradients) {
+            let (halves, _) = g.as_slice().as_chunks::<6>();
+            let mut sum = dot6(&halves[0], &dq_blocks[k]);
             if let Some(l) = l {
-                value += g.fixed_rows::<6>(6).dot(&dq.fixed_rows::<6>(6 * l));
+                sum += dot6(&halves[1], &dq_blocks[l]);
             }
-            out[i] = value;
+            *value = sum;
         }
     }
 
@@ -123,18 +128,19 @@ impl PackedRows {
         out
     }
 
-    /// `J^T lambda`.
+    /// `J^T lambda`: `out_k += lambda_i g_ik` row by row.
     pub(crate) fn apply_jt(&self, lambda: &DVector<f64>) -> DVector<f64> {
         let mut out = DVector::zeros(self.dofs);
-        for ((&(k, l), g), &x) in self.bodies.iter().zip(&self.gradients).zip(lambda.iter()) {
+        let (blocks, _) = out.as_mut_slice().as_chunks_mut::<6>();
+        let rows = self.bodies.iter().zip(&self.gradients);
+        for ((&(k, l), g), &x) in rows.zip(lambda.as_slice()) {
             if x == 0.0 {
                 continue;
             }
-            let mut first = out.fixed_rows_mut::<6>(6 * k);
-            first.axpy(x, &g.fixed_rows::<6>(0), 1.0);
+            let (halves, _) = g.as_slice().as_chunks::<6>();
+            axpy6(x, &halves[0], &mut blocks[k]);
             if let Some(l) = l {
-                let mut second = out.fixed_rows_mut::<6>(6 * l);
-                second.axpy(x, &g.fixed_rows::<6>(6), 1.0);
+                axpy6(x, &halves[1], &mut blocks[l]);
             }
         }
         out
@@ -191,5 +197,17 @@ impl PackedRows {
             gram.fixed_view_mut::<6, 6>(0, 0).copy_from(&small);
         }
         gram
+    }
+}
+
+/// `sum_t a_t b_t`, summed in order from zero.
+fn dot6(a: &[f64; 6], b: &[f64; 6]) -> f64 {
+    a.iter().zip(b).fold(0.0, |sum, (x, y)| sum + x * y)
+}
+
+/// `y += x a`.
+fn axpy6(x: f64, a: &[f64; 6], y: &mut [f64; 6]) {
+    for (y, a) in y.iter_mut().zip(a) {
+        *y += x * a;
     }
 }

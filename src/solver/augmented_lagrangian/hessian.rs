@@ -246,14 +246,18 @@ impl<'a> NewtonMatrix<'a> {
     ) -> Result<(), FactorizationFailed> {
         self.factor = None;
         let factor = if self.dense {
-            let grams = packed.groups.iter().map(|group| packed.gram(group, d));
+            // Only the lower triangle: the dense Cholesky reads no other.
+            let grams = packed
+                .groups
+                .iter()
+                .map(|group| packed.gram_for_lower(group, d));
             let mut h = DMatrix::zeros(self.dofs, self.dofs);
             for (k, b) in metric.iter().enumerate() {
                 let mut view = h.fixed_view_mut::<6, 6>(6 * k, 6 * k);
                 view += b.matrix();
             }
             for (group, gram) in packed.groups.iter().zip(grams) {
-                add_gram_dense(&mut h, group.bodies, &gram);
+                add_gram_dense_lower(&mut h, group.bodies, &gram);
             }
             Factor::Dense(DenseCholesky::new(h).ok_or(FactorizationFailed)?)
         } else {
@@ -455,19 +459,19 @@ fn for_each_lower_block(
     }
 }
 
-/// Adds a group's Gram matrix to the dense `h` at its blocks (both
-/// triangles).
-fn add_gram_dense(h: &mut DMatrix<f64>, bodies: (usize, Option<usize>), gram: &Gram) {
+/// Adds a group's Gram matrix ([`PackedRows::gram_for_lower`]) to the
+/// lower triangle of the dense `h`: its diagonal blocks (upper parts zero)
+/// and the block `(k, l)`, `k > l`; the mirror block `(l, k)` is left out.
+fn add_gram_dense_lower(h: &mut DMatrix<f64>, bodies: (usize, Option<usize>), gram: &Gram) {
     let k = bodies.0;
     let mut kk = h.fixed_view_mut::<6, 6>(6 * k, 6 * k);
     kk += gram.fixed_view::<6, 6>(0, 0);
     if let Some(l) = bodies.1 {
         let mut ll = h.fixed_view_mut::<6, 6>(6 * l, 6 * l);
         ll += gram.fixed_view::<6, 6>(6, 6);
+        // `k > l`: the block `(k, l)` lies below the diagonal.
         let mut kl = h.fixed_view_mut::<6, 6>(6 * k, 6 * l);
         kl += gram.fixed_view::<6, 6>(0, 6);
-        let mut lk = h.fixed_view_mut::<6, 6>(6 * l, 6 * k);
-        lk += gram.fixed_view::<6, 6>(6, 0);
     }
 }
 
