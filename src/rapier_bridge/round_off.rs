@@ -58,7 +58,7 @@
 //!   tolerance whenever the corrected contacts reached their target (the
 //!   tests measure it on the f32 world);
 //! - outside closed contacts the call is solved to its tolerance lowered
-//!   by `2 delta` ([`lowered_for_round_off`]) and states the tolerance
+//!   by `2 delta` (`lowered_for_round_off`) and states the tolerance
 //!   itself: a contact that stopped short of its target (a curved pair
 //!   whose last linearization left it between the two) is then still
 //!   within the stated tolerance once written in f32. Closed contacts are
@@ -202,8 +202,8 @@ pub(crate) fn write_back_round_off_bound(
 }
 
 /// Bodies scanned one by one, in decreasing `delta`, for one that can
-/// touch another, before the broad phase answers for the rest
-/// ([`write_back_round_off_bound`]).
+/// touch another, before the broad phase answers for the rest (the
+/// bridge's bound of the write-back's rounding, module docs).
 pub const ROUND_OFF_SCAN_LIMIT: usize = 8;
 
 /// The stabilizer's own lengths on `scene` (its settings without an
