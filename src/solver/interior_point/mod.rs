@@ -273,6 +273,7 @@ pub fn solve(
                 0.0
             }
         }),
+        jt_lambda: None,
     };
     let packed = settings.packed_rows.then(|| PackedRows::new(qp)).flatten();
     let mut best: Option<(Candidate, f64)> = None;
@@ -307,7 +308,7 @@ pub fn solve(
             );
             break;
         }
-        let radius = farkas_radius(&inputs, &g, &it.lambda) / l;
+        let radius = farkas_radius(&inputs, &g, &mut it) / l;
         log::trace!(
             "interior point: iteration {iteration}, gap {:.2e} l^2, Farkas radius {radius:.2e} l",
             gap / (l * l)
@@ -388,15 +389,26 @@ pub const INFEASIBLE_RADIUS_REL: f64 = 1e6;
 /// `R`. The norm is taken no smaller than the rounding of the sum that
 /// forms it (`m` epsilons of `sum_i lambda_i g_i`, `g_i = ||J_i||_{M^-1}`),
 /// so that rounding cannot make a certificate.
-fn farkas_radius(inputs: &StepInputs, g: &[f64], lambda: &DVector<f64>) -> f64 {
-    let lambda = lambda.map(|x| x.max(0.0));
+fn farkas_radius(inputs: &StepInputs, g: &[f64], it: &mut Iterate) -> f64 {
+    let lambda = it.lambda.map(|x| x.max(0.0));
     let beta = inputs.b.dot(&lambda);
     if beta.is_nan() || beta >= 0.0 {
         return 0.0;
     }
-    // ||J^T lambda||_{M^-1}^2 = f^T M^-1 f with f = J^T lambda.
-    let force = inputs.apply_jt(&lambda);
-    let norm = force.dot(&m_inv(inputs.metric, &force)).max(0.0).sqrt();
+    // ||J^T lambda||_{M^-1}^2 = f^T M^-1 f with f = J^T lambda. The
+    // iterate's multipliers are positive (the step stays inside the
+    // boundary), so `f` is the iterate's own `J^T lambda`, which the next
+    // step's stationarity residual reuses; `J^T` skips zero multipliers,
+    // so a zero of either sign gives the same `f`.
+    let clamped = it.lambda.iter().any(|&x| x < 0.0);
+    let clamped_force;
+    let force = if clamped {
+        clamped_force = inputs.apply_jt(&lambda);
+        &clamped_force
+    } else {
+        it.jt_lambda(inputs)
+    };
+    let norm = force.dot(&m_inv(inputs.metric, force)).max(0.0).sqrt();
     let magnitude: f64 = lambda.iter().zip(g).map(|(l, g)| l * g).sum();
     let rounding = f64::EPSILON * lambda.len() as f64 * magnitude;
     let radius = -beta / norm.max(rounding);

@@ -18,6 +18,18 @@ pub(super) struct Iterate {
     pub dq: DVector<f64>,
     pub s: DVector<f64>,
     pub lambda: DVector<f64>,
+    /// `J^T lambda` of the current multipliers once computed (by the
+    /// Farkas radius after a step), so that the next step's stationarity
+    /// residual does not form it again; `None` after `lambda` changes.
+    pub jt_lambda: Option<DVector<f64>>,
+}
+
+impl Iterate {
+    /// `J^T lambda` of the current multipliers, formed once.
+    pub(super) fn jt_lambda(&mut self, inputs: &StepInputs<'_>) -> &DVector<f64> {
+        self.jt_lambda
+            .get_or_insert_with(|| inputs.apply_jt(&self.lambda))
+    }
 }
 
 /// The fixed data of a step.
@@ -96,7 +108,7 @@ pub(super) fn newton_step(
     let (qp, moved) = (inputs.qp, inputs.moved);
     let m = qp.num_rows();
     let active_rows = moved.iter().filter(|&&x| x).count().max(1);
-    let r_d = m_apply(inputs.metric, &it.dq) - inputs.apply_jt(&it.lambda);
+    let r_d = m_apply(inputs.metric, &it.dq) - it.jt_lambda(inputs);
     let r_p = inputs.apply_j(&it.dq) + inputs.b - &it.s;
     let mu = (0..m)
         .filter(|&i| moved[i])
@@ -163,6 +175,7 @@ pub(super) fn newton_step(
     it.dq.axpy(alpha, &step.dq, 1.0);
     it.s.axpy(alpha, &step.s, 1.0);
     it.lambda.axpy(alpha, &step.lambda, 1.0);
+    it.jt_lambda = None;
     let finite = it
         .dq
         .iter()
