@@ -147,15 +147,18 @@ impl PackedRows {
     }
 
     /// The entries of the weighted Gram matrix `sum_i d_i g_i g_i^T` of a
-    /// group of two bodies that the lower triangle of `H` takes: the lower
-    /// triangles of its diagonal blocks and its upper-right block `(k, l)`,
-    /// 78 of the 144 (the others stay zero). Each entry is accumulated as
-    /// [`PackedRows::gram`] accumulates it (`(d_i g_ij) g_ik`), so the
-    /// two agree bit for bit on these entries; for a group of one body,
-    /// [`PackedRows::gram`].
+    /// group that the lower triangle of `H` takes. For two bodies: the
+    /// lower triangles of its diagonal blocks and its upper-right block
+    /// `(k, l)`, 78 of the 144 (the others stay zero), each entry `(j, k)`
+    /// accumulating `(d_i g_ik) g_ij` row by row (nalgebra's `syger` and
+    /// `ger`). For one body: its whole 6x6 block in the top-left corner
+    /// ([`PackedRows::one_body_gram`]).
     pub(crate) fn gram_for_lower(&self, group: &RowGroup, d: &[f64]) -> Gram {
         if group.bodies.1.is_none() {
-            return self.gram(group, d);
+            let mut gram = Gram::zeros();
+            gram.fixed_view_mut::<6, 6>(0, 0)
+                .copy_from(&self.one_body_gram(group, d));
+            return gram;
         }
         let mut gram = Gram::zeros();
         for &i in &group.rows {
@@ -174,27 +177,15 @@ impl PackedRows {
         gram
     }
 
-    /// The weighted Gram matrix `sum_i d_i g_i g_i^T` of `group` (module
-    /// docs); only the top-left 6x6 block is meaningful for a group of one
-    /// body.
-    pub(crate) fn gram(&self, group: &RowGroup, d: &[f64]) -> Gram {
-        let mut gram = Gram::zeros();
-        if group.bodies.1.is_some() {
-            for &i in &group.rows {
-                if d[i] != 0.0 {
-                    let g = &self.gradients[i];
-                    gram.ger(d[i], g, g, 1.0);
-                }
+    /// The weighted Gram matrix `sum_i d_i g_ik g_ik^T` of a group of one
+    /// body `k` (module docs).
+    fn one_body_gram(&self, group: &RowGroup, d: &[f64]) -> SMatrix<f64, 6, 6> {
+        let mut gram = SMatrix::<f64, 6, 6>::zeros();
+        for &i in &group.rows {
+            if d[i] != 0.0 {
+                let g: Vector6<f64> = self.gradients[i].fixed_rows::<6>(0).into_owned();
+                gram.ger(d[i], &g, &g, 1.0);
             }
-        } else {
-            let mut small = SMatrix::<f64, 6, 6>::zeros();
-            for &i in &group.rows {
-                if d[i] != 0.0 {
-                    let g: Vector6<f64> = self.gradients[i].fixed_rows::<6>(0).into_owned();
-                    small.ger(d[i], &g, &g, 1.0);
-                }
-            }
-            gram.fixed_view_mut::<6, 6>(0, 0).copy_from(&small);
         }
         gram
     }
