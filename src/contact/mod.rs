@@ -460,10 +460,13 @@ fn round_contact_points(
     settings: &Settings,
 ) -> PairContactPoints {
     let mut points: Vec<ContactPoint> = match &round.closed_form {
-        Some(contact) => contact.points[..contact.count]
-            .iter()
-            .map(|p| round.on_surfaces(p))
-            .collect(),
+        Some(contact) => {
+            let (core_points, count) = contact.points_of(a, b);
+            core_points[..count]
+                .iter()
+                .map(|p| round.on_surfaces(p))
+                .collect()
+        }
         None => {
             let core = PairQuery {
                 round: None,

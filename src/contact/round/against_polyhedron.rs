@@ -227,6 +227,7 @@ fn face_points(s: &[Point3<f64>; 2], poly: &ConvexPolyhedron, f: usize) -> Optio
         normal_world: plane.normal,
         points: [p0, p1, p1, p1],
         count: if c0 == c1 { 1 } else { 2 },
+        deferred: None,
     })
 }
 
@@ -250,6 +251,7 @@ fn single(on_a: Point3<f64>, on_b: Point3<f64>, normal: Vector3<f64>, signed: f6
         normal_world: normal,
         points: [point; MAX_ROUND_POINTS],
         count: 1,
+        deferred: None,
     }
 }
 

@@ -66,20 +66,43 @@ pub struct CorePoint {
     pub normal: Vector3<f64>,
 }
 
-/// The cores' answer in closed form (a point or segment core).
+/// The cores' answer in closed form (a point or segment core), or by
+/// support functions (a cylinder or cone).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CoreContact {
     /// The cores' signed distance (distance, or minus the depth).
     pub signed_distance: f64,
     /// Unit normal from B's core towards A's.
     pub normal_world: Vector3<f64>,
-    /// The contact points (the first `count`).
+    /// The contact points (the first `count`); with `deferred`, only the
+    /// central point (`support_manifold`) until [`CoreContact::points_of`]
+    /// forms them.
     pub points: [CorePoint; MAX_ROUND_POINTS],
     /// How many points.
     pub count: usize,
+    /// What a support-function answer needs to form its contact points,
+    /// which only a pair that gets rows reads: a query's answer is also
+    /// measured by its signed distance alone (every line-search trial,
+    /// and the detection of pairs no solved island holds), so the points
+    /// are formed on demand (`support_pair`).
+    pub deferred: Option<support_pair::DeferredPoints>,
 }
 
 impl CoreContact {
+    /// The contact points and their count: formed now from `a` and `b`
+    /// (the pair's parts; their poses at the query are kept) when they
+    /// were deferred, else the answer's own.
+    pub fn points_of(
+        &self,
+        a: &BodyGeometry,
+        b: &BodyGeometry,
+    ) -> ([CorePoint; MAX_ROUND_POINTS], usize) {
+        match &self.deferred {
+            Some(deferred) => deferred.points(a, b, &self.normal_world),
+            None => (self.points, self.count),
+        }
+    }
+
     fn moved(self, pose: &Isometry3<f64>) -> Self {
         let mut points = self.points;
         for p in &mut points {
@@ -199,6 +222,7 @@ fn segment_segment(
         normal_world: normal,
         points: [point(p, q); MAX_ROUND_POINTS],
         count: 1,
+        deferred: None,
     };
     let parallel = da.norm() * db.norm() > 0.0
         && da.dot(&db).abs() >= FACE_ALIGNMENT_COS * da.norm() * db.norm();

@@ -74,26 +74,9 @@ pub fn points(
     witnesses: Option<[Point3<f64>; 2]>,
     size: f64,
 ) -> ([CorePoint; MAX_ROUND_POINTS], usize) {
-    let top_a = -a.support_value(&-n);
-    let top_b = b.support_value(n);
+    let [top_a, top_b] = support_planes(a, b, n);
     let separation = top_a - top_b;
-    let central = match witnesses {
-        Some([p_a, p_b]) => CorePoint {
-            on_a: p_a + n * (top_a - n.dot(&p_a.coords)),
-            on_b: p_b + n * (top_b - n.dot(&p_b.coords)),
-            separation,
-            normal: *n,
-        },
-        None => {
-            let p = a.support(&-n);
-            CorePoint {
-                on_a: p,
-                on_b: p - n * (n.dot(&p.coords) - top_b),
-                separation,
-                normal: *n,
-            }
-        }
-    };
+    let central = central_at(a, n, witnesses, [top_a, top_b]);
     let feature = (a.reach() + a.radius).min(b.reach() + b.radius);
     let window = FEATURE_WINDOW_RELATIVE * feature;
     let mut rows: Vec<CorePoint> = Vec::new();
@@ -133,6 +116,51 @@ pub fn points(
         rows.push(central);
     }
     reduce(&rows, n, SAME_POINT_RELATIVE * size)
+}
+
+/// The central point of two cores along unit `n` (module docs): the
+/// witnesses moved along `n` onto their support planes, or A's support
+/// point and its partner on B's plane.
+pub fn central_point(
+    a: &PosedCore,
+    b: &PosedCore,
+    n: &Vector3<f64>,
+    witnesses: Option<[Point3<f64>; 2]>,
+) -> CorePoint {
+    central_at(a, n, witnesses, support_planes(a, b, n))
+}
+
+/// The offsets `[t_A, t_B]` of A's and B's support planes along `n`
+/// (module docs).
+fn support_planes(a: &PosedCore, b: &PosedCore, n: &Vector3<f64>) -> [f64; 2] {
+    [-a.support_value(&-n), b.support_value(n)]
+}
+
+/// [`central_point`] with the support planes `[t_A, t_B]` at hand.
+fn central_at(
+    a: &PosedCore,
+    n: &Vector3<f64>,
+    witnesses: Option<[Point3<f64>; 2]>,
+    [top_a, top_b]: [f64; 2],
+) -> CorePoint {
+    let separation = top_a - top_b;
+    match witnesses {
+        Some([p_a, p_b]) => CorePoint {
+            on_a: p_a + n * (top_a - n.dot(&p_a.coords)),
+            on_b: p_b + n * (top_b - n.dot(&p_b.coords)),
+            separation,
+            normal: *n,
+        },
+        None => {
+            let p = a.support(&-n);
+            CorePoint {
+                on_a: p,
+                on_b: p - n * (n.dot(&p.coords) - top_b),
+                separation,
+                normal: *n,
+            }
+        }
+    }
 }
 
 /// Steps of the bisection that clips a chord to the other solid.
