@@ -383,6 +383,17 @@ impl Run {
         if let Ok(keep) = std::env::var("WITH_AND_WITHOUT_KEEP_PAIRS") {
             settings.stabilizer.keep_penetrated_pairs = keep != "0";
         }
+        // `WITH_AND_WITHOUT_DAS=MAX,VIOLATED_MAX`: `Auto` takes the dual
+        // active-set method up to these entries of `dq` (the bridge's
+        // default keeps it off; measurements of issue 21).
+        if let Some((max, violated)) = std::env::var("WITH_AND_WITHOUT_DAS")
+            .ok()
+            .and_then(|v| v.split_once(',').map(|(a, b)| (a.parse(), b.parse())))
+            .and_then(|(a, b)| Some((a.ok()?, b.ok()?)))
+        {
+            settings.stabilizer.solver.auto_dual_active_set_max_dofs = max;
+            settings.stabilizer.solver.auto_dual_active_set_violated_max_dofs = violated;
+        }
         // `WITH_AND_WITHOUT_ZERO_HELD_VELOCITIES=1`: the bodies a held
         // cycle puts back get their velocities zeroed too.
         if std::env::var("WITH_AND_WITHOUT_ZERO_HELD_VELOCITIES").as_deref() == Ok("1") {
