@@ -392,7 +392,10 @@ impl Run {
             .and_then(|(a, b)| Some((a.ok()?, b.ok()?)))
         {
             settings.stabilizer.solver.auto_dual_active_set_max_dofs = max;
-            settings.stabilizer.solver.auto_dual_active_set_violated_max_dofs = violated;
+            settings
+                .stabilizer
+                .solver
+                .auto_dual_active_set_violated_max_dofs = violated;
         }
         // `WITH_AND_WITHOUT_ZERO_HELD_VELOCITIES=1`: the bodies a held
         // cycle puts back get their velocities zeroed too.
