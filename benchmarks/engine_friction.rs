@@ -12,8 +12,9 @@
 //! carries: `rp08_mixed_pile` has Rapier's 0.5 on its bodies), then
 //! friction as the pyramid (the default model) and as the cone, each with
 //! the three ways its rows enter the problem (`Settings::friction_rows`:
-//! the pyramid's facets in place of their row, `implied`; generated as
-//! needed; all rows, the default); each on a fresh copy of the scene, with
+//! the pyramid's facets in place of their row, `implied`, the default;
+//! generated as needed; all rows, the Rapier bridge's default); each on a
+//! fresh copy of the scene, with
 //! a fresh stabilizer and the default settings otherwise.
 //! Time: the median over the repeats.
 //!
@@ -45,11 +46,12 @@ const REPEATS: usize = 9;
 /// The calls compared: label, friction model (`None`: frictionless) and
 /// how its rows enter the problem (`Settings::friction_rows`). The labels
 /// name the rows' way; `default` marks the default settings' call (the
-/// pyramid with `All`).
+/// pyramid with `Implied`), `bridge's default` the Rapier bridge's way
+/// (the pyramid with `All`).
 const CALLS: [(&str, Option<FrictionModel>, FrictionRows); 7] = [
     ("frictionless", None, FrictionRows::Implied),
     (
-        "pyramid, implied",
+        "pyramid, implied (default)",
         Some(FrictionModel::Pyramid),
         FrictionRows::Implied,
     ),
@@ -69,7 +71,7 @@ const CALLS: [(&str, Option<FrictionModel>, FrictionRows); 7] = [
         FrictionRows::Generated,
     ),
     (
-        "pyramid, all rows (default)",
+        "pyramid, all rows (bridge's default)",
         Some(FrictionModel::Pyramid),
         FrictionRows::All,
     ),

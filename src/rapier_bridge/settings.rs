@@ -12,7 +12,7 @@
 //! ([`crate::Settings::allowed_penetration`]), so the engine's soft
 //! contacts keep their slop.
 
-use crate::settings::{ResolvedLengths, Settings};
+use crate::settings::{FrictionRows, ResolvedLengths, Settings};
 use crate::stabilizer::VelocityFriction;
 
 /// How a bridge call couples with the engine.
@@ -221,8 +221,11 @@ impl Default for BridgeSettings {
     /// 1 mm) with it off and 6 with it on (`benchmarks/results/
     /// call_cost.md`, eighteenth session); its answers are the same
     /// minimizer within the tolerance, but the settle follows them. The
-    /// target margin stays at [`BRIDGE_TARGET_MARGIN_RELATIVE`] for the
-    /// same reason.
+    /// target margin stays at [`BRIDGE_TARGET_MARGIN_RELATIVE`], and the
+    /// friction rows at [`FrictionRows::All`] (every contact row with its
+    /// pyramid's facets, where the stabilizer's default leaves the implied
+    /// row out), for the same reason: the pile of 200 rests as measured
+    /// with them (`benchmarks/results/engine_friction.md`).
     fn default() -> Self {
         let mut stabilizer = Settings {
             target_margin_relative: BRIDGE_TARGET_MARGIN_RELATIVE,
@@ -230,6 +233,7 @@ impl Default for BridgeSettings {
         };
         stabilizer.solver.auto_dual_active_set_max_dofs = 0;
         stabilizer.solver.auto_dual_active_set_violated_max_dofs = 0;
+        stabilizer.friction_rows = FrictionRows::All;
         BridgeSettings::with_stabilizer(stabilizer)
     }
 }

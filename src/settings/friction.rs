@@ -47,18 +47,21 @@ impl FrictionModel {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub enum FrictionRows {
     /// Every row with its friction: under the pyramid the row and its `K`
-    /// facets, under the cone model the row and its cone. The default:
-    /// the Rapier bridge's settled pile of 200 rests as measured with it
-    /// (0.63 mm, asleep from step 161), and with
-    /// [`FrictionRows::Implied`] crept 16.4 mm and slept from step 196
-    /// (`benchmarks/results/engine_friction.md`, last section).
-    #[default]
+    /// facets, under the cone model the row and its cone. The Rapier
+    /// bridge's default (`BridgeSettings::default()`, feature `rapier`): its settled pile of 200 rests as measured with it
+    /// (0.63 mm, asleep from step 161), and with [`FrictionRows::Implied`]
+    /// crept 16.4 mm and slept from step 196
+    /// (`benchmarks/results/engine_friction.md`): the same minimizer, but
+    /// the settle follows the solvers' answers within their tolerance.
     All,
     /// Every row's friction, with the pyramid's facets in place of their
     /// row (they imply it): `K` rows per row with friction, not `K + 1`.
-    /// 10-40 % faster than [`FrictionRows::All`] on the engine states, and
-    /// as fast as [`FrictionRows::Generated`] there, where nearly every
-    /// contact's friction is needed (`benchmarks/results/engine_friction.md`).
+    /// The default: 10-40 % faster than [`FrictionRows::All`] on the
+    /// engine states, and as fast as [`FrictionRows::Generated`] there,
+    /// where nearly every contact's friction is needed
+    /// (`benchmarks/results/engine_friction.md`). The cone model is the
+    /// same either way (clarabel's primal form leaves a cone's row out).
+    #[default]
     Implied,
     /// Generated as needed: the rows whose friction held in the previous
     /// answer (all of them when they are most rows), or none, first; then

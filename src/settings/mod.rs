@@ -185,7 +185,8 @@ pub struct Settings {
     /// How the friction rows enter the problem solved: all of them, all
     /// with the pyramid's facets in place of their row, or generated as
     /// they are needed ([`FrictionRows`]); the same minimizer every way.
-    /// Default [`FrictionRows::All`].
+    /// Default [`FrictionRows::Implied`] (the Rapier bridge's default
+    /// settings keep [`FrictionRows::All`]).
     pub friction_rows: FrictionRows,
     /// clarabel's iteration limit on a problem with friction (its
     /// pyramid's rows or cones), in place of

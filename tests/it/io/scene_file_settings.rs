@@ -150,7 +150,7 @@ fn file_friction_rows_are_read_applied_and_round_trip() {
     let scene = box_on_ground(r#"{"friction_rows": "generated"}"#);
     let resolved = Settings::default().with_scene_settings(scene.settings());
     assert_eq!(resolved.friction_rows, FrictionRows::Generated);
-    assert_eq!(Settings::default().friction_rows, FrictionRows::All);
+    assert_eq!(Settings::default().friction_rows, FrictionRows::Implied);
     let text = scene_to_string(&scene, None);
     assert!(text.contains(r#""friction_rows": "generated""#), "{text}");
     let again = parse_scene(&text).expect("reads back");

@@ -238,3 +238,29 @@ fn closed_contacts_hold_the_heavy_stack_with_little_drift() {
     );
     assert!(drift < 0.015, "largest drift {drift}");
 }
+
+/// The bridge's default keeps the paths its settle was measured with (the
+/// friction rows with their contact rows, the dual active-set method off,
+/// a target margin of one tolerance) where the stabilizer's own default
+/// differs: the same minimizers, but a settle follows the solvers' answers.
+#[test]
+fn bridge_default_keeps_its_measured_solver_paths() {
+    use constraint_stabilization::FrictionRows;
+    use constraint_stabilization::rapier_bridge::BRIDGE_TARGET_MARGIN_RELATIVE;
+    let own = Settings::default();
+    let bridge = BridgeSettings::default().stabilizer;
+    assert_eq!(own.friction_rows, FrictionRows::Implied);
+    assert_eq!(bridge.friction_rows, FrictionRows::All);
+    assert!(own.solver.auto_dual_active_set_max_dofs > 0);
+    assert_eq!(bridge.solver.auto_dual_active_set_max_dofs, 0);
+    assert_eq!(bridge.solver.auto_dual_active_set_violated_max_dofs, 0);
+    assert_eq!(bridge.target_margin_relative, BRIDGE_TARGET_MARGIN_RELATIVE);
+    // Everything else is the stabilizer's default.
+    let mut rest = bridge.clone();
+    rest.friction_rows = own.friction_rows;
+    rest.solver.auto_dual_active_set_max_dofs = own.solver.auto_dual_active_set_max_dofs;
+    rest.solver.auto_dual_active_set_violated_max_dofs =
+        own.solver.auto_dual_active_set_violated_max_dofs;
+    rest.target_margin_relative = own.target_margin_relative;
+    assert_eq!(format!("{rest:?}"), format!("{own:?}"));
+}
