@@ -6,7 +6,7 @@
 //! sleep), and which bodies Rapier keeps awake and why.
 //!
 //! ```text
-//! cargo run --release --features rapier,serde --example probes -- settle [--plain] [--seed S] [--perturb E] [--steps N] [--from S] [--to T] [--every K] [--ip-min-rows N] [--das-max-dofs N] [--das] [--clarabel-gap G] [--target-margin REL] [--velocity-friction none|change|velocity] [--zero-held-velocities] [--trace BODY FROM TO]
+//! cargo run --release --features rapier,serde --example probes -- settle [--plain] [--seed S] [--perturb E] [--steps N] [--from S] [--to T] [--every K] [--ip-min-rows N] [--das-max-dofs N] [--das] [--clarabel-gap G] [--target-margin REL] [--friction-rows all|implied|generated] [--velocity-friction none|change|velocity] [--zero-held-velocities] [--trace BODY FROM TO]
 //! ```
 //!
 //! Per printed step: bodies asleep; bodies whose own motion in Rapier's
@@ -24,7 +24,8 @@
 //! in the bridge's default) and `--clarabel-gap` change the solver's
 //! answers within the tolerance (as
 //! `WITH_AND_WITHOUT_IP_MIN_ROWS` and `WITH_AND_WITHOUT_CLARABEL_GAP`);
-//! `--target-margin REL` sets the stabilizer's `target_margin_relative`;
+//! `--target-margin REL` sets the stabilizer's `target_margin_relative`,
+//! `--friction-rows NAME` its `friction_rows` (the bridge's default `all`);
 //! `--zero-held-velocities` sets `BridgeSettings::zero_held_velocities`;
 //! `--seed` and `--perturb` build another pile (`pile_world_perturbed`);
 //! `--trace BODY FROM TO` prints one body's motion and velocities after
@@ -69,6 +70,11 @@ fn bridge(args: &[String]) -> Result<RapierBridge, Box<dyn std::error::Error>> {
     }
     if let Some(rel) = flag_value(args, "--target-margin") {
         settings.stabilizer.target_margin_relative = rel.parse()?;
+    }
+    if let Some(name) = flag_value(args, "--friction-rows") {
+        settings.stabilizer.friction_rows =
+            constraint_stabilization::FrictionRows::from_name(&name)
+                .ok_or_else(|| format!("unknown friction rows {name}"))?;
     }
     settings.zero_held_velocities = args.iter().any(|a| a == "--zero-held-velocities");
     match flag_value(args, "--velocity-friction").as_deref() {

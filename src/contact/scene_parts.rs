@@ -15,7 +15,7 @@ use std::borrow::Cow;
 use std::ops::Range;
 use std::sync::Arc;
 
-use nalgebra::Isometry3;
+use nalgebra::{Isometry3, Point3};
 
 use crate::body::rounded_aabb;
 use crate::broad_phase::BodyPair;
@@ -130,6 +130,14 @@ impl SceneParts {
     /// bodies) whose parts' boxes, each grown by `margin / 2`, overlap, at
     /// the part poses `poses`; ascending. The body pairs themselves in a
     /// scene of convex bodies.
+    ///
+    /// `body_pairs` are the broad phase's candidates at the same poses and
+    /// margin: bodies whose boxes, grown by `margin / 2`, overlap (closed
+    /// intervals). A body of one part has that part's box (the same
+    /// [`rounded_aabb`] at the same pose), so a pair of two one-part bodies
+    /// is its part pair without a test, which could only repeat the broad
+    /// phase's; a part's box is computed only when a pair of a body of
+    /// several parts needs it, once.
     pub fn part_pairs(
         &self,
         body_pairs: &[BodyPair],
@@ -139,23 +147,37 @@ impl SceneParts {
         if self.convex {
             return body_pairs.to_vec();
         }
-        let boxes: Vec<_> = self
-            .shapes
-            .iter()
-            .zip(&self.roundings)
-            .zip(poses)
-            .map(|((shape, rounding), pose)| rounded_aabb(shape, rounding.as_ref(), pose))
-            .collect();
+        let mut boxes: Vec<Option<(Point3<f64>, Point3<f64>)>> = vec![None; self.len()];
+        let mut box_of = |part: usize| {
+            *boxes[part].get_or_insert_with(|| {
+                rounded_aabb(
+                    &self.shapes[part],
+                    self.roundings[part].as_ref(),
+                    &poses[part],
+                )
+            })
+        };
         let grow = margin / 2.0;
-        let overlap = |p: usize, q: usize| {
-            let ((min_p, max_p), (min_q, max_q)) = (&boxes[p], &boxes[q]);
+        let overlap = |(min_p, max_p): (Point3<f64>, Point3<f64>),
+                       (min_q, max_q): (Point3<f64>, Point3<f64>)| {
             (0..3).all(|k| min_p[k] - grow <= max_q[k] + grow && min_q[k] - grow <= max_p[k] + grow)
         };
         let mut pairs = Vec::new();
         for body_pair in body_pairs {
-            for p in self.parts_of(body_pair.body_a) {
-                for q in self.parts_of(body_pair.body_b) {
-                    if overlap(p, q) {
+            let (parts_a, parts_b) = (
+                self.parts_of(body_pair.body_a),
+                self.parts_of(body_pair.body_b),
+            );
+            if parts_a.len() == 1 && parts_b.len() == 1 {
+                pairs.push(BodyPair {
+                    body_a: parts_a.start,
+                    body_b: parts_b.start,
+                });
+                continue;
+            }
+            for p in parts_a {
+                for q in parts_b.clone() {
+                    if overlap(box_of(p), box_of(q)) {
                         pairs.push(BodyPair {
                             body_a: p,
                             body_b: q,

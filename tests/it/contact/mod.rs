@@ -8,4 +8,5 @@ mod contact_row_jacobian;
 mod depth;
 mod gauss_map_arcs;
 mod manifold;
+mod part_pairs;
 mod warm_start;
