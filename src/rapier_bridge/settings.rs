@@ -224,8 +224,9 @@ impl Default for BridgeSettings {
     /// target margin stays at [`BRIDGE_TARGET_MARGIN_RELATIVE`], and the
     /// friction rows at [`FrictionRows::All`] (every contact row with its
     /// pyramid's facets, where the stabilizer's default leaves the implied
-    /// row out), for the same reason: the pile of 200 rests as measured
-    /// with them (`benchmarks/results/engine_friction.md`).
+    /// row out), for the same reason: over the same kind of 64 drops, 15
+    /// settled within the limits with them and 11 without
+    /// (`benchmarks/results/engine_friction.md`).
     fn default() -> Self {
         let mut stabilizer = Settings {
             target_margin_relative: BRIDGE_TARGET_MARGIN_RELATIVE,

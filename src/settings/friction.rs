@@ -48,9 +48,9 @@ impl FrictionModel {
 pub enum FrictionRows {
     /// Every row with its friction: under the pyramid the row and its `K`
     /// facets, under the cone model the row and its cone. The Rapier
-    /// bridge's default (`BridgeSettings::default()`, feature `rapier`): its settled pile of 200 rests as measured with it
-    /// (0.63 mm, asleep from step 161), and with [`FrictionRows::Implied`]
-    /// crept 16.4 mm and slept from step 196
+    /// bridge's default (`BridgeSettings::default()`, feature `rapier`):
+    /// over 64 perturbed drops of its pile of 200, 15 settled within issue
+    /// 22's limits with it and 11 with [`FrictionRows::Implied`]
     /// (`benchmarks/results/engine_friction.md`): the same minimizer, but
     /// the settle follows the solvers' answers within their tolerance.
     All,
