@@ -27,18 +27,34 @@ impl ActiveFactor {
 
     /// `y = L^-1 w` (`q = w.len()`).
     pub(super) fn solve_lower(&self, w: &[f64]) -> Vec<f64> {
-        let mut y = w.to_vec();
+        let mut y = Vec::with_capacity(w.len());
+        self.solve_lower_into(w, &mut y);
+        y
+    }
+
+    /// `y = L^-1 w` into `y` (its contents replaced): the steps' solves
+    /// reuse one buffer.
+    pub(super) fn solve_lower_into(&self, w: &[f64], y: &mut Vec<f64>) {
+        y.clear();
+        y.extend_from_slice(w);
         for i in 0..y.len() {
             let row = &self.l[i * self.capacity..i * self.capacity + i + 1];
             let sum: f64 = row[..i].iter().zip(&y[..i]).map(|(a, b)| a * b).sum();
             y[i] = (y[i] - sum) * self.inverse_diagonal[i];
         }
-        y
     }
 
     /// `r = L^-T y`, by columns of `L^T` (rows of `L`).
     pub(super) fn solve_upper(&self, y: &[f64]) -> Vec<f64> {
-        let mut r = y.to_vec();
+        let mut r = Vec::with_capacity(y.len());
+        self.solve_upper_into(y, &mut r);
+        r
+    }
+
+    /// `r = L^-T y` into `r` (its contents replaced).
+    pub(super) fn solve_upper_into(&self, y: &[f64], r: &mut Vec<f64>) {
+        r.clear();
+        r.extend_from_slice(y);
         for i in (0..r.len()).rev() {
             let row = &self.l[i * self.capacity..i * self.capacity + i + 1];
             r[i] *= self.inverse_diagonal[i];
@@ -47,7 +63,6 @@ impl ActiveFactor {
                 *rj -= lij * ri;
             }
         }
-        r
     }
 
     /// Appends the row `[y^T, pivot]` (the new row's column of `W_A` was

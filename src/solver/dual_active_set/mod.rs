@@ -203,7 +203,11 @@ pub fn solve(
         ),
     };
     let limit = STEPS_PER_SIZE * (m + n);
+    // The steps' work vectors, reused: `w`, `y = L^-1 w`, `r = L^-T y`
+    // and the primal direction `z`.
     let mut column = Vec::with_capacity(n.min(m));
+    let (mut y, mut r) = (Vec::with_capacity(n.min(m)), Vec::with_capacity(n.min(m)));
+    let mut z = DVector::zeros(n);
     // The most violated row, in M^-1 lengths; none: the answer.
     while let Some(p) = most_violated(&slack, &inverse_lengths, &is_active, violated_below) {
         let mut u_p = 0.0;
@@ -218,9 +222,9 @@ pub fn solve(
             // w = N_A^T M^-1 a_p, y = L^-1 w, r = L^-T y.
             column.clear();
             column.extend(active.iter().map(|&j| rows[j].dot_packed(&scaled[p])));
-            let y = factor.solve_lower(&column);
+            factor.solve_lower_into(&column, &mut y);
             let delta = diagonal[p] - y.iter().map(|x| x * x).sum::<f64>();
-            let r = factor.solve_upper(&y);
+            factor.solve_upper_into(&y, &mut r);
             // The partial step: the first active multiplier to reach zero.
             let mut partial: Option<(f64, usize)> = None;
             for (j, &rj) in r.iter().enumerate() {
@@ -251,7 +255,7 @@ pub fn solve(
             // the active rows tight. In a dependent step it is the part of
             // a_p outside span(N_A), below DEPENDENT_REL of it, and moving
             // along it keeps M dq = N_A u + u_p a_p exact.
-            let mut z = DVector::zeros(n);
+            z.fill(0.0);
             scaled[p].add_to(1.0, z.as_mut_slice());
             for (&j, &rj) in active.iter().zip(&r) {
                 scaled[j].add_to(-rj, z.as_mut_slice());
