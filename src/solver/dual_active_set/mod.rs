@@ -264,7 +264,7 @@ pub fn solve(
             // s <- s + t J z on the inactive rows (the active ones stay at
             // 0; a dropped row is measured again).
             let z_slice = z.as_slice();
-            for ((s_i, row), &on) in slack.iter_mut().zip(&rows).zip(&is_active) {
+            for ((s_i, row), &on) in slack.as_mut_slice().iter_mut().zip(&rows).zip(&is_active) {
                 if !on {
                     *s_i += t * row.dot(z_slice);
                 }
@@ -318,7 +318,7 @@ fn most_violated(
     violated_below: f64,
 ) -> Option<usize> {
     let mut best: Option<(f64, usize)> = None;
-    for (i, (&s, &inverse)) in slack.iter().zip(inverse_lengths).enumerate() {
+    for (i, (&s, &inverse)) in slack.as_slice().iter().zip(inverse_lengths).enumerate() {
         if s >= violated_below || is_active[i] || inverse == 0.0 {
             continue;
         }

@@ -102,6 +102,7 @@ pub(super) fn start(
     }
     let mut active: Vec<usize> = Vec::with_capacity(candidates.len().min(factor.capacity));
     let mut column = Vec::with_capacity(factor.capacity);
+    let mut y = Vec::with_capacity(factor.capacity);
     for p in candidates {
         if active.len() == factor.capacity {
             break;
@@ -112,7 +113,7 @@ pub(super) fn start(
         }
         column.clear();
         column.extend(active.iter().map(|&j| rows[j].dot_packed(&scaled[p])));
-        let y = factor.solve_lower(&column);
+        factor.solve_lower_into(&column, &mut y);
         let delta = diagonal[p] - y.iter().map(|x| x * x).sum::<f64>();
         if delta > DEPENDENT_REL * DEPENDENT_REL * diagonal[p] {
             factor.append(&y, delta.sqrt());
