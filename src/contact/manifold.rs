@@ -191,12 +191,15 @@ fn face_contact(
         .iter()
         .map(|&v| incident.pose * incident.shape.vertices()[v])
         .collect();
+    // The clipped polygon and the one being clipped swap buffers per edge.
+    let mut clipped = Vec::with_capacity(polygon.len() + reference_face.edges.len());
     for &edge in &reference_face.edges {
         let side = reference.shape.face_edge_plane(edge, face);
         let inward = reference.pose.rotation * side.normal;
         let through =
             reference.pose * reference.shape.vertices()[reference.shape.edges()[edge].tail];
-        polygon = clip(&polygon, &inward, &through);
+        clip_into(&polygon, &inward, &through, &mut clipped);
+        std::mem::swap(&mut polygon, &mut clipped);
     }
     polygon
         .into_iter()
@@ -228,10 +231,16 @@ fn incident_face(incident: &BodyGeometry, support: usize, normal: &Vector3<f64>)
 }
 
 /// Sutherland–Hodgman: the part of `polygon` on the side of the plane
-/// through `through` that `inward` points to.
-fn clip(polygon: &[Point3<f64>], inward: &Vector3<f64>, through: &Point3<f64>) -> Vec<Point3<f64>> {
+/// through `through` that `inward` points to, into `kept` (its contents
+/// replaced).
+fn clip_into(
+    polygon: &[Point3<f64>],
+    inward: &Vector3<f64>,
+    through: &Point3<f64>,
+    kept: &mut Vec<Point3<f64>>,
+) {
     let height = |p: &Point3<f64>| inward.dot(&(p - through));
-    let mut kept = Vec::with_capacity(polygon.len() + 1);
+    kept.clear();
     for (i, p) in polygon.iter().enumerate() {
         let q = &polygon[(i + 1) % polygon.len()];
         let (hp, hq) = (height(p), height(q));
@@ -242,7 +251,6 @@ fn clip(polygon: &[Point3<f64>], inward: &Vector3<f64>, through: &Point3<f64>) -
             kept.push(p + (q - p) * (hp / (hp - hq)));
         }
     }
-    kept
 }
 
 /// The contact of a face of A (computed with A as reference) with roles of
