@@ -21,6 +21,7 @@
 //! says why ([`IslandOutcome::Failed`]), so that the other islands and the
 //! passes already made keep their progress.
 
+use std::cell::RefCell;
 use std::sync::Arc;
 
 use crate::Error;
@@ -199,6 +200,10 @@ struct Round<'a> {
     constraints: IslandConstraints<'a>,
     configuration: Vec<BodyState>,
     plan: Result<Plan, Error>,
+    /// The keys of the last problem whose warm start was read, with its
+    /// rows' parents: the step's answer is recorded under them when its
+    /// problem is that one.
+    warm_keys: Option<(Vec<usize>, MultiplierPairs<'a>)>,
 }
 
 /// The region's problem: its contacts (every island pair with a body in
@@ -282,9 +287,12 @@ fn plan_region<'a>(
         &trial_settings
     };
     let shapes = input.geometry.shapes();
+    let warm_keys = RefCell::new(None);
     let warm = |constraints: &IslandConstraints, _: &ProjectionQp, parents: &[usize]| {
         let keys = multiplier_pairs(constraints, parents, shapes)?;
-        input.solver_warm.warm_start(&keys)
+        let lambda = input.solver_warm.warm_start(&keys);
+        *warm_keys.borrow_mut() = Some((parents.to_vec(), keys));
+        lambda
     };
     let plan = plan_step_warm(
         &mut constraints,
@@ -301,6 +309,7 @@ fn plan_region<'a>(
         constraints,
         configuration,
         plan,
+        warm_keys: warm_keys.into_inner(),
     })
 }
 
@@ -431,7 +440,7 @@ fn multiplier_pairs<'a>(
     // has a multiplier: the rows are one more than the largest parent.
     let rows = parents.iter().max().map_or(0, |&last| last + 1);
     let joint_rows = rows.saturating_sub(row_pairs.len());
-    let pairs = parents
+    let pairs: Vec<Option<BodyPair>> = parents
         .iter()
         .map(|&row| {
             let contact_row = row.checked_sub(joint_rows)?;
@@ -439,7 +448,7 @@ fn multiplier_pairs<'a>(
             contacts.pairs().get(*pair).copied()
         })
         .collect();
-    Some(MultiplierPairs { pairs, shapes })
+    Some(MultiplierPairs::new(&pairs, shapes))
 }
 
 /// One projection step on `island`, whose pairs index the pass's active
@@ -518,13 +527,17 @@ fn solve_island_once(input: PassInput, island: &Island) -> Result<IslandSolution
         mut constraints,
         mut configuration,
         plan,
+        warm_keys,
     } = round;
     let mut solver_warm = SolverWarmCache::default();
     let step = match plan? {
         Plan::Satisfied(measurement) => StepReport::satisfied(&measurement),
         Plan::Step(step) => {
-            let shapes = input.geometry.shapes();
-            if let Some(keys) = multiplier_pairs(&constraints, &step.qp_parents, shapes) {
+            let keys = match warm_keys {
+                Some((parents, keys)) if parents == step.qp_parents => Some(keys),
+                _ => multiplier_pairs(&constraints, &step.qp_parents, input.geometry.shapes()),
+            };
+            if let Some(keys) = keys {
                 solver_warm.record(&keys, &step.solution.lambda);
             }
             take_step(

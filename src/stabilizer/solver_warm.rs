@@ -49,24 +49,32 @@ struct PairMultipliers {
 }
 
 /// The part pair of every multiplier of a problem (`None`: a joint's row,
-/// never warm-started), and the shapes of the parts.
+/// never warm-started), grouped by pair, and the shapes of the parts.
+/// Built once per solved problem: the same keys read its warm start and
+/// record its answer.
 pub struct MultiplierPairs<'a> {
-    /// One entry per multiplier.
-    pub pairs: Vec<Option<BodyPair>>,
+    /// The multipliers of each pair, by position in the problem, in order.
+    positions: PairMap<Vec<usize>>,
+    /// Number of multipliers of the problem.
+    len: usize,
     /// The scene's shapes, by part.
-    pub shapes: &'a [Arc<ConvexPolyhedron>],
+    shapes: &'a [Arc<ConvexPolyhedron>],
 }
 
-impl MultiplierPairs<'_> {
-    /// The multipliers of each pair, by position in the problem, in order.
-    fn positions(&self) -> PairMap<Vec<usize>> {
+impl<'a> MultiplierPairs<'a> {
+    /// Keys of a problem whose multiplier `i` belongs to `pairs[i]`.
+    pub fn new(pairs: &[Option<BodyPair>], shapes: &'a [Arc<ConvexPolyhedron>]) -> Self {
         let mut positions: PairMap<Vec<usize>> = PairMap::default();
-        for (i, pair) in self.pairs.iter().enumerate() {
+        for (i, pair) in pairs.iter().enumerate() {
             if let Some(pair) = pair {
                 positions.entry(*pair).or_default().push(i);
             }
         }
-        positions
+        Self {
+            positions,
+            len: pairs.len(),
+            shapes,
+        }
     }
 
     fn shapes_of(&self, pair: BodyPair) -> Option<[&Arc<ConvexPolyhedron>; 2]> {
@@ -91,10 +99,9 @@ impl WarmLayers<'_> {
     /// every pair's newest kept multipliers where they fit (module docs),
     /// 0 elsewhere; `None` when no pair fits.
     pub fn warm_start(&self, keys: &MultiplierPairs<'_>) -> Option<DVector<f64>> {
-        let mut lambda = DVector::zeros(keys.pairs.len());
-        let positions = keys.positions();
+        let mut lambda = DVector::zeros(keys.len);
         let (mut fitting, mut missing) = (0, 0);
-        for (pair, positions) in &positions {
+        for (pair, positions) in &keys.positions {
             let Some(entry) = self
                 .newer
                 .entries
@@ -118,7 +125,7 @@ impl WarmLayers<'_> {
         }
         log::trace!(
             "warm start: {fitting} of {} pairs fit ({missing} without an entry)",
-            positions.len()
+            keys.positions.len()
         );
         (fitting > 0).then_some(lambda)
     }
@@ -127,10 +134,10 @@ impl WarmLayers<'_> {
 impl SolverWarmCache {
     /// Records the multipliers `lambda` of a problem with `keys`.
     pub fn record(&mut self, keys: &MultiplierPairs<'_>, lambda: &DVector<f64>) {
-        if lambda.len() != keys.pairs.len() {
+        if lambda.len() != keys.len {
             return;
         }
-        for (pair, positions) in keys.positions() {
+        for (&pair, positions) in &keys.positions {
             let Some(shapes) = keys.shapes_of(pair) else {
                 continue;
             };
