@@ -88,6 +88,7 @@ fn bridge(args: &[String]) -> Result<RapierBridge, Box<dyn std::error::Error>> {
 }
 
 pub fn run(args: Vec<String>) -> Result<(), Box<dyn std::error::Error>> {
+    let _ = env_logger::try_init();
     let value = |flag: &str| flag_value(&args, flag);
     let steps: usize = value("--steps").map_or(Ok(240), |s| s.parse())?;
     let from: usize = value("--from").map_or(Ok(100), |s| s.parse())?;
