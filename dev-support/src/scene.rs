@@ -48,10 +48,15 @@ pub fn cuboid(
 /// The fixed ground of the scenes: a slab whose top face is the plane
 /// `y = 0`.
 pub fn ground() -> BodyDesc {
+    floor_slab("ground", [20.0, 0.5, 20.0])
+}
+
+/// A fixed box of half extents `half` whose top face is the plane `y = 0`.
+pub fn floor_slab(name: &str, half: [f64; 3]) -> BodyDesc {
     cuboid(
-        "ground",
-        [20.0, 0.5, 20.0],
-        [0.0, -0.5, 0.0],
+        name,
+        half,
+        [0.0, -half[1], 0.0],
         IDENTITY_XYZW,
         MassSpec::Fixed,
     )

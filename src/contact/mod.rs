@@ -461,7 +461,7 @@ fn round_contact_points(
 ) -> PairContactPoints {
     let mut points: Vec<ContactPoint> = match &round.closed_form {
         Some(contact) => {
-            let (core_points, count) = contact.points_of(a, b);
+            let (core_points, count) = contact.points_of(a, b, margin + round.radius_sum());
             core_points[..count]
                 .iter()
                 .map(|p| round.on_surfaces(p))

@@ -90,15 +90,17 @@ pub struct CoreContact {
 
 impl CoreContact {
     /// The contact points and their count: formed now from `a` and `b`
-    /// (the pair's parts; their poses at the query are kept) when they
-    /// were deferred, else the answer's own.
+    /// (the pair's parts; their poses at the query are kept) with the
+    /// cores' contact margin `margin` (the call's plus both radii) when
+    /// they were deferred, else the answer's own.
     pub fn points_of(
         &self,
         a: &BodyGeometry,
         b: &BodyGeometry,
+        margin: f64,
     ) -> ([CorePoint; MAX_ROUND_POINTS], usize) {
         match &self.deferred {
-            Some(deferred) => deferred.points(a, b, &self.normal_world),
+            Some(deferred) => deferred.points(a, b, &self.normal_world, margin),
             None => (self.points, self.count),
         }
     }

@@ -10,17 +10,30 @@
 //!   onto its support plane (separation `s`, normal `n`), or, without
 //!   witnesses, A's support point and its partner straight along `n` on
 //!   B's plane;
-//! - the outline points of each core on its own support plane, within
+//! - the outline points of each core within a band above its own support
+//!   plane: polyhedron vertices, segment ends, the ends of a cylinder's or
+//!   cone's side line facing the other, and a rim's samples when the
+//!   whole rim lies within the window (a cap flat on the plane; a tilted
+//!   rim touches at one point, the central one). The window is
 //!   [`FEATURE_WINDOW_RELATIVE`] of the feature scale (the smaller core's
-//!   reach plus radius): polyhedron vertices, segment ends, the ends of a
-//!   cylinder's or cone's side line facing the other, and a rim's samples
-//!   when the whole rim lies within the window (a cap flat on the plane;
-//!   a tilted rim touches at one point, the central one);
+//!   reach plus radius); the band is the larger of the window and the
+//!   contact margin `m` (of the cores: the call's margin plus the radii)
+//!   less the pair's separation, so that a point the margin counts as
+//!   touching is a row, as a face contact's clipped points are
+//!   ([`crate::contact::manifold`]). Without the band a cylinder lying
+//!   slightly tilted, one end sunk and the other within the margin, had
+//!   one row: the correction lifted the sunk end by turning the body and
+//!   sank the other, and on the Rapier mixed pile later passes halved such
+//!   a depth one at a time (9 passes on its engine state, 5 with the band;
+//!   `benchmarks/results/call_cost.md`, thirty-second session). A rim's
+//!   samples stay within the window: taken within the band they cost the
+//!   loop's mixed pile more than they saved (same section);
 //! - each such point `p` becomes a row with its own signed distance to
 //!   the other core (`point_distance`): the points `p` and its nearest
 //!   point `c` of the other core, the normal at `c`, the separation
 //!   `sd(p)`; a row only if that normal is within [`ROW_ALIGNMENT_COS`]
-//!   of `n` and `sd(p) <= s + window`. A row so built is the exact
+//!   of `n` and `sd(p) <= s + band` (within the window of the pair's
+//!   separation, or within the margin). A row so built is the exact
 //!   linearization of the non-penetration of the point (grown by its core's
 //!   radius) and the other solid: it never asks more than that point needs;
 //! - an outline point that fails is replaced by the last point of the
@@ -65,7 +78,8 @@ pub const TIE_RELATIVE: f64 = 1e-9;
 pub const SAME_POINT_RELATIVE: f64 = 1e-6;
 
 /// The contact points of two cores along unit `n` (module docs), `size`
-/// the pair's (both reaches and the centres' distance), and how many of
+/// the pair's (both reaches and the centres' distance), `margin` the
+/// cores' contact margin (the call's plus both radii), and how many of
 /// them are valid.
 pub fn points(
     a: &PosedCore,
@@ -73,12 +87,16 @@ pub fn points(
     n: &Vector3<f64>,
     witnesses: Option<[Point3<f64>; 2]>,
     size: f64,
+    margin: f64,
 ) -> ([CorePoint; MAX_ROUND_POINTS], usize) {
     let [top_a, top_b] = support_planes(a, b, n);
     let separation = top_a - top_b;
     let central = central_at(a, n, witnesses, [top_a, top_b]);
     let feature = (a.reach() + a.radius).min(b.reach() + b.radius);
     let window = FEATURE_WINDOW_RELATIVE * feature;
+    // Up to the contact margin, as a face contact's clipped points (module
+    // docs, "band").
+    let band = window.max(margin - separation);
     let mut rows: Vec<CorePoint> = Vec::new();
     // A's points against B, then B's against A (`flip`).
     for (ours, theirs, from, flip) in [(a, b, central.on_a, 1.0), (b, a, central.on_b, -1.0)] {
@@ -87,7 +105,7 @@ pub fn points(
             let distance = point_distance(theirs, p)?;
             let normal = distance.normal * flip;
             let passes = normal.dot(n) >= ROW_ALIGNMENT_COS
-                && distance.signed <= separation + window
+                && distance.signed <= separation + band
                 && (distance.flat || !clipped);
             let (on_a, on_b) = if flip > 0.0 {
                 (*p, distance.closest)
@@ -102,7 +120,7 @@ pub fn points(
             })
         };
         for p in ours.outline(&(-n * flip), window) {
-            if flip * (n.dot(&p.coords) - own_top) > window {
+            if flip * (n.dot(&p.coords) - own_top) > band {
                 continue;
             }
             let kept = row(&p, false).or_else(|| clip(&from, &p, |x| row(x, true), window));

@@ -124,18 +124,19 @@ pub struct DeferredPoints {
 impl DeferredPoints {
     /// The contact points of the answer along `normal` (its
     /// [`CoreContact::normal_world`]) of parts `a` and `b` at the poses of
-    /// the query, and how many.
+    /// the query, with the cores' contact margin `margin`, and how many.
     pub fn points(
         &self,
         a: &BodyGeometry,
         b: &BodyGeometry,
         normal: &Vector3<f64>,
+        margin: f64,
     ) -> ([CorePoint; MAX_ROUND_POINTS], usize) {
         let [pose_a, pose_b] = self.poses;
         let core_a = PosedCore::of(&BodyGeometry { pose: pose_a, ..*a });
         let core_b = PosedCore::of(&BodyGeometry { pose: pose_b, ..*b });
         let (points, count) =
-            support_manifold::points(&core_a, &core_b, normal, self.witnesses, self.size);
+            support_manifold::points(&core_a, &core_b, normal, self.witnesses, self.size, margin);
         log::trace!("support pair: {count} points");
         (points, count.min(MAX_ROUND_POINTS))
     }

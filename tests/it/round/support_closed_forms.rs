@@ -13,7 +13,7 @@ use constraint_stabilization::body::{Body, MassSpec, Shape};
 use constraint_stabilization::internals::contact::contact_points;
 use constraint_stabilization::{Settings, Status};
 use dev_support::sat::sat_depth;
-use dev_support::scene::{IDENTITY_XYZW, body, cuboid, ground, scene_of, xyzw};
+use dev_support::scene::{body, floor_slab, ground, scene_of, xyzw};
 use dev_support::support_oracle::body_depth;
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -145,13 +145,7 @@ fn lifted_by_its_depth(
     let depth = 0.01;
     let start = [0.1, centre_height - depth, -0.2];
     let mut scene = scene_of(&[
-        cuboid(
-            "box",
-            [1.0, 0.5, 1.0],
-            [0.0, -0.5, 0.0],
-            IDENTITY_XYZW,
-            MassSpec::Fixed,
-        ),
+        floor_slab("box", [1.0, 0.5, 1.0]),
         body("solid", shape, start, rotation, MassSpec::Mass(1.0)),
     ]);
     let (solid, boxed) = (&scene.bodies()[1], &scene.bodies()[0]);
@@ -325,5 +319,85 @@ fn support_rapier_mixed_pile_state_is_resolved_by_the_oracle() {
     assert!(
         residual <= report.tolerance,
         "oracle depth after {residual:e}"
+    );
+}
+
+/// A cylinder lying on a box, turned about the vertical by `tilt` so that
+/// one end of its side line sinks `depth` and the other stands `gap`
+/// above the box (module docs of `support_manifold`, "band").
+fn tilted_lying_cylinder(depth: f64, gap: f64) -> constraint_stabilization::Scene {
+    let (half, radius) = (0.4, 0.15);
+    // The ends' lowest points are `2 half sin(tilt)` apart in height.
+    let tilt = ((depth + gap) / (2.0 * half)).asin();
+    let rotation = UnitQuaternion::from_scaled_axis(Vector3::z() * tilt)
+        * UnitQuaternion::from_scaled_axis(Vector3::y() * std::f64::consts::FRAC_PI_2);
+    // An end's lowest rim point lies `radius cos(tilt)` below its centre.
+    let centre = half * tilt.sin() + radius * tilt.cos() - depth;
+    scene_of(&[
+        floor_slab("box", [1.0, 0.5, 1.0]),
+        body(
+            "cylinder",
+            Shape::Cylinder {
+                half_height: half,
+                radius,
+            },
+            [0.0, centre, 0.0],
+            xyzw(&rotation),
+            MassSpec::Mass(1.0),
+        ),
+    ])
+}
+
+#[test]
+fn support_tilted_lying_cylinder_has_a_row_at_each_end_within_the_margin() {
+    let (depth, gap) = (1e-3, 2e-4);
+    let mut scene = tilted_lying_cylinder(depth, gap);
+    let (solid, boxed) = (&scene.bodies()[1], &scene.bodies()[0]);
+    let measured = -support_signed_distance(solid, boxed);
+    assert!(
+        (measured - depth).abs() <= DEPTH_AGREEMENT,
+        "depth {measured}"
+    );
+    // The raised end is a contact when the margin reaches it, and only
+    // then: its height above the box plane (`gap`) is far outside the
+    // feature window (`1e-3` of the cylinder's size, 4.3e-4 m, against
+    // the ends' height difference of 1.2e-3 m).
+    assert_eq!(
+        support_points(solid, boxed, 2.0 * gap),
+        2,
+        "margin over the gap"
+    );
+    assert_eq!(
+        support_points(solid, boxed, 0.5 * gap),
+        1,
+        "margin under the gap"
+    );
+    // The single row lifts the sunk end by turning the body, which sinks
+    // the raised one (by 1.7 times the row's multiplier against 3.7 times
+    // for the sunk end: 4.6e-4 m, over the gap); with both ends as rows
+    // one pass leaves only the linearization's second-order error.
+    let mut no_margin = tight_support();
+    no_margin.contact_margin_relative = 1e-9;
+    let mut single = tilted_lying_cylinder(depth, gap);
+    let (report_single, residual_single) = stabilize_with(&mut single, no_margin);
+    let (report, residual) = stabilize_with(&mut scene, tight_support());
+    println!("{}", describe("tilted lying cylinder", &report, residual));
+    println!(
+        "{}",
+        describe(
+            "tilted lying cylinder, no margin",
+            &report_single,
+            residual_single
+        )
+    );
+    for (r, residual) in [(&report, residual), (&report_single, residual_single)] {
+        assert_eq!(r.status, Status::Converged);
+        assert!(residual <= r.tolerance, "oracle depth after {residual:e}");
+    }
+    assert!(
+        report.passes < report_single.passes,
+        "passes {} with the margin's rows, {} with one row",
+        report.passes,
+        report_single.passes
     );
 }
