@@ -20,14 +20,15 @@
 //!   contact margin `m` (of the cores: the call's margin plus the radii)
 //!   less the pair's separation, so that a point the margin counts as
 //!   touching is a row, as a face contact's clipped points are
-//!   ([`crate::contact::manifold`]). Without the band a cylinder lying
-//!   slightly tilted, one end sunk and the other within the margin, had
-//!   one row: the correction lifted the sunk end by turning the body and
-//!   sank the other, and on the Rapier mixed pile later passes halved such
-//!   a depth one at a time (9 passes on its engine state, 5 with the band;
-//!   `benchmarks/results/call_cost.md`, thirty-second session). A rim's
-//!   samples stay within the window: taken within the band they cost the
-//!   loop's mixed pile more than they saved (same section);
+//!   ([`crate::contact::manifold`]). Why: a cylinder lying slightly
+//!   tilted, one end sunk and the other within the margin, would
+//!   otherwise have one row, whose correction lifts the sunk end by
+//!   turning the body and sinks the other, so that each pass undoes about
+//!   half of the last (the Rapier mixed pile's engine state: 9 passes
+//!   without the band, 5 with it; `benchmarks/results/call_cost.md`,
+//!   thirty-second session). A rim's samples stay within the window:
+//!   taken within the band they cost the loop's mixed pile more than they
+//!   saved (same section);
 //! - each such point `p` becomes a row with its own signed distance to
 //!   the other core (`point_distance`): the points `p` and its nearest
 //!   point `c` of the other core, the normal at `c`, the separation
